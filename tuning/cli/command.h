@@ -1,0 +1,30 @@
+// Sub-command registry of the `scw` program. Each command lives in its own cmd_<name>.cc and
+// registers itself with a static `CommandRegistrar`, so commands can be added without editing a
+// central list.
+//
+// Exit codes (all commands): 0 success, 1 a run failed (simulation aborted, optimisation error,
+// I/O failure while writing), 2 bad input (unreadable or invalid file, bad arguments).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+
+namespace scw::cli {
+
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitFailed = 1;
+inline constexpr int kExitBadInput = 2;
+
+/// Adds one sub-command (with its options and callback) to the top-level app.
+using AddCommandFn = void (*)(CLI::App& app);
+
+struct CommandRegistrar {
+  /// `order` sorts the commands in `scw --help`.
+  CommandRegistrar(int order, AddCommandFn add);
+};
+
+/// Called by a command's callback to set the process exit code.
+void SetExitCode(int code);
+
+}  // namespace scw::cli
