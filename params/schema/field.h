@@ -105,6 +105,8 @@ struct Meta {
   int min_size = 1;        ///< arrays: minimum number of elements
   bool ascending = false;  ///< arrays: strictly ascending elements required
   std::string_view choices = "";  ///< strings: '|'-separated list of allowed values (empty: any)
+  /// Accepted by the workspace but not declared by the car's node (the node ignores the key).
+  bool workspace_only = false;
 };
 
 inline std::string JoinKey(std::string_view prefix, std::string_view key) {
@@ -121,19 +123,29 @@ template <class Fn>
 class PathVisitor {
  public:
   PathVisitor(Fn& fn, std::string prefix) : fn_(fn), prefix_(std::move(prefix)) {}
+  PathVisitor(Fn& fn, std::string prefix, bool optional)
+      : fn_(fn), prefix_(std::move(prefix)), optional_(optional) {}
   template <class T>
   void Field(T& value, const Meta& meta) {
-    fn_(JoinKey(prefix_, meta.key), value, meta);
+    if (optional_ && !meta.optional) {
+      Meta m = meta;
+      m.optional = true;
+      fn_(JoinKey(prefix_, meta.key), value, m);
+    } else {
+      fn_(JoinKey(prefix_, meta.key), value, meta);
+    }
   }
+  /// `optional`: the whole group may be absent (all its fields become optional).
   template <class S>
-  void Nested(std::string_view key, S& sub) {
-    PathVisitor inner(fn_, JoinKey(prefix_, key));
+  void Nested(std::string_view key, S& sub, bool optional = false) {
+    PathVisitor inner(fn_, JoinKey(prefix_, key), optional_ || optional);
     std::remove_const_t<S>::Visit(sub, inner);
   }
 
  private:
   Fn& fn_;
   std::string prefix_;
+  bool optional_ = false;
 };
 
 template <class P, class Fn>
@@ -203,7 +215,7 @@ class ValidateVisitor {
     pr_.Add(Path(m), "'" + value + "' is not one of " + std::string(m.choices));
   }
   template <class S>
-  void Nested(std::string_view key, const S& sub);
+  void Nested(std::string_view key, const S& sub, bool optional = false);
 
  private:
   std::string Path(const Meta& m) const { return JoinKey(prefix_, m.key); }
@@ -228,7 +240,7 @@ Problems Validate(const P& p, const std::string& prefix = "") {
 }
 
 template <class S>
-void detail::ValidateVisitor::Nested(std::string_view key, const S& sub) {
+void detail::ValidateVisitor::Nested(std::string_view key, const S& sub, bool /*optional*/) {
   pr_.Append(Validate(sub, JoinKey(prefix_, key)));
 }
 
