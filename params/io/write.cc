@@ -1,0 +1,168 @@
+#include "params/io/write.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+
+namespace scw::params {
+
+std::string FormatDouble(double x) {
+  if (std::isnan(x)) return ".nan";
+  if (std::isinf(x)) return x > 0 ? ".inf" : "-.inf";
+  char buf[64];
+  auto res = std::to_chars(buf, buf + sizeof(buf), x);
+  std::string s(buf, res.ptr);
+  if (s.find_first_of(".e") == std::string::npos) s += ".0";
+  return s;
+}
+
+std::string FormatDoubleList(const std::vector<double>& v) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (i) s += ", ";
+    s += FormatDouble(v[i]);
+  }
+  return s + "]";
+}
+
+std::string QuoteString(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    switch (c) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out + "\"";
+}
+
+namespace {
+
+struct Tree {
+  std::string name;
+  std::string value;  // leaf when non-empty
+  std::string comment;
+  std::vector<Tree> children;
+
+  Tree& Child(const std::string& n) {
+    for (auto& c : children)
+      if (c.name == n && c.value.empty()) return c;
+    children.push_back(Tree{n, "", "", {}});
+    return children.back();
+  }
+};
+
+void Emit(const Tree& t, int indent, std::string* out) {
+  for (const auto& c : t.children) {
+    out->append(static_cast<std::size_t>(indent), ' ');
+    *out += c.name;
+    *out += ':';
+    if (!c.value.empty()) {
+      *out += ' ';
+      *out += c.value;
+      if (!c.comment.empty()) *out += "  # " + c.comment;
+      *out += '\n';
+    } else {
+      *out += '\n';
+      Emit(c, indent + 2, out);
+    }
+  }
+}
+
+}  // namespace
+
+std::string EmitNested(const std::vector<EmitEntry>& entries, const std::string& node_key,
+                       const std::string& header) {
+  Tree root;
+  for (const auto& e : entries) {
+    Tree* t = &root;
+    std::size_t start = 0;
+    while (true) {
+      const std::size_t dot = e.key.find('.', start);
+      if (dot == std::string::npos) {
+        t->children.push_back(Tree{e.key.substr(start), e.value, e.comment, {}});
+        break;
+      }
+      t = &t->Child(e.key.substr(start, dot - start));
+      start = dot + 1;
+    }
+  }
+  std::string out;
+  if (!header.empty()) {
+    std::size_t start = 0;
+    while (start <= header.size()) {
+      std::size_t nl = header.find('\n', start);
+      if (nl == std::string::npos) nl = header.size();
+      out += "# " + header.substr(start, nl - start) + "\n";
+      start = nl + 1;
+    }
+  }
+  if (node_key.empty()) {
+    if (entries.empty()) return out + "{}\n";
+    Emit(root, 0, &out);
+  } else {
+    out += node_key + ":\n  ros__parameters:";
+    if (entries.empty()) {
+      out += " {}\n";  // an overrides file with nothing to override
+    } else {
+      out += "\n";
+      Emit(root, 4, &out);
+    }
+  }
+  return out;
+}
+
+void WriteFileAtomic(const std::string& path, const std::string& text) {
+  static std::atomic<unsigned> counter{0};
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid()) + "." +
+                          std::to_string(counter.fetch_add(1));
+  auto fail = [&](const std::string& what) {
+    const std::string reason = std::strerror(errno);
+    std::remove(tmp.c_str());
+    throw std::runtime_error("cannot write " + path + ": " + what + " (" + reason +
+                             "); the file was not changed");
+  };
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    const std::string reason = std::strerror(errno);
+    throw std::runtime_error("cannot write " + path + ": cannot create a temporary file next to "
+                             "it (" + reason + "); the file was not changed");
+  }
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      ::close(fd);
+      fail("write failed");
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (::fsync(fd) != 0) {
+    ::close(fd);
+    fail("fsync failed");
+  }
+  if (::close(fd) != 0) fail("close failed");
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) fail("rename failed");
+}
+
+}  // namespace scw::params

@@ -1,0 +1,115 @@
+// YAML writing of schema structs, by hand rather than through yaml-cpp's emitter, so that every
+// literal has the type the car's node declares (ecosystem spec §3.2–3.3):
+//   doubles: shortest round-trip text (std::to_chars), always with '.' or an exponent (8.0, 4e-05)
+//   integers: plain decimal; booleans: true/false; strings: double-quoted
+//   arrays: flow style [a, b], non-empty; nested maps in schema order; each key once; no anchors.
+// Files are written atomically (temporary file in the same folder, then rename).
+#pragma once
+
+#include <functional>
+#include <set>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "params/schema/field.h"
+
+namespace scw::params {
+
+/// Shortest round-trip text of a double that YAML/rcl reads back as a double.
+std::string FormatDouble(double x);
+std::string FormatDoubleList(const std::vector<double>& v);
+std::string QuoteString(const std::string& s);
+
+struct EmitEntry {
+  std::string key;    ///< dotted path
+  std::string value;  ///< rendered literal
+  std::string comment;  ///< optional trailing comment (unit)
+};
+
+/// Renders entries (dotted keys) as nested YAML. With a non-empty node_key the result is wrapped
+/// in `<node_key>: ros__parameters:`. `header` lines are emitted as comments at the top.
+std::string EmitNested(const std::vector<EmitEntry>& entries, const std::string& node_key,
+                       const std::string& header);
+
+/// Writes `text` to `path` atomically. Throws std::runtime_error naming the path on failure; the
+/// destination is then untouched and no temporary file remains.
+void WriteFileAtomic(const std::string& path, const std::string& text);
+
+namespace detail {
+template <class T>
+std::string RenderValue(const T& v) {
+  if constexpr (std::is_same_v<T, double>) {
+    return FormatDouble(v);
+  } else if constexpr (std::is_same_v<T, int>) {
+    return std::to_string(v);
+  } else if constexpr (std::is_same_v<T, bool>) {
+    return v ? "true" : "false";
+  } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+    return FormatDoubleList(v);
+  } else {
+    static_assert(std::is_same_v<T, std::string>);
+    return QuoteString(v);
+  }
+}
+}  // namespace detail
+
+/// The fields of `p` selected by `include(path, meta)`, rendered.
+template <class P>
+std::vector<EmitEntry> CollectEntries(
+    const P& p, const std::function<bool(const std::string&, const Meta&)>& include) {
+  std::vector<EmitEntry> out;
+  ForEachField(p, [&](const std::string& path, const auto& value, const Meta& meta) {
+    if (include(path, meta)) out.push_back({path, detail::RenderValue(value), ""});
+  });
+  return out;
+}
+
+/// Dotted keys whose values differ between `a` and `b` (same type P).
+template <class P>
+std::set<std::string> DifferingKeys(const P& a, const P& b) {
+  std::vector<std::pair<std::string, std::string>> va, vb;
+  ForEachField(a, [&](const std::string& path, const auto& v, const Meta&) {
+    va.emplace_back(path, detail::RenderValue(v));
+  });
+  ForEachField(b, [&](const std::string& path, const auto& v, const Meta&) {
+    vb.emplace_back(path, detail::RenderValue(v));
+  });
+  std::set<std::string> out;
+  for (std::size_t i = 0; i < va.size(); ++i)
+    if (va[i].second != vb[i].second) out.insert(va[i].first);
+  return out;
+}
+
+/// Full ROS 2 params file of `p` for node `node_key`: every required key, plus each optional key
+/// that `present` names (keys the source file set) or whose value differs from the default.
+template <class P>
+std::string ToRosYaml(const P& p, const std::string& node_key,
+                      const std::set<std::string>& present = {}, const std::string& header = "") {
+  const std::set<std::string> changed = DifferingKeys(p, P{});
+  auto entries = CollectEntries(p, [&](const std::string& path, const Meta& meta) {
+    return !meta.optional || present.count(path) || changed.count(path);
+  });
+  return EmitNested(entries, node_key, header);
+}
+
+/// Overrides-only ROS 2 params file: just the keys whose values differ from `base`, to be loaded
+/// after the base file (later params files override earlier ones).
+template <class P>
+std::string ToRosOverrides(const P& p, const P& base, const std::string& node_key,
+                           const std::string& header = "") {
+  const std::set<std::string> changed = DifferingKeys(p, base);
+  auto entries = CollectEntries(
+      p, [&](const std::string& path, const Meta&) { return changed.count(path) > 0; });
+  return EmitNested(entries, node_key, header);
+}
+
+/// Plain nested YAML of every field (workspace files: vehicle, scenario, space …).
+template <class P>
+std::string ToPlainYaml(const P& p, const std::string& header = "") {
+  auto entries = CollectEntries(p, [](const std::string&, const Meta&) { return true; });
+  return EmitNested(entries, "", header);
+}
+
+}  // namespace scw::params
