@@ -53,8 +53,7 @@ std::string ConvertLeaf(const YamlNode& node, const Meta&, bool accept_int, doub
                         std::string* note) {
   bool was_int = false;
   std::string err = ScalarToDouble(node, accept_int, out, &was_int);
-  if (err.empty() && was_int)
-    *note = "integer literal " + node.text + " normalised to a double";
+  if (err.empty() && was_int) *note = "integer literal " + node.text + " normalised to a double";
   return err;
 }
 
@@ -76,8 +75,7 @@ std::string ConvertLeaf(const YamlNode& node, const Meta&, int* out) {
 }
 
 std::string ConvertLeaf(const YamlNode& node, const Meta&, bool* out) {
-  if (node.kind == YamlNode::Kind::kScalar && !node.quoted && ParseBool(node.text, out))
-    return "";
+  if (node.kind == YamlNode::Kind::kScalar && !node.quoted && ParseBool(node.text, out)) return "";
   return "expected true or false, got " + Got(node);
 }
 

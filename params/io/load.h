@@ -25,14 +25,14 @@ namespace scw::params {
 
 struct LoadOptions {
   Layout layout = Layout::kPlain;
-  std::string node_key;          ///< kRos2: the fully qualified node name expected
-  bool lenient = false;          ///< import mode (see above)
-  bool int_for_double = false;   ///< accept `5` for a double silently (plain workspace files)
+  std::string node_key;         ///< kRos2: the fully qualified node name expected
+  bool lenient = false;         ///< import mode (see above)
+  bool int_for_double = false;  ///< accept `5` for a double silently (plain workspace files)
 };
 
 struct LoadReport {
-  std::vector<Problem> notes;      ///< import-mode findings (duplicates, unknown keys, coercions)
-  std::set<std::string> present;   ///< dotted keys the file sets
+  std::vector<Problem> notes;        ///< import-mode findings (duplicates, unknown keys, coercions)
+  std::set<std::string> present;     ///< dotted keys the file sets
   std::map<std::string, int> lines;  ///< dotted key → source line of the value used
 };
 
@@ -93,8 +93,8 @@ P LoadFromText(const std::string& text, const std::string& file, const LoadOptio
       const std::string deeper = path + ".";
       auto sub = by_key.lower_bound(deeper);
       if (sub != by_key.end() && sub->first.compare(0, deeper.size(), deeper) == 0) {
-        problems.Add(path, "expected a value, got a map" +
-                               detail::LineSuffix(sub->second.front()->line));
+        problems.Add(path,
+                     "expected a value, got a map" + detail::LineSuffix(sub->second.front()->line));
         for (auto s = sub; s != by_key.end() && s->first.compare(0, deeper.size(), deeper) == 0;
              ++s)
           consumed.insert(s->first);
@@ -140,9 +140,8 @@ P LoadFromText(const std::string& text, const std::string& file, const LoadOptio
     const Problems rules = Validate(p);
     for (const auto& pr : rules.items()) {
       auto line = rep.lines.find(pr.path);
-      problems.Add(pr.path,
-                   pr.message + (line != rep.lines.end() ? detail::LineSuffix(line->second)
-                                                         : std::string()));
+      problems.Add(pr.path, pr.message + (line != rep.lines.end() ? detail::LineSuffix(line->second)
+                                                                  : std::string()));
     }
   }
   if (!problems.empty()) throw ConfigError(file, problems.items());
@@ -169,8 +168,7 @@ P LoadPlainFile(const std::string& path) {
 
 /// The car's ROS 2 params file of node `node_key`, strictly.
 template <class P>
-P LoadRosFile(const std::string& path, const std::string& node_key,
-              LoadReport* report = nullptr) {
+P LoadRosFile(const std::string& path, const std::string& node_key, LoadReport* report = nullptr) {
   LoadOptions opt;
   opt.layout = Layout::kRos2;
   opt.node_key = node_key;

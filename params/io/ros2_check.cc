@@ -190,8 +190,8 @@ ParamType LiteralType(const YamlNode& n, std::string* problem) {
       case ScalarType::kDouble:
         return ParamType::kDoubleArray;
       default:
-        *problem = std::string("array of ") + ScalarTypeName(*types.begin()) + " literals " +
-                   Render(n);
+        *problem =
+            std::string("array of ") + ScalarTypeName(*types.begin()) + " literals " + Render(n);
         return ParamType::kString;  // never equals a declared double array
     }
   }
@@ -282,11 +282,11 @@ CheckReport CheckRosParamsText(const std::string& text, const std::vector<Declar
       if (d.workspace_only)
         warn(key, "a workspace key the car's node does not declare: ignored there", n->line);
       if (lit != d.type) {
-        std::string msg = std::string("declared as ") + ParamTypeName(d.type) + " but written " +
-                          (problem.empty() ? std::string("as ") + ParamTypeName(lit) + " " +
-                                                 Render(*n)
-                                           : problem) +
-                          ": the node would throw InvalidParameterTypeException at start-up";
+        std::string msg =
+            std::string("declared as ") + ParamTypeName(d.type) + " but written " +
+            (problem.empty() ? std::string("as ") + ParamTypeName(lit) + " " + Render(*n)
+                             : problem) +
+            ": the node would throw InvalidParameterTypeException at start-up";
         if (d.type == ParamType::kDouble && lit == ParamType::kInt)
           msg += " (write " + n->text + ".0)";
         error(key, msg, n->line);
@@ -300,8 +300,7 @@ CheckReport CheckRosParamsText(const std::string& text, const std::vector<Declar
         for (const auto& item : n->items) {
           double x = 0;
           ParseDouble(item.text, &x);
-          if (!std::isfinite(x))
-            error(key, "element " + item.text + " is not finite", item.line);
+          if (!std::isfinite(x)) error(key, "element " + item.text + " is not finite", item.line);
         }
       }
     }

@@ -31,10 +31,9 @@ void CheckSchedule(const std::string& key, const std::vector<double>& xs,
                              " m/s on (the car extends the outer segments linearly): the "
                              "condition |x| > threshold is then always true"});
   if (top > 0 && worst > o.growth * top)
-    out->push_back({key, "extrapolates to " + FormatNumber(worst) + " at " +
-                             FormatNumber(worst_v) + " m/s, more than " +
-                             FormatNumber(o.growth) + "x its largest breakpoint value " +
-                             FormatNumber(top)});
+    out->push_back({key, "extrapolates to " + FormatNumber(worst) + " at " + FormatNumber(worst_v) +
+                             " m/s, more than " + FormatNumber(o.growth) +
+                             "x its largest breakpoint value " + FormatNumber(top)});
 }
 
 }  // namespace
@@ -42,8 +41,8 @@ void CheckSchedule(const std::string& key, const std::vector<double>& xs,
 std::vector<Problem> LintStability(const StabilityParams& p, const LintOptions& o) {
   std::vector<Problem> out;
   const auto& e = p.ESC;
-  CheckSchedule("ESC.beta_threshold_activate", e.threshold_velocities, e.beta_threshold_activate,
-                o, true, &out);
+  CheckSchedule("ESC.beta_threshold_activate", e.threshold_velocities, e.beta_threshold_activate, o,
+                true, &out);
   CheckSchedule("ESC.psi_dot_error_threshold_activate", e.threshold_velocities,
                 e.psi_dot_error_threshold_activate, o, true, &out);
   CheckSchedule("ESC.beta_error_threshold_activate", e.threshold_velocities,
@@ -67,8 +66,8 @@ std::vector<Problem> LintStability(const StabilityParams& p, const LintOptions& 
     for (double v = std::max(o.v_min, e.min_activation_velocity); v <= o.v_max + 1e-9; v += 0.5)
       if (deact >= Extrapolated(e.threshold_velocities, act, v)) {
         out.push_back({key, "deactivation threshold " + FormatNumber(deact) +
-                                " is at or above the activation threshold from " +
-                                FormatNumber(v) + " m/s on (inverted hysteresis)"});
+                                " is at or above the activation threshold from " + FormatNumber(v) +
+                                " m/s on (inverted hysteresis)"});
         return;
       }
   };

@@ -13,9 +13,9 @@
 namespace scw::params {
 
 struct LintOptions {
-  double v_min = 0.0;    ///< speed range checked [m/s]
+  double v_min = 0.0;  ///< speed range checked [m/s]
   double v_max = 90.0;
-  double growth = 2.0;   ///< warn when a threshold exceeds growth × its largest breakpoint value
+  double growth = 2.0;  ///< warn when a threshold exceeds growth × its largest breakpoint value
 };
 
 /// Warnings (path + sentence). Empty for a set without surprises.

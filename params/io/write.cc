@@ -133,8 +133,8 @@ std::string EmitNested(const std::vector<EmitEntry>& entries, const std::string&
 
 void WriteFileAtomic(const std::string& path, const std::string& text) {
   static std::atomic<unsigned> counter{0};
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid()) + "." +
-                          std::to_string(counter.fetch_add(1));
+  const std::string tmp =
+      path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter.fetch_add(1));
   auto fail = [&](const std::string& what) {
     const std::string reason = std::strerror(errno);
     std::remove(tmp.c_str());
@@ -144,8 +144,10 @@ void WriteFileAtomic(const std::string& path, const std::string& text) {
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) {
     const std::string reason = std::strerror(errno);
-    throw std::runtime_error("cannot write " + path + ": cannot create a temporary file next to "
-                             "it (" + reason + "); the file was not changed");
+    throw std::runtime_error("cannot write " + path +
+                             ": cannot create a temporary file next to "
+                             "it (" +
+                             reason + "); the file was not changed");
   }
   std::size_t done = 0;
   while (done < text.size()) {

@@ -23,8 +23,8 @@ std::string FormatDoubleList(const std::vector<double>& v);
 std::string QuoteString(const std::string& s);
 
 struct EmitEntry {
-  std::string key;    ///< dotted path
-  std::string value;  ///< rendered literal
+  std::string key;      ///< dotted path
+  std::string value;    ///< rendered literal
   std::string comment;  ///< optional trailing comment (unit)
 };
 

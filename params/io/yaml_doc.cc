@@ -25,8 +25,8 @@ const char* ScalarTypeName(ScalarType t) {
 }
 
 bool ParseBool(const std::string& t, bool* out) {
-  static const char* kTrue[] = {"y", "Y", "yes", "Yes", "YES", "true", "True", "TRUE", "on", "On",
-                                "ON"};
+  static const char* kTrue[] = {"y",    "Y",    "yes", "Yes", "YES", "true",
+                                "True", "TRUE", "on",  "On",  "ON"};
   static const char* kFalse[] = {"n",     "N",     "no",  "No",  "NO", "false",
                                  "False", "FALSE", "off", "Off", "OFF"};
   for (const char* w : kTrue)
@@ -50,18 +50,9 @@ bool ParseInt(const std::string& t, long long* out) {
 bool ParseDouble(const std::string& t, double* out) {
   if (t.empty()) return false;
   static const std::pair<const char*, double> kSpecial[] = {
-      {".nan", std::nan("")},
-      {".NaN", std::nan("")},
-      {".NAN", std::nan("")},
-      {".inf", HUGE_VAL},
-      {".Inf", HUGE_VAL},
-      {".INF", HUGE_VAL},
-      {"+.inf", HUGE_VAL},
-      {"+.Inf", HUGE_VAL},
-      {"+.INF", HUGE_VAL},
-      {"-.inf", -HUGE_VAL},
-      {"-.Inf", -HUGE_VAL},
-      {"-.INF", -HUGE_VAL}};
+      {".nan", std::nan("")}, {".NaN", std::nan("")}, {".NAN", std::nan("")}, {".inf", HUGE_VAL},
+      {".Inf", HUGE_VAL},     {".INF", HUGE_VAL},     {"+.inf", HUGE_VAL},    {"+.Inf", HUGE_VAL},
+      {"+.INF", HUGE_VAL},    {"-.inf", -HUGE_VAL},   {"-.Inf", -HUGE_VAL},   {"-.INF", -HUGE_VAL}};
   for (const auto& [w, v] : kSpecial)
     if (t == w) return *out = v, true;
   errno = 0;
@@ -100,9 +91,10 @@ class TreeBuilder : public YAML::EventHandler {
     Add(std::move(n));
   }
   void OnAlias(const YAML::Mark& mark, YAML::anchor_t) override {
-    throw ConfigError(file_, "", "line " + std::to_string(mark.line + 1) +
-                                     ": aliases (*name) are not allowed: the ROS 2 parameter "
-                                     "parser rejects them");
+    throw ConfigError(file_, "",
+                      "line " + std::to_string(mark.line + 1) +
+                          ": aliases (*name) are not allowed: the ROS 2 parameter "
+                          "parser rejects them");
   }
   void OnScalar(const YAML::Mark& mark, const std::string& tag, YAML::anchor_t anchor,
                 const std::string& value) override {
@@ -135,9 +127,10 @@ class TreeBuilder : public YAML::EventHandler {
   }
   void OnMapEnd() override { Close(); }
   void OnAnchor(const YAML::Mark& mark, const std::string& name) override {
-    throw ConfigError(file_, "", "line " + std::to_string(mark.line + 1) + ": anchor &" + name +
-                                     " is not allowed: the ROS 2 parameter parser rejects "
-                                     "anchors and aliases");
+    throw ConfigError(file_, "",
+                      "line " + std::to_string(mark.line + 1) + ": anchor &" + name +
+                          " is not allowed: the ROS 2 parameter parser rejects "
+                          "anchors and aliases");
   }
 
   bool has_root() const { return has_root_; }
@@ -152,9 +145,10 @@ class TreeBuilder : public YAML::EventHandler {
 
   void CheckAnchor(const YAML::Mark& mark, YAML::anchor_t anchor) {
     if (anchor != YAML::NullAnchor)
-      throw ConfigError(file_, "", "line " + std::to_string(mark.line + 1) +
-                                       ": anchors (&name) are not allowed: the ROS 2 "
-                                       "parameter parser rejects anchors and aliases");
+      throw ConfigError(file_, "",
+                        "line " + std::to_string(mark.line + 1) +
+                            ": anchors (&name) are not allowed: the ROS 2 "
+                            "parameter parser rejects anchors and aliases");
   }
   void Close() {
     Frame f = std::move(stack_.back());
@@ -172,8 +166,8 @@ class TreeBuilder : public YAML::EventHandler {
       top.node.items.push_back(std::move(n));
     } else if (!top.has_key) {
       if (n.kind != YamlNode::Kind::kScalar)
-        throw ConfigError(file_, "", "line " + std::to_string(n.line) +
-                                         ": map keys must be plain scalars");
+        throw ConfigError(file_, "",
+                          "line " + std::to_string(n.line) + ": map keys must be plain scalars");
       top.pending_key = n.text;
       top.has_key = true;
     } else {
@@ -275,8 +269,8 @@ FlatDoc Flatten(const YamlNode& root, Layout layout, const std::string& expected
           continue;
         }
         if (value.kind != YamlNode::Kind::kMap) {
-          problems->Add("ros__parameters", "must be a map of parameters (line " +
-                                               std::to_string(value.line) + ")");
+          problems->Add("ros__parameters",
+                        "must be a map of parameters (line " + std::to_string(value.line) + ")");
           continue;
         }
         if (found)
@@ -309,8 +303,9 @@ FlatDoc Flatten(const YamlNode& root, Layout layout, const std::string& expected
       msg += ")";
       for (const auto& n : other_nodes)
         if (n.find('*') != std::string::npos) {
-          msg += "; wildcard node keys do not satisfy the car's parameter manager, which "
-                 "requires the exact node name";
+          msg +=
+              "; wildcard node keys do not satisfy the car's parameter manager, which "
+              "requires the exact node name";
           break;
         }
     }

@@ -17,11 +17,11 @@ namespace scw::params {
 struct YamlNode {
   enum class Kind { kNull, kScalar, kSequence, kMap };
   Kind kind = Kind::kNull;
-  std::string text;     ///< scalar text
-  bool quoted = false;  ///< scalar was single- or double-quoted (always a string for rcl)
-  bool flow = false;    ///< sequence/map written in flow style
-  int line = 0;         ///< 1-based source line
-  std::vector<YamlNode> items;                           ///< sequence elements
+  std::string text;             ///< scalar text
+  bool quoted = false;          ///< scalar was single- or double-quoted (always a string for rcl)
+  bool flow = false;            ///< sequence/map written in flow style
+  int line = 0;                 ///< 1-based source line
+  std::vector<YamlNode> items;  ///< sequence elements
   std::vector<std::pair<std::string, YamlNode>> entries;  ///< map entries (duplicates kept)
 };
 

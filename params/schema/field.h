@@ -101,9 +101,9 @@ struct Meta {
   double hi = std::numeric_limits<double>::infinity();   ///< inclusive upper bound (each element)
   std::string_view doc = "";
   Scale scale = Scale::kFixed;
-  bool optional = false;   ///< may be absent from a file; the in-class default is then kept
-  int min_size = 1;        ///< arrays: minimum number of elements
-  bool ascending = false;  ///< arrays: strictly ascending elements required
+  bool optional = false;          ///< may be absent from a file; the in-class default is then kept
+  int min_size = 1;               ///< arrays: minimum number of elements
+  bool ascending = false;         ///< arrays: strictly ascending elements required
   std::string_view choices = "";  ///< strings: '|'-separated list of allowed values (empty: any)
   /// Accepted by the workspace but not declared by the car's node (the node ignores the key).
   bool workspace_only = false;
@@ -155,7 +155,9 @@ void ForEachField(P& p, Fn&& fn, std::string prefix = "") {
 }
 
 template <class P>
-concept HasCrossCheck = requires(const P& p, Problems& pr) { P::CrossCheck(p, pr); };
+concept HasCrossCheck = requires(const P& p, Problems& pr) {
+  P::CrossCheck(p, pr);
+};
 
 /// Shortest text that reads back to exactly `x` (locale-independent).
 inline std::string FormatNumber(double x) {

@@ -28,15 +28,22 @@ struct BrakeBiasShift {
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.values, {.key = "values", .unit = "-", .lo = -0.5, .hi = 0.5,
+    v.Field(s.values, {.key = "values",
+                       .unit = "-",
+                       .lo = -0.5,
+                       .hi = 0.5,
                        .doc = "Additive shift of the front brake bias over speed (breakpoints in "
                               "vel_interp_mps). Linearly EXTRAPOLATED outside the breakpoints, as "
                               "on the car.",
                        .min_size = 2});
-    v.Field(s.vel_interp_mps, {.key = "vel_interp_mps", .unit = "m/s", .lo = 0.0, .hi = 150.0,
+    v.Field(s.vel_interp_mps, {.key = "vel_interp_mps",
+                               .unit = "m/s",
+                               .lo = 0.0,
+                               .hi = 150.0,
                                .doc = "Speed breakpoints of the brake-bias shift (ascending, same "
                                       "length as values).",
-                               .min_size = 2, .ascending = true});
+                               .min_size = 2,
+                               .ascending = true});
   }
   static void CrossCheck(const BrakeBiasShift& p, Problems& pr) {
     if (p.values.size() != p.vel_interp_mps.size())
@@ -54,14 +61,23 @@ struct ShiftPressureReduction {
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
     v.Field(s.reduction_factor,
-            {.key = "reduction_factor", .unit = "-", .lo = 0.0, .hi = 1.0,
+            {.key = "reduction_factor",
+             .unit = "-",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "Multiplier on the rear brake pressures inside the gear-shift window.",
              .scale = Scale::kLinear});
-    v.Field(s.duration_pressure_reduction,
-            {.key = "duration_pressure_reduction", .unit = "s", .lo = 0.0, .hi = 2.0,
-             .doc = "Length of the rear pressure-reduction window.", .scale = Scale::kLinear});
+    v.Field(s.duration_pressure_reduction, {.key = "duration_pressure_reduction",
+                                            .unit = "s",
+                                            .lo = 0.0,
+                                            .hi = 2.0,
+                                            .doc = "Length of the rear pressure-reduction window.",
+                                            .scale = Scale::kLinear});
     v.Field(s.duration_gearshift_initiation,
-            {.key = "duration_gearshift_initiation", .unit = "s", .lo = 0.0, .hi = 2.0,
+            {.key = "duration_gearshift_initiation",
+             .unit = "s",
+             .lo = 0.0,
+             .hi = 2.0,
              .doc = "Delay from a gear-request change to the start of the window.",
              .scale = Scale::kLinear});
   }
@@ -85,48 +101,81 @@ struct AbsAxleParams {
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
     v.Field(s.reduce_initial_pressure_ratio,
-            {.key = "reduce_initial_pressure_ratio", .unit = "-", .lo = 0.0, .hi = 1.0,
+            {.key = "reduce_initial_pressure_ratio",
+             .unit = "-",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "Pressure ratio ε set at activation (pressure drops at once to about "
                     "0.9·ε·p_latched) and cap on re-entry to Reduce.",
              .scale = Scale::kLinear});
-    v.Field(s.increase_initial_pressure_ratio,
-            {.key = "increase_initial_pressure_ratio", .unit = "-", .lo = 0.0, .hi = 1.0,
-             .doc = "Minimum ε on entering Increase.", .scale = Scale::kLinear});
+    v.Field(s.increase_initial_pressure_ratio, {.key = "increase_initial_pressure_ratio",
+                                                .unit = "-",
+                                                .lo = 0.0,
+                                                .hi = 1.0,
+                                                .doc = "Minimum ε on entering Increase.",
+                                                .scale = Scale::kLinear});
     v.Field(s.reduce_step,
-            {.key = "reduce_step", .unit = "1/step", .lo = 0.0, .hi = 1.0,
+            {.key = "reduce_step",
+             .unit = "1/step",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "ε decrement per control step in Reduce, multiplied by the normalised slip "
                     "error e ∈ [0.1, 1].",
              .scale = Scale::kLog});
-    v.Field(s.increase_step, {.key = "increase_step", .unit = "1/step", .lo = 0.0, .hi = 1.0,
+    v.Field(s.increase_step, {.key = "increase_step",
+                              .unit = "1/step",
+                              .lo = 0.0,
+                              .hi = 1.0,
                               .doc = "ε increment per control step in Increase while ε < 1.",
                               .scale = Scale::kLog});
     v.Field(s.increase_step_target_increase,
-            {.key = "increase_step_target_increase", .unit = "1/step", .lo = 0.0, .hi = 1.0,
+            {.key = "increase_step_target_increase",
+             .unit = "1/step",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "ε increment per step above 1 (target increase: lets the output follow a "
                     "rising request while latched; the output never exceeds the request).",
              .scale = Scale::kLog});
     v.Field(s.slip_threshold_hold_reduce,
-            {.key = "slip_threshold_hold_reduce", .unit = "%", .lo = -100.0, .hi = 0.0,
+            {.key = "slip_threshold_hold_reduce",
+             .unit = "%",
+             .lo = -100.0,
+             .hi = 0.0,
              .doc = "λ_hr: activation threshold, Hold→Reduce and Increase→Reduce threshold and "
                     "reference of the slip error. Scaled by the slip-angle factor r.",
              .scale = Scale::kLinear});
-    v.Field(s.slip_threshold_reduce_hold,
-            {.key = "slip_threshold_reduce_hold", .unit = "%", .lo = -100.0, .hi = 0.0,
-             .doc = "λ_rh: Reduce→Hold when slip recovers above it.", .scale = Scale::kLinear});
+    v.Field(s.slip_threshold_reduce_hold, {.key = "slip_threshold_reduce_hold",
+                                           .unit = "%",
+                                           .lo = -100.0,
+                                           .hi = 0.0,
+                                           .doc = "λ_rh: Reduce→Hold when slip recovers above it.",
+                                           .scale = Scale::kLinear});
     v.Field(s.slip_threshold_hold_increase,
-            {.key = "slip_threshold_hold_increase", .unit = "%", .lo = -100.0, .hi = 0.0,
+            {.key = "slip_threshold_hold_increase",
+             .unit = "%",
+             .lo = -100.0,
+             .hi = 0.0,
              .doc = "λ_hi: Hold/Reduce→Increase when slip is above it and rising.",
              .scale = Scale::kLinear});
     v.Field(s.slip_threshold_increase_hold,
-            {.key = "slip_threshold_increase_hold", .unit = "%", .lo = -100.0, .hi = 0.0,
+            {.key = "slip_threshold_increase_hold",
+             .unit = "%",
+             .lo = -100.0,
+             .hi = 0.0,
              .doc = "λ_ih: Increase→Hold when slip falls below it (and below safe).",
              .scale = Scale::kLinear});
     v.Field(s.slip_threshold_safe,
-            {.key = "slip_threshold_safe", .unit = "%", .lo = -100.0, .hi = 0.0,
+            {.key = "slip_threshold_safe",
+             .unit = "%",
+             .lo = -100.0,
+             .hi = 0.0,
              .doc = "λ_safe: slip considered safe; above it Increase may raise ε beyond 1.",
              .scale = Scale::kLinear});
     v.Field(s.fx_safety_threshold_factor,
-            {.key = "fx_safety_threshold_factor", .unit = "-", .lo = 0.0, .hi = 1.0,
+            {.key = "fx_safety_threshold_factor",
+             .unit = "-",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "Safety limiter: minimum fraction of the requested braking force ABS keeps "
                     "(moving averages over moving_average_fx_window_length steps).",
              .scale = Scale::kLinear});
@@ -166,41 +215,60 @@ struct AbsParams {
   static void Visit(Self& s, V& v) {
     v.Field(s.enabled, {.key = "enabled", .doc = "Master enable of ABS."});
     v.Field(s.operation_mode,
-            {.key = "operation_mode", .unit = "-", .lo = 0, .hi = 3,
+            {.key = "operation_mode",
+             .unit = "-",
+             .lo = 0,
+             .hi = 3,
              .doc = "Slip distribution: 0 wheel individual, 1 axle split (more-locking wheel of "
                     "each axle), 2 all wheels together, 3 rear axle only."});
-    v.Field(s.min_activation_velocity,
-            {.key = "min_activation_velocity", .unit = "m/s", .lo = 0.0, .hi = 50.0,
-             .doc = "ABS allowed only for v_x above this speed.", .scale = Scale::kLinear});
+    v.Field(s.min_activation_velocity, {.key = "min_activation_velocity",
+                                        .unit = "m/s",
+                                        .lo = 0.0,
+                                        .hi = 50.0,
+                                        .doc = "ABS allowed only for v_x above this speed.",
+                                        .scale = Scale::kLinear});
     v.Field(s.min_long_force,
-            {.key = "min_long_force", .unit = "N", .lo = -100000.0, .hi = 0.0,
+            {.key = "min_long_force",
+             .unit = "N",
+             .lo = -100000.0,
+             .hi = 0.0,
              .doc = "Braking-request gate F_min: ABS arms when the requested force long_fx < "
                     "F_min − 100 N and disarms above F_min (ESC-triggered ABS bypasses it).",
              .scale = Scale::kLinear});
     v.Field(s.activation_time_after_gearshift,
-            {.key = "activation_time_after_gearshift", .unit = "s", .lo = 0.0, .hi = 5.0,
+            {.key = "activation_time_after_gearshift",
+             .unit = "s",
+             .lo = 0.0,
+             .hi = 5.0,
              .doc = "Rear-wheel ABS is blocked for this time after an engaged-gear change.",
              .scale = Scale::kLinear});
     v.Field(s.slip_vertical_load_weighted,
             {.key = "slip_vertical_load_weighted",
              .doc = "Use the per-axle vertical-load-weighted slip instead of wheel slips."});
-    v.Field(s.use_virtual_slips,
-            {.key = "use_virtual_slips",
-             .doc = "Use engine-speed based (virtual) rear wheel slips."});
+    v.Field(s.use_virtual_slips, {.key = "use_virtual_slips",
+                                  .doc = "Use engine-speed based (virtual) rear wheel slips."});
     v.Field(s.use_error_in_increase,
             {.key = "use_error_in_increase",
              .doc = "Scale the Increase steps by the normalised slip error."});
-    v.Field(s.slip_angle_max,
-            {.key = "slip_angle_max", .unit = "rad", .lo = 1e-6, .hi = 0.5,
-             .doc = "|slip angle| at which the threshold scaling saturates.",
-             .scale = Scale::kLinear});
+    v.Field(s.slip_angle_max, {.key = "slip_angle_max",
+                               .unit = "rad",
+                               .lo = 1e-6,
+                               .hi = 0.5,
+                               .doc = "|slip angle| at which the threshold scaling saturates.",
+                               .scale = Scale::kLinear});
     v.Field(s.slip_threshold_reduction_factor,
-            {.key = "slip_threshold_reduction_factor", .unit = "-", .lo = 0.0, .hi = 1.0,
+            {.key = "slip_threshold_reduction_factor",
+             .unit = "-",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "Maximum relative reduction of all slip thresholds at slip_angle_max "
                     "(r = 1 − clamp(|α|/α_max, 0, 1)·factor).",
              .scale = Scale::kLinear});
     v.Field(s.moving_average_fx_window_length,
-            {.key = "moving_average_fx_window_length", .unit = "samples", .lo = 1, .hi = 10000,
+            {.key = "moving_average_fx_window_length",
+             .unit = "samples",
+             .lo = 1,
+             .hi = 10000,
              .doc = "Window of the moving averages of the ABS safety limiter."});
     v.Nested("front", s.front);
     v.Nested("rear", s.rear);
@@ -222,34 +290,59 @@ struct TcAxleParams {
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
     v.Field(s.reduce_initial_pressure_ratio,
-            {.key = "reduce_initial_pressure_ratio", .unit = "-", .lo = 0.0, .hi = 1.0,
+            {.key = "reduce_initial_pressure_ratio",
+             .unit = "-",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "Retained fraction ε of the requested drive force at activation (lower ε → "
                     "more brake pressure on the driven wheels).",
              .scale = Scale::kLinear});
-    v.Field(s.reduce_step, {.key = "reduce_step", .unit = "1/step", .lo = 0.0, .hi = 1.0,
+    v.Field(s.reduce_step, {.key = "reduce_step",
+                            .unit = "1/step",
+                            .lo = 0.0,
+                            .hi = 1.0,
                             .doc = "ε decrement per step in Reduce (× normalised slip error).",
                             .scale = Scale::kLog});
-    v.Field(s.increase_step, {.key = "increase_step", .unit = "1/step", .lo = 0.0, .hi = 1.0,
-                              .doc = "ε increment per step in Increase.", .scale = Scale::kLog});
+    v.Field(s.increase_step, {.key = "increase_step",
+                              .unit = "1/step",
+                              .lo = 0.0,
+                              .hi = 1.0,
+                              .doc = "ε increment per step in Increase.",
+                              .scale = Scale::kLog});
     v.Field(s.slip_threshold_reduce_hold,
-            {.key = "slip_threshold_reduce_hold", .unit = "%", .lo = 0.0, .hi = 100.0,
+            {.key = "slip_threshold_reduce_hold",
+             .unit = "%",
+             .lo = 0.0,
+             .hi = 100.0,
              .doc = "λ_rh: Reduce→Hold when filtered slip falls below it.",
              .scale = Scale::kLinear});
     v.Field(s.slip_threshold_hold_increase,
-            {.key = "slip_threshold_hold_increase", .unit = "%", .lo = 0.0, .hi = 100.0,
+            {.key = "slip_threshold_hold_increase",
+             .unit = "%",
+             .lo = 0.0,
+             .hi = 100.0,
              .doc = "λ_hi: Hold/Reduce→Increase when filtered slip is at or below it and falling.",
              .scale = Scale::kLinear});
-    v.Field(s.slip_threshold_increase_hold,
-            {.key = "slip_threshold_increase_hold", .unit = "%", .lo = 0.0, .hi = 100.0,
-             .doc = "λ_ih: Increase→Hold threshold.", .scale = Scale::kLinear});
+    v.Field(s.slip_threshold_increase_hold, {.key = "slip_threshold_increase_hold",
+                                             .unit = "%",
+                                             .lo = 0.0,
+                                             .hi = 100.0,
+                                             .doc = "λ_ih: Increase→Hold threshold.",
+                                             .scale = Scale::kLinear});
     v.Field(s.slip_threshold_hold_reduce,
-            {.key = "slip_threshold_hold_reduce", .unit = "%", .lo = 0.0, .hi = 100.0,
+            {.key = "slip_threshold_hold_reduce",
+             .unit = "%",
+             .lo = 0.0,
+             .hi = 100.0,
              .doc = "λ_hr: activation threshold and Hold→Reduce threshold; also restarts the "
                     "deactivation timer.",
              .scale = Scale::kLinear});
-    v.Field(s.slip_threshold_safe,
-            {.key = "slip_threshold_safe", .unit = "%", .lo = 0.0, .hi = 100.0,
-             .doc = "λ_safe: Increase→Hold needs the slip above it.", .scale = Scale::kLinear});
+    v.Field(s.slip_threshold_safe, {.key = "slip_threshold_safe",
+                                    .unit = "%",
+                                    .lo = 0.0,
+                                    .hi = 100.0,
+                                    .doc = "λ_safe: Increase→Hold needs the slip above it.",
+                                    .scale = Scale::kLinear});
   }
   /// Ordering rules; reported with `prefix` ("rear." / "front.").
   static void CheckOrdering(const TcAxleParams& p, const std::string& prefix, Problems& pr) {
@@ -290,27 +383,38 @@ struct TcParams {
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.enabled, {.key = "enabled",
-                        .doc = "Master enable of TC (the throttle cut works regardless)."});
+    v.Field(s.enabled,
+            {.key = "enabled", .doc = "Master enable of TC (the throttle cut works regardless)."});
     v.Field(s.operation_mode,
-            {.key = "operation_mode", .unit = "-", .lo = 0, .hi = 3,
+            {.key = "operation_mode",
+             .unit = "-",
+             .lo = 0,
+             .hi = 3,
              .doc = "Slip distribution: 0 wheel individual, 1 axle split (more-spinning wheel), "
                     "2 all wheels together, 3 rear axle as one unit."});
-    v.Field(s.min_activation_velocity,
-            {.key = "min_activation_velocity", .unit = "m/s", .lo = 0.0, .hi = 50.0,
-             .doc = "TC allowed only for v_x above this speed.", .scale = Scale::kLinear});
+    v.Field(s.min_activation_velocity, {.key = "min_activation_velocity",
+                                        .unit = "m/s",
+                                        .lo = 0.0,
+                                        .hi = 50.0,
+                                        .doc = "TC allowed only for v_x above this speed.",
+                                        .scale = Scale::kLinear});
     v.Field(s.activation_time_after_gearshift,
-            {.key = "activation_time_after_gearshift", .unit = "s", .lo = 0.0, .hi = 5.0,
+            {.key = "activation_time_after_gearshift",
+             .unit = "s",
+             .lo = 0.0,
+             .hi = 5.0,
              .doc = "Rear-wheel TC is blocked for this time after an engaged-gear change.",
              .scale = Scale::kLinear});
     v.Field(s.deactivation_duration,
-            {.key = "deactivation_duration", .unit = "s", .lo = 0.0, .hi = 10.0,
+            {.key = "deactivation_duration",
+             .unit = "s",
+             .lo = 0.0,
+             .hi = 10.0,
              .doc = "TC deactivates this long after the filtered slip last reached the "
                     "activation threshold (simulation time).",
              .scale = Scale::kLinear});
-    v.Field(s.use_virtual_slips,
-            {.key = "use_virtual_slips",
-             .doc = "Use engine-speed based (virtual) rear wheel slips."});
+    v.Field(s.use_virtual_slips, {.key = "use_virtual_slips",
+                                  .doc = "Use engine-speed based (virtual) rear wheel slips."});
     v.Field(s.use_error_in_increase,
             {.key = "use_error_in_increase",
              .doc = "Scale the Increase steps by the normalised slip error."});
@@ -318,21 +422,32 @@ struct TcParams {
             {.key = "slip_vertical_load_weighted",
              .doc = "Use the per-axle vertical-load-weighted slip instead of wheel slips."});
     v.Field(s.slip_filter_pole,
-            {.key = "slip_filter_pole", .unit = "- (pole)", .lo = 0.0, .hi = 1.0,
+            {.key = "slip_filter_pole",
+             .unit = "- (pole)",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "Discrete low-pass POLE on the TC slip (0.8 ↔ τ ≈ 45 ms at 100 Hz).",
              .scale = Scale::kLinear});
     v.Field(s.max_slip_throttle_cut,
-            {.key = "max_slip_throttle_cut", .unit = "%", .lo = 0.0, .hi = 100.0,
+            {.key = "max_slip_throttle_cut",
+             .unit = "%",
+             .lo = 0.0,
+             .hi = 100.0,
              .doc = "Throttle forced to 0 while the largest TC-input slip exceeds this value.",
              .scale = Scale::kLinear});
     v.Field(s.slip_threshold_reduction_factor,
-            {.key = "slip_threshold_reduction_factor", .unit = "-", .lo = 0.0, .hi = 1.0,
+            {.key = "slip_threshold_reduction_factor",
+             .unit = "-",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "Maximum relative reduction of all TC slip thresholds at slip_angle_max.",
              .scale = Scale::kLinear});
-    v.Field(s.slip_angle_max,
-            {.key = "slip_angle_max", .unit = "rad", .lo = 1e-6, .hi = 0.5,
-             .doc = "|slip angle| at which the TC threshold scaling saturates.",
-             .scale = Scale::kLinear});
+    v.Field(s.slip_angle_max, {.key = "slip_angle_max",
+                               .unit = "rad",
+                               .lo = 1e-6,
+                               .hi = 0.5,
+                               .doc = "|slip angle| at which the TC threshold scaling saturates.",
+                               .scale = Scale::kLinear});
     v.Nested("rear", s.rear);
     v.Nested("front", s.front, /*optional=*/true);
   }
@@ -353,7 +468,10 @@ struct SlipControlParams {
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
     v.Field(s.slip_angle_filter_pole,
-            {.key = "slip_angle_filter_pole", .unit = "- (pole)", .lo = 0.0, .hi = 1.0,
+            {.key = "slip_angle_filter_pole",
+             .unit = "- (pole)",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "Discrete low-pass POLE on the wheel slip angles used for threshold scaling "
                     "(0.7 ↔ τ ≈ 28 ms at 100 Hz).",
              .scale = Scale::kLinear});
@@ -388,73 +506,133 @@ struct EscParams {
   static void Visit(Self& s, V& v) {
     v.Field(s.enabled, {.key = "enabled", .doc = "Master enable of ESC."});
     v.Field(s.max_brake_pressure,
-            {.key = "max_brake_pressure", .unit = "bar", .lo = 0.0, .hi = 300.0,
+            {.key = "max_brake_pressure",
+             .unit = "bar",
+             .lo = 0.0,
+             .hi = 300.0,
              .doc = "Head-room limit of the ESC pressure build-up AND global clamp of all four "
                     "wheel pressures every step (active or not). The shipped file sets it twice "
                     "(60.0, 80.0); the node keeps the last."});
     v.Field(s.tS_psi_dot,
-            {.key = "tS_psi_dot", .unit = "- (pole)", .lo = 0.0, .hi = 1.0,
+            {.key = "tS_psi_dot",
+             .unit = "- (pole)",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "Discrete low-pass POLE (not a time) on the yaw-rate error (0.92 ↔ τ ≈ "
                     "120 ms at 100 Hz).",
              .scale = Scale::kLinear});
-    v.Field(s.kp_psi_dot, {.key = "kp_psi_dot", .unit = "1/s", .lo = 0.0, .hi = 1000.0,
+    v.Field(s.kp_psi_dot, {.key = "kp_psi_dot",
+                           .unit = "1/s",
+                           .lo = 0.0,
+                           .hi = 1000.0,
                            .doc = "Yaw-rate P gain (× I_z gives N·m per rad/s).",
                            .scale = Scale::kLog});
-    v.Field(s.ki_psi_dot, {.key = "ki_psi_dot", .unit = "1/s^2", .lo = 0.0, .hi = 1000.0,
+    v.Field(s.ki_psi_dot, {.key = "ki_psi_dot",
+                           .unit = "1/s^2",
+                           .lo = 0.0,
+                           .hi = 1000.0,
                            .doc = "Yaw-rate I gain (conditional integration, reset while "
                                   "inactive).",
                            .scale = Scale::kLog});
-    v.Field(s.kd_psi_dot, {.key = "kd_psi_dot", .unit = "-", .lo = 0.0, .hi = 100.0,
+    v.Field(s.kd_psi_dot, {.key = "kd_psi_dot",
+                           .unit = "-",
+                           .lo = 0.0,
+                           .hi = 100.0,
                            .doc = "Yaw-rate D gain (difference quotient, no extra filter).",
                            .scale = Scale::kLog});
-    v.Field(s.tS_beta, {.key = "tS_beta", .unit = "- (pole)", .lo = 0.0, .hi = 1.0,
+    v.Field(s.tS_beta, {.key = "tS_beta",
+                        .unit = "- (pole)",
+                        .lo = 0.0,
+                        .hi = 1.0,
                         .doc = "Discrete low-pass POLE (not a time) on the sideslip error (0.9 "
                                "↔ τ ≈ 95 ms at 100 Hz).",
                         .scale = Scale::kLinear});
-    v.Field(s.kp_beta, {.key = "kp_beta", .unit = "1/s^2", .lo = 0.0, .hi = 1000.0,
-                        .doc = "Sideslip P gain.", .scale = Scale::kLog});
-    v.Field(s.ki_beta, {.key = "ki_beta", .unit = "1/s^3", .lo = 0.0, .hi = 1000.0,
-                        .doc = "Sideslip I gain.", .scale = Scale::kLog});
-    v.Field(s.kd_beta, {.key = "kd_beta", .unit = "1/s", .lo = 0.0, .hi = 100.0,
-                        .doc = "Sideslip D gain.", .scale = Scale::kLog});
+    v.Field(s.kp_beta, {.key = "kp_beta",
+                        .unit = "1/s^2",
+                        .lo = 0.0,
+                        .hi = 1000.0,
+                        .doc = "Sideslip P gain.",
+                        .scale = Scale::kLog});
+    v.Field(s.ki_beta, {.key = "ki_beta",
+                        .unit = "1/s^3",
+                        .lo = 0.0,
+                        .hi = 1000.0,
+                        .doc = "Sideslip I gain.",
+                        .scale = Scale::kLog});
+    v.Field(s.kd_beta, {.key = "kd_beta",
+                        .unit = "1/s",
+                        .lo = 0.0,
+                        .hi = 100.0,
+                        .doc = "Sideslip D gain.",
+                        .scale = Scale::kLog});
     v.Field(s.max_integrator_yaw_moment,
-            {.key = "max_integrator_yaw_moment", .unit = "rad/s^2", .lo = 0.0, .hi = 1e6,
+            {.key = "max_integrator_yaw_moment",
+             .unit = "rad/s^2",
+             .lo = 0.0,
+             .hi = 1e6,
              .doc = "Conditional-integration bound of BOTH integrators, in PID-output units "
                     "(yaw acceleration) before multiplication by I_z — despite the name not a "
                     "moment: 1325 rad/s² × 1000 kg·m² ≈ 1.3 MN·m, i.e. effectively no "
                     "anti-windup.",
              .scale = Scale::kLog});
     v.Field(s.threshold_velocities,
-            {.key = "threshold_velocities", .unit = "m/s", .lo = 0.0, .hi = 150.0,
+            {.key = "threshold_velocities",
+             .unit = "m/s",
+             .lo = 0.0,
+             .hi = 150.0,
              .doc = "Speed breakpoints of the activation thresholds (ascending; thresholds are "
                     "linearly EXTRAPOLATED outside, as on the car).",
-             .min_size = 2, .ascending = true});
-    v.Field(s.beta_threshold_activate,
-            {.key = "beta_threshold_activate", .unit = "rad", .lo = 0.0, .hi = 1.0,
-             .doc = "|β| activation threshold at each breakpoint.", .scale = Scale::kLinear,
-             .min_size = 2});
+             .min_size = 2,
+             .ascending = true});
+    v.Field(s.beta_threshold_activate, {.key = "beta_threshold_activate",
+                                        .unit = "rad",
+                                        .lo = 0.0,
+                                        .hi = 1.0,
+                                        .doc = "|β| activation threshold at each breakpoint.",
+                                        .scale = Scale::kLinear,
+                                        .min_size = 2});
     v.Field(s.beta_threshold_deactivate,
-            {.key = "beta_threshold_deactivate", .unit = "rad", .lo = 0.0, .hi = 1.0,
+            {.key = "beta_threshold_deactivate",
+             .unit = "rad",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "|β| deactivation threshold (all three deactivation conditions must hold).",
              .scale = Scale::kLinear});
     v.Field(s.psi_dot_error_threshold_activate,
-            {.key = "psi_dot_error_threshold_activate", .unit = "rad/s", .lo = 0.0, .hi = 2.0,
+            {.key = "psi_dot_error_threshold_activate",
+             .unit = "rad/s",
+             .lo = 0.0,
+             .hi = 2.0,
              .doc = "|filtered yaw-rate error| activation threshold at each breakpoint.",
-             .scale = Scale::kLinear, .min_size = 2});
+             .scale = Scale::kLinear,
+             .min_size = 2});
     v.Field(s.psi_dot_error_threshold_deactivate,
-            {.key = "psi_dot_error_threshold_deactivate", .unit = "rad/s", .lo = 0.0, .hi = 2.0,
+            {.key = "psi_dot_error_threshold_deactivate",
+             .unit = "rad/s",
+             .lo = 0.0,
+             .hi = 2.0,
              .doc = "|filtered yaw-rate error| deactivation threshold.",
              .scale = Scale::kLinear});
     v.Field(s.beta_error_threshold_activate,
-            {.key = "beta_error_threshold_activate", .unit = "rad", .lo = 0.0, .hi = 1.0,
+            {.key = "beta_error_threshold_activate",
+             .unit = "rad",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "|filtered sideslip error| activation threshold at each breakpoint.",
-             .scale = Scale::kLinear, .min_size = 2});
+             .scale = Scale::kLinear,
+             .min_size = 2});
     v.Field(s.beta_error_threshold_deactivate,
-            {.key = "beta_error_threshold_deactivate", .unit = "rad", .lo = 0.0, .hi = 1.0,
+            {.key = "beta_error_threshold_deactivate",
+             .unit = "rad",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "|filtered sideslip error| deactivation threshold.",
              .scale = Scale::kLinear});
     v.Field(s.min_activation_velocity,
-            {.key = "min_activation_velocity", .unit = "m/s", .lo = 0.0, .hi = 100.0,
+            {.key = "min_activation_velocity",
+             .unit = "m/s",
+             .lo = 0.0,
+             .hi = 100.0,
              .doc = "Speed gate: activation needs v > this, v < this deactivates.",
              .scale = Scale::kLinear});
   }
@@ -480,20 +658,29 @@ struct CountersteerParams {
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.enabled, {.key = "enabled", .doc = "Enable the countersteer correction (the "
-                                                 "steering clamp applies regardless)."});
+    v.Field(s.enabled, {.key = "enabled",
+                        .doc = "Enable the countersteer correction (the "
+                               "steering clamp applies regardless)."});
     v.Field(s.slip_angle_filter_Ts,
-            {.key = "slip_angle_filter_Ts", .unit = "s", .lo = 1e-6, .hi = 10.0,
+            {.key = "slip_angle_filter_Ts",
+             .unit = "s",
+             .lo = 1e-6,
+             .hi = 10.0,
              .doc = "TIME CONSTANT (here really a time) of the low-pass on the load-weighted "
                     "axle slip angles (0.15 s ↔ pole 0.9355 at 100 Hz).",
              .scale = Scale::kLog});
-    v.Field(s.enable_sideslip,
-            {.key = "enable_sideslip", .unit = "rad", .lo = 0.0, .hi = 0.5,
-             .doc = "Minimum |filtered rear axle slip angle| for a correction.",
-             .scale = Scale::kLinear});
-    v.Field(s.steering_factor,
-            {.key = "steering_factor", .unit = "-", .lo = 0.0, .hi = 5.0,
-             .doc = "Gain k in δ_out = δ_req − k·(ᾱ_r − ᾱ_f).", .scale = Scale::kLinear});
+    v.Field(s.enable_sideslip, {.key = "enable_sideslip",
+                                .unit = "rad",
+                                .lo = 0.0,
+                                .hi = 0.5,
+                                .doc = "Minimum |filtered rear axle slip angle| for a correction.",
+                                .scale = Scale::kLinear});
+    v.Field(s.steering_factor, {.key = "steering_factor",
+                                .unit = "-",
+                                .lo = 0.0,
+                                .hi = 5.0,
+                                .doc = "Gain k in δ_out = δ_req − k·(ᾱ_r − ᾱ_f).",
+                                .scale = Scale::kLinear});
   }
 };
 
@@ -504,12 +691,21 @@ struct VelocityScaling {
   std::vector<double> factor{1.0, 1.0065, 1.0205};
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.velocity, {.key = "velocity", .unit = "m/s", .lo = 0.0, .hi = 200.0,
+    v.Field(s.velocity, {.key = "velocity",
+                         .unit = "m/s",
+                         .lo = 0.0,
+                         .hi = 200.0,
                          .doc = "Speed breakpoints of the dynamic tyre-radius growth.",
-                         .optional = true, .min_size = 2, .ascending = true});
-    v.Field(s.factor, {.key = "factor", .unit = "-", .lo = 0.5, .hi = 1.5,
+                         .optional = true,
+                         .min_size = 2,
+                         .ascending = true});
+    v.Field(s.factor, {.key = "factor",
+                       .unit = "-",
+                       .lo = 0.5,
+                       .hi = 1.5,
                        .doc = "Radius factor at each breakpoint (extrapolated).",
-                       .optional = true, .min_size = 2});
+                       .optional = true,
+                       .min_size = 2});
   }
   static void CrossCheck(const VelocityScaling& p, Problems& pr) {
     if (p.velocity.size() != p.factor.size())
@@ -524,7 +720,10 @@ struct TireRadius {
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.radius_20mps, {.key = "radius_20mps", .unit = "m", .lo = 0.1, .hi = 1.0,
+    v.Field(s.radius_20mps, {.key = "radius_20mps",
+                             .unit = "m",
+                             .lo = 0.1,
+                             .hi = 1.0,
                              .doc = "Rolling radius at 20 m/s (force→pressure factors, slip).",
                              .optional = true});
     if (s.has_velocity_scaling) v.Nested("velocity_scaling", s.velocity_scaling, true);
@@ -558,24 +757,44 @@ struct VehicleDimension {
   double cog_height = 0.3;
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.trackwidth, {.key = "trackwidth", .unit = "m", .lo = 0.5, .hi = 3.0,
+    v.Field(s.trackwidth, {.key = "trackwidth",
+                           .unit = "m",
+                           .lo = 0.5,
+                           .hi = 3.0,
                            .doc = "Track width used by ESC for yaw moment → force difference "
                                   "(a key of its own, not track_width_front).",
                            .optional = true});
-    v.Field(s.wheelbase, {.key = "wheelbase", .unit = "m", .lo = 1.0, .hi = 6.0,
+    v.Field(s.wheelbase, {.key = "wheelbase",
+                          .unit = "m",
+                          .lo = 1.0,
+                          .hi = 6.0,
                           .doc = "Wheelbase l (ESC reference model, slip calculation).",
                           .optional = true});
-    v.Field(s.distance_to_front_axle,
-            {.key = "distance_to_front_axle", .unit = "m", .lo = 0.1, .hi = 5.0,
-             .doc = "CoG to front axle l_f (l_r = l − l_f).", .optional = true});
-    v.Field(s.track_width_front, {.key = "track_width_front", .unit = "m", .lo = 0.5, .hi = 3.0,
+    v.Field(s.distance_to_front_axle, {.key = "distance_to_front_axle",
+                                       .unit = "m",
+                                       .lo = 0.1,
+                                       .hi = 5.0,
+                                       .doc = "CoG to front axle l_f (l_r = l − l_f).",
+                                       .optional = true});
+    v.Field(s.track_width_front, {.key = "track_width_front",
+                                  .unit = "m",
+                                  .lo = 0.5,
+                                  .hi = 3.0,
                                   .doc = "Front track width (slip calculation).",
                                   .optional = true});
-    v.Field(s.track_width_rear, {.key = "track_width_rear", .unit = "m", .lo = 0.5, .hi = 3.0,
-                                 .doc = "Rear track width (slip calculation).", .optional = true});
-    v.Field(s.cog_height, {.key = "cog_height", .unit = "m", .lo = 0.0, .hi = 2.0,
+    v.Field(s.track_width_rear, {.key = "track_width_rear",
+                                 .unit = "m",
+                                 .lo = 0.5,
+                                 .hi = 3.0,
+                                 .doc = "Rear track width (slip calculation).",
+                                 .optional = true});
+    v.Field(s.cog_height, {.key = "cog_height",
+                           .unit = "m",
+                           .lo = 0.0,
+                           .hi = 2.0,
                            .doc = "CoG height for the quasi-static vertical-load estimate.",
-                           .optional = true, .workspace_only = true});
+                           .optional = true,
+                           .workspace_only = true});
   }
   static void CrossCheck(const VehicleDimension& p, Problems& pr) {
     if (!(p.distance_to_front_axle < p.wheelbase))
@@ -588,11 +807,17 @@ struct VehicleDrivetrain {
   std::vector<double> gear_ratios{0.0, 2.9167, 1.875, 1.3809, 1.1154, 0.96, 0.8889};
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.transmission_ratio,
-            {.key = "transmission_ratio", .unit = "-", .lo = 0.0, .hi = 50.0,
-             .doc = "Final-drive ratio i_fd (virtual slips).", .optional = true});
+    v.Field(s.transmission_ratio, {.key = "transmission_ratio",
+                                   .unit = "-",
+                                   .lo = 0.0,
+                                   .hi = 50.0,
+                                   .doc = "Final-drive ratio i_fd (virtual slips).",
+                                   .optional = true});
     v.Field(s.gear_ratios,
-            {.key = "gear_ratios", .unit = "-", .lo = 0.0, .hi = 50.0,
+            {.key = "gear_ratios",
+             .unit = "-",
+             .lo = 0.0,
+             .hi = 50.0,
              .doc = "Gear ratios indexed by gear − 1 (the node's code default has a leading 0.0, "
                     "off by one; the car's vehicle config has none).",
              .optional = true});
@@ -604,12 +829,21 @@ struct BrakeFrictionMap {
   std::vector<double> coefficient{0.35, 0.35};
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.temperature, {.key = "temperature", .unit = "degC", .lo = -50.0, .hi = 2000.0,
+    v.Field(s.temperature, {.key = "temperature",
+                            .unit = "degC",
+                            .lo = -50.0,
+                            .hi = 2000.0,
                             .doc = "Brake temperature breakpoints of the friction map.",
-                            .optional = true, .min_size = 2, .ascending = true});
-    v.Field(s.coefficient, {.key = "coefficient", .unit = "-", .lo = 0.01, .hi = 2.0,
+                            .optional = true,
+                            .min_size = 2,
+                            .ascending = true});
+    v.Field(s.coefficient, {.key = "coefficient",
+                            .unit = "-",
+                            .lo = 0.01,
+                            .hi = 2.0,
                             .doc = "Pad friction coefficient at each temperature.",
-                            .optional = true, .min_size = 2});
+                            .optional = true,
+                            .min_size = 2});
   }
   static void CrossCheck(const BrakeFrictionMap& p, Problems& pr) {
     if (p.temperature.size() != p.coefficient.size())
@@ -625,15 +859,28 @@ struct VehicleBrake {
   BrakeFrictionMap friction{};
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.pad_mean_radius, {.key = "pad_mean_radius", .unit = "m", .lo = 0.01, .hi = 1.0,
+    v.Field(s.pad_mean_radius, {.key = "pad_mean_radius",
+                                .unit = "m",
+                                .lo = 0.01,
+                                .hi = 1.0,
                                 .doc = "Effective pad radius r_pad (force → pressure).",
                                 .optional = true});
-    v.Field(s.pad_number, {.key = "pad_number", .unit = "-", .lo = 0.1, .hi = 20.0,
-                           .doc = "Number of pads n_pad.", .optional = true});
-    v.Field(s.piston_diameter, {.key = "piston_diameter", .unit = "m", .lo = 0.005, .hi = 1.0,
+    v.Field(s.pad_number, {.key = "pad_number",
+                           .unit = "-",
+                           .lo = 0.1,
+                           .hi = 20.0,
+                           .doc = "Number of pads n_pad.",
+                           .optional = true});
+    v.Field(s.piston_diameter, {.key = "piston_diameter",
+                                .unit = "m",
+                                .lo = 0.005,
+                                .hi = 1.0,
                                 .doc = "Caliper piston diameter d (real cars ≈ 0.04–0.08 m).",
                                 .optional = true});
-    v.Field(s.friction_coeff, {.key = "friction_coeff", .unit = "-", .lo = 0.01, .hi = 2.0,
+    v.Field(s.friction_coeff, {.key = "friction_coeff",
+                               .unit = "-",
+                               .lo = 0.01,
+                               .hi = 2.0,
                                .doc = "Pad friction μ used when no temperature map applies.",
                                .optional = true});
     v.Nested("friction", s.friction, true);
@@ -647,18 +894,32 @@ struct VehicleAero {
   double front_downforce_share = 0.45;
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.air_density, {.key = "air_density", .unit = "kg/m^3", .lo = 0.5, .hi = 2.0,
+    v.Field(s.air_density, {.key = "air_density",
+                            .unit = "kg/m^3",
+                            .lo = 0.5,
+                            .hi = 2.0,
                             .doc = "Air density ρ (ABS target reduction, load estimate).",
                             .optional = true});
-    v.Field(s.cross_track_area, {.key = "cross_track_area", .unit = "m^2", .lo = 0.0, .hi = 10.0,
-                                 .doc = "Reference area A.", .optional = true});
-    v.Field(s.lift_coeff, {.key = "lift_coeff", .unit = "-", .lo = -20.0, .hi = 20.0,
+    v.Field(s.cross_track_area, {.key = "cross_track_area",
+                                 .unit = "m^2",
+                                 .lo = 0.0,
+                                 .hi = 10.0,
+                                 .doc = "Reference area A.",
+                                 .optional = true});
+    v.Field(s.lift_coeff, {.key = "lift_coeff",
+                           .unit = "-",
+                           .lo = -20.0,
+                           .hi = 20.0,
                            .doc = "Lift coefficient c_L (negative = downforce).",
                            .optional = true});
     v.Field(s.front_downforce_share,
-            {.key = "front_downforce_share", .unit = "-", .lo = 0.0, .hi = 1.0,
+            {.key = "front_downforce_share",
+             .unit = "-",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "Aero balance: front share of the downforce in the vertical-load estimate.",
-             .optional = true, .workspace_only = true});
+             .optional = true,
+             .workspace_only = true});
   }
 };
 
@@ -667,10 +928,16 @@ struct VehicleSteering {
   double max_angle = 0.43;
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.min_angle, {.key = "min_angle", .unit = "rad", .lo = -1.5, .hi = 0.0,
+    v.Field(s.min_angle, {.key = "min_angle",
+                          .unit = "rad",
+                          .lo = -1.5,
+                          .hi = 0.0,
                           .doc = "Lower steering (tyre) angle limit of the countersteer clamp.",
                           .optional = true});
-    v.Field(s.max_angle, {.key = "max_angle", .unit = "rad", .lo = 0.0, .hi = 1.5,
+    v.Field(s.max_angle, {.key = "max_angle",
+                          .unit = "rad",
+                          .lo = 0.0,
+                          .hi = 1.5,
                           .doc = "Upper steering (tyre) angle limit of the countersteer clamp.",
                           .optional = true});
   }
@@ -680,7 +947,10 @@ struct VehicleMass {
   double total = 800.0;
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.total, {.key = "total", .unit = "kg", .lo = 50.0, .hi = 5000.0,
+    v.Field(s.total, {.key = "total",
+                      .unit = "kg",
+                      .lo = 50.0,
+                      .hi = 5000.0,
                       .doc = "Vehicle mass m (ESC reference model, ABS target reduction).",
                       .optional = true});
   }
@@ -690,7 +960,10 @@ struct VehicleInertia {
   double yaw = 1000.0;
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.yaw, {.key = "yaw", .unit = "kg*m^2", .lo = 10.0, .hi = 20000.0,
+    v.Field(s.yaw, {.key = "yaw",
+                    .unit = "kg*m^2",
+                    .lo = 10.0,
+                    .hi = 20000.0,
                     .doc = "Yaw inertia I_z (ESC: yaw moment = I_z · PID output).",
                     .optional = true});
   }
@@ -736,15 +1009,24 @@ struct StabilityParams {
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.tS, {.key = "tS", .unit = "s", .lo = 1e-4, .hi = 0.1,
+    v.Field(s.tS, {.key = "tS",
+                   .unit = "s",
+                   .lo = 1e-4,
+                   .hi = 0.1,
                    .doc = "Control period: node timer and every discrete filter/derivative."});
     v.Field(s.P_VDC_MinVelSlipCalc_mps,
-            {.key = "P_VDC_MinVelSlipCalc_mps", .unit = "m/s", .lo = 2.0, .hi = 30.0,
+            {.key = "P_VDC_MinVelSlipCalc_mps",
+             .unit = "m/s",
+             .lo = 2.0,
+             .hi = 30.0,
              .doc = "v_min of the low-speed slip fade: slips are 0 below v_min − 2 and fully "
                     "weighted from v_min.",
              .scale = Scale::kLinear});
     v.Field(s.P_VDC_brake_bias_front,
-            {.key = "P_VDC_brake_bias_front", .unit = "-", .lo = 0.0, .hi = 1.0,
+            {.key = "P_VDC_brake_bias_front",
+             .unit = "-",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "Assumed front share of the total brake force in the ABS/TC force → "
                     "pressure model; must match the longitudinal controller."});
     v.Nested("brake_bias_shift", s.brake_bias_shift);
@@ -752,13 +1034,21 @@ struct StabilityParams {
     v.Nested("ESC", s.ESC);
     v.Nested("countersteer_system", s.countersteer_system);
     v.Field(s.tire_stiffness_front,
-            {.key = "tire_stiffness_front", .unit = "N/rad", .lo = 1000.0, .hi = 5e6,
+            {.key = "tire_stiffness_front",
+             .unit = "N/rad",
+             .lo = 1000.0,
+             .hi = 5e6,
              .doc = "Front axle cornering stiffness of the ESC single-track reference model.",
-             .scale = Scale::kLog, .optional = true});
+             .scale = Scale::kLog,
+             .optional = true});
     v.Field(s.tire_stiffness_rear,
-            {.key = "tire_stiffness_rear", .unit = "N/rad", .lo = 1000.0, .hi = 5e6,
+            {.key = "tire_stiffness_rear",
+             .unit = "N/rad",
+             .lo = 1000.0,
+             .hi = 5e6,
              .doc = "Rear axle cornering stiffness of the ESC single-track reference model.",
-             .scale = Scale::kLog, .optional = true});
+             .scale = Scale::kLog,
+             .optional = true});
     v.Nested("vehicle", s.vehicle, true);
     v.Nested("tires", s.tires, true);
   }

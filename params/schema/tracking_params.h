@@ -15,14 +15,25 @@ struct TrackingVehicleParams {
   double max_angle = 0.43;
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.wheelbase_m, {.key = "dimension.wheelbase_m", .unit = "m", .lo = 1.0, .hi = 6.0,
+    v.Field(s.wheelbase_m, {.key = "dimension.wheelbase_m",
+                            .unit = "m",
+                            .lo = 1.0,
+                            .hi = 6.0,
                             .doc = "Wheelbase of the pure-pursuit steering law (a key of its "
                                    "own: the vehicle handler does not provide it).",
                             .optional = true});
-    v.Field(s.min_angle, {.key = "steering.min_angle", .unit = "rad", .lo = -1.5, .hi = 0.0,
-                          .doc = "Lower steering angle limit.", .optional = true});
-    v.Field(s.max_angle, {.key = "steering.max_angle", .unit = "rad", .lo = 0.0, .hi = 1.5,
-                          .doc = "Upper steering angle limit.", .optional = true});
+    v.Field(s.min_angle, {.key = "steering.min_angle",
+                          .unit = "rad",
+                          .lo = -1.5,
+                          .hi = 0.0,
+                          .doc = "Lower steering angle limit.",
+                          .optional = true});
+    v.Field(s.max_angle, {.key = "steering.max_angle",
+                          .unit = "rad",
+                          .lo = 0.0,
+                          .hi = 1.5,
+                          .doc = "Upper steering angle limit.",
+                          .optional = true});
   }
 };
 
@@ -42,45 +53,78 @@ struct TrackingParams {
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
-    v.Field(s.tS, {.key = "tS", .unit = "s", .lo = 1e-4, .hi = 0.1,
+    v.Field(s.tS, {.key = "tS",
+                   .unit = "s",
+                   .lo = 1e-4,
+                   .hi = 0.1,
                    .doc = "Control period of the tracking controller."});
     v.Field(s.lookahead_time_long_ff_s,
-            {.key = "lookahead_time_long_ff_s", .unit = "s", .lo = 0.0, .hi = 2.0,
+            {.key = "lookahead_time_long_ff_s",
+             .unit = "s",
+             .lo = 0.0,
+             .hi = 2.0,
              .doc = "Preview time of the longitudinal matching point (target speed and a_x).",
              .scale = Scale::kLinear});
-    v.Field(s.velocity_p_gain, {.key = "velocity_p_gain", .unit = "1/s", .lo = 0.0, .hi = 50.0,
+    v.Field(s.velocity_p_gain, {.key = "velocity_p_gain",
+                                .unit = "1/s",
+                                .lo = 0.0,
+                                .hi = 50.0,
                                 .doc = "a_x correction per m/s of filtered speed error.",
                                 .scale = Scale::kLinear});
     v.Field(s.vel_error_filter_time_constant,
-            {.key = "vel_error_filter_time_constant", .unit = "s", .lo = 1e-6, .hi = 10.0,
+            {.key = "vel_error_filter_time_constant",
+             .unit = "s",
+             .lo = 1e-6,
+             .hi = 10.0,
              .doc = "Time constant of the Tustin first-order lag on the speed error.",
              .scale = Scale::kLog});
-    v.Field(s.lookahead_time_lat_ff_s,
-            {.key = "lookahead_time_lat_ff_s", .unit = "s", .lo = 0.0, .hi = 2.0,
-             .doc = "Preview time of the curvature feed-forward.", .scale = Scale::kLinear});
+    v.Field(s.lookahead_time_lat_ff_s, {.key = "lookahead_time_lat_ff_s",
+                                        .unit = "s",
+                                        .lo = 0.0,
+                                        .hi = 2.0,
+                                        .doc = "Preview time of the curvature feed-forward.",
+                                        .scale = Scale::kLinear});
     v.Field(s.lookahead_time_lat_s,
-            {.key = "lookahead_time_lat_s", .unit = "s", .lo = 0.0, .hi = 5.0,
+            {.key = "lookahead_time_lat_s",
+             .unit = "s",
+             .lo = 0.0,
+             .hi = 5.0,
              .doc = "Speed-proportional part of the pure-pursuit lookahead distance.",
              .scale = Scale::kLinear});
-    v.Field(s.min_lookahead_distance_lat_m,
-            {.key = "min_lookahead_distance_lat_m", .unit = "m", .lo = 0.0, .hi = 100.0,
-             .doc = "Constant part of the lookahead distance.", .scale = Scale::kLinear});
+    v.Field(s.min_lookahead_distance_lat_m, {.key = "min_lookahead_distance_lat_m",
+                                             .unit = "m",
+                                             .lo = 0.0,
+                                             .hi = 100.0,
+                                             .doc = "Constant part of the lookahead distance.",
+                                             .scale = Scale::kLinear});
     v.Field(s.curvature_lookahead_gain,
-            {.key = "curvature_lookahead_gain", .unit = "-", .lo = 0.0, .hi = 1.0,
+            {.key = "curvature_lookahead_gain",
+             .unit = "-",
+             .lo = 0.0,
+             .hi = 1.0,
              .doc = "Extra lookahead = gain × turn radius (grows without bound on straights on "
                     "the car; the workspace caps it, see the motion-controller options).",
              .scale = Scale::kLinear});
     v.Field(s.curvature_filter_Ts,
-            {.key = "curvature_filter_Ts", .unit = "s", .lo = 1e-6, .hi = 10.0,
+            {.key = "curvature_filter_Ts",
+             .unit = "s",
+             .lo = 1e-6,
+             .hi = 10.0,
              .doc = "TIME CONSTANT of the low-pass on the pure-pursuit curvature (0.005 s ↔ "
                     "pole 0.135 at 100 Hz).",
              .scale = Scale::kLog});
-    v.Field(s.enable_lat_feedforward_perc,
-            {.key = "enable_lat_feedforward_perc", .unit = "-", .lo = 0.0, .hi = 1.0,
-             .doc = "Weight of the curvature feed-forward steering.", .scale = Scale::kLinear});
-    v.Field(s.P_VDC_SteeringOvalComp_rad,
-            {.key = "P_VDC_SteeringOvalComp_rad", .unit = "rad", .lo = -0.2, .hi = 0.2,
-             .doc = "Static steering offset added to the command.", .optional = true});
+    v.Field(s.enable_lat_feedforward_perc, {.key = "enable_lat_feedforward_perc",
+                                            .unit = "-",
+                                            .lo = 0.0,
+                                            .hi = 1.0,
+                                            .doc = "Weight of the curvature feed-forward steering.",
+                                            .scale = Scale::kLinear});
+    v.Field(s.P_VDC_SteeringOvalComp_rad, {.key = "P_VDC_SteeringOvalComp_rad",
+                                           .unit = "rad",
+                                           .lo = -0.2,
+                                           .hi = 0.2,
+                                           .doc = "Static steering offset added to the command.",
+                                           .optional = true});
     v.Nested("vehicle", s.vehicle, true);
   }
   static void CrossCheck(const TrackingParams& p, Problems& pr) {

@@ -38,8 +38,8 @@ P LoadCar(const std::string& path, const std::string& node, bool lenient, LoadRe
 }
 
 void PrintNotes(const std::string& file, const LoadReport& rep) {
-  for (const auto& n : rep.notes) std::cerr << file << ": note: " << n.path << ": " << n.message
-                                            << '\n';
+  for (const auto& n : rep.notes)
+    std::cerr << file << ": note: " << n.path << ": " << n.message << '\n';
 }
 
 /// Runs the rcl-rule checker on text we are about to write; refuses to write a file the car's node
@@ -80,9 +80,9 @@ int Export(const ParamsOptions& o) {
   if (o.overrides_only) {
     if (o.base.empty()) throw ConfigError("", "--base", "--overrides-only needs --base BASE");
     const P base = LoadCar<P>(o.base, "", /*lenient=*/true, nullptr);
-    text = params::ToRosOverrides(p, base, node,
-                                  "Overrides of " + o.file + " against " + o.base +
-                                      "; load after the base file");
+    text = params::ToRosOverrides(
+        p, base, node,
+        "Overrides of " + o.file + " against " + o.base + "; load after the base file");
   } else {
     text = params::ToRosYaml(p, node, rep.present, "Exported by scw from " + o.file);
   }
@@ -126,8 +126,7 @@ int Check(const ParamsOptions& o) {
     }
   }
   std::cout << rep.Format(o.file);
-  std::cout << o.file << ": " << rep.errors() << " error(s), " << rep.warnings()
-            << " warning(s)\n";
+  std::cout << o.file << ": " << rep.errors() << " error(s), " << rep.warnings() << " warning(s)\n";
   return rep.ok() ? kExitOk : kExitBadInput;
 }
 
@@ -154,6 +153,20 @@ int Diff(const ParamsOptions& o) {
 }
 
 template <class P>
+int Init(const ParamsOptions& o) {
+  const std::string node = o.node.empty() ? DefaultNode(o.kind) : o.node;
+  const std::string text = params::ToRosYaml(
+      P{}, node, {},
+      "Built-in defaults of scw: the values the car runs (shipped params file; optional node keys\n"
+      "at the node's code defaults are omitted). Regenerate: scw params init --kind " +
+          o.kind + " -o FILE");
+  CheckBeforeWrite<P>(text, node, true, o.out);
+  params::WriteFileAtomic(o.out, text);
+  std::cerr << "wrote " << o.out << '\n';
+  return kExitOk;
+}
+
+template <class P>
 int Docs(const ParamsOptions& o) {
   const std::string text = "# " + std::string(o.kind == "tracking" ? "Tracking" : "Stability") +
                            " controller parameters (node `" + DefaultNode(o.kind) +
@@ -173,9 +186,9 @@ int Dispatch(const ParamsOptions& o) {
   return Fn<params::StabilityParams>::Run(o);
 }
 
-#define SCW_PARAMS_ACTION(Name) \
-  template <class P>            \
-  struct Name##Action {         \
+#define SCW_PARAMS_ACTION(Name)                                   \
+  template <class P>                                              \
+  struct Name##Action {                                           \
     static int Run(const ParamsOptions& o) { return Name<P>(o); } \
   };
 SCW_PARAMS_ACTION(Import)
@@ -184,6 +197,7 @@ SCW_PARAMS_ACTION(Validate)
 SCW_PARAMS_ACTION(Check)
 SCW_PARAMS_ACTION(Diff)
 SCW_PARAMS_ACTION(Docs)
+SCW_PARAMS_ACTION(Init)
 #undef SCW_PARAMS_ACTION
 
 void AddKindOption(CLI::App* sub, ParamsOptions* o) {
@@ -192,14 +206,16 @@ void AddKindOption(CLI::App* sub, ParamsOptions* o) {
 }
 
 void AddParams(CLI::App& app) {
-  auto* cmd = app.add_subcommand("params", "Read, check, compare and export the car's ROS 2 "
-                                           "parameter files");
+  auto* cmd = app.add_subcommand("params",
+                                 "Read, check, compare and export the car's ROS 2 "
+                                 "parameter files");
   cmd->require_subcommand(1, 1);
   auto o = std::make_shared<ParamsOptions>();
 
-  auto* imp = cmd->add_subcommand(
-      "import", "Read a params file from the car, report duplicate/unknown keys and type "
-                "mismatches, write a normalized file");
+  auto* imp =
+      cmd->add_subcommand("import",
+                          "Read a params file from the car, report duplicate/unknown keys and type "
+                          "mismatches, write a normalized file");
   imp->add_option("FILE", o->file, "Params file from the car")->required();
   imp->add_option("-o,--output", o->out, "Normalized output file")->required();
   imp->add_option("--node", o->node, "Node key to read/write (default: the file's only node)");
@@ -217,16 +233,17 @@ void AddParams(CLI::App& app) {
   AddKindOption(exp, o.get());
   exp->callback([o] { SetExitCode(Dispatch<ExportAction>(*o)); });
 
-  auto* val = cmd->add_subcommand(
-      "validate", "Strictly validate a params file (exit 2 listing every problem)");
+  auto* val = cmd->add_subcommand("validate",
+                                  "Strictly validate a params file (exit 2 listing every problem)");
   val->add_option("FILE", o->file, "Params file")->required();
   val->add_option("--node", o->node, "Expected node key");
   AddKindOption(val, o.get());
   val->callback([o] { SetExitCode(Dispatch<ValidateAction>(*o)); });
 
-  auto* chk = cmd->add_subcommand(
-      "check", "Apply the ROS 2 parser's typing rules and the node's declarations, plus "
-               "engineering warnings (exit 2 on errors)");
+  auto* chk =
+      cmd->add_subcommand("check",
+                          "Apply the ROS 2 parser's typing rules and the node's declarations, plus "
+                          "engineering warnings (exit 2 on errors)");
   chk->add_option("FILE", o->file, "Params file")->required();
   chk->add_option("--node", o->node, "Expected node key");
   chk->add_flag("--overrides", o->overrides_only, "The file is an overrides-only file");
@@ -238,6 +255,12 @@ void AddParams(CLI::App& app) {
   dif->add_option("B", o->file_b, "Second params file")->required();
   AddKindOption(dif, o.get());
   dif->callback([o] { SetExitCode(Dispatch<DiffAction>(*o)); });
+
+  auto* ini = cmd->add_subcommand("init", "Write the built-in default parameter file");
+  ini->add_option("-o,--output", o->out, "Output file")->required();
+  ini->add_option("--node", o->node, "Node key written");
+  AddKindOption(ini, o.get());
+  ini->callback([o] { SetExitCode(Dispatch<InitAction>(*o)); });
 
   auto* doc = cmd->add_subcommand("docs", "Print the parameter reference table (Markdown)");
   doc->add_option("-o,--output", o->out, "Write to a file instead of stdout");
