@@ -6,10 +6,15 @@ namespace scw::params::detail {
 
 std::string BoundsText(double lo, double hi) {
   const bool has_lo = std::isfinite(lo), has_hi = std::isfinite(hi);
-  if (has_lo && has_hi) return "[" + FormatNumber(lo) + ", " + FormatNumber(hi) + "]";
-  if (has_lo) return "≥ " + FormatNumber(lo);
-  if (has_hi) return "≤ " + FormatNumber(hi);
-  return "";
+  std::string out;
+  if (has_lo && has_hi) {
+    out.append("[").append(FormatNumber(lo)).append(", ").append(FormatNumber(hi)).append("]");
+  } else if (has_lo) {
+    out.append(">= ").append(FormatNumber(lo));
+  } else if (has_hi) {
+    out.append("<= ").append(FormatNumber(hi));
+  }
+  return out;
 }
 
 std::string EscapeCell(std::string_view s) {
