@@ -1,0 +1,365 @@
+#include "tuning/optim/space.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <variant>
+
+#include "params/io/write.h"
+#include "params/io/yaml_doc.h"
+
+namespace scw::tuning {
+namespace {
+
+using params::Meta;
+using params::Scale;
+using params::StabilityParams;
+
+struct FieldRef {
+  double* scalar = nullptr;
+  std::vector<double>* array = nullptr;
+  Meta meta;
+};
+
+/// Pointers to every double / double[] field of p by dotted key.
+std::map<std::string, FieldRef> Fields(StabilityParams& p) {
+  std::map<std::string, FieldRef> out;
+  params::ForEachField(p, [&](const std::string& path, auto& value, const Meta& m) {
+    using T = std::decay_t<decltype(value)>;
+    if constexpr (std::is_same_v<T, double>) out[path] = {&value, nullptr, m};
+    if constexpr (std::is_same_v<T, std::vector<double>>) out[path] = {nullptr, &value, m};
+  });
+  return out;
+}
+
+double ToX(const SpaceEntry& e, double u) {
+  u = std::clamp(std::isfinite(u) ? u : 0.5, 0.0, 1.0);
+  if (e.scale == Scale::kLog) return e.lo * std::pow(e.hi / e.lo, u);
+  return e.lo + u * (e.hi - e.lo);
+}
+
+double ToU(const SpaceEntry& e, double x) {
+  double u = 0.5;
+  if (e.scale == Scale::kLog)
+    u = x > 0 ? std::log(x / e.lo) / std::log(e.hi / e.lo) : 0.0;
+  else
+    u = (x - e.lo) / (e.hi - e.lo);
+  return std::clamp(std::isfinite(u) ? u : 0.5, 0.0, 1.0);
+}
+
+const char* TransformName(Transform t) {
+  switch (t) {
+    case Transform::kDirect:
+      return "direct";
+    case Transform::kOffset:
+      return "offset";
+    case Transform::kRatio:
+      return "ratio";
+    case Transform::kScaleArray:
+      return "scale_array";
+  }
+  return "?";
+}
+
+// "ESC.x[1]" → ("ESC.x", 1)
+std::pair<std::string, int> SplitIndex(const std::string& key) {
+  const auto open = key.find('[');
+  if (open == std::string::npos || key.back() != ']') return {key, -1};
+  long long i = -1;
+  if (!params::ParseInt(key.substr(open + 1, key.size() - open - 2), &i) || i < 0) return {key, -2};
+  return {key.substr(0, open), static_cast<int>(i)};
+}
+
+double RefValue(const FieldRef& f, int index) {
+  if (f.scalar) return *f.scalar;
+  if (index >= 0) return (*f.array)[static_cast<std::size_t>(index)];
+  return *std::min_element(f.array->begin(), f.array->end());
+}
+
+}  // namespace
+
+std::string SpaceEntry::Label() const {
+  return index >= 0 ? key + "[" + std::to_string(index) + "]" : key;
+}
+
+ParameterSpace::ParameterSpace(std::string name, std::vector<SpaceEntry> entries)
+    : name_(std::move(name)), entries_(std::move(entries)) {
+  Problems pr;
+  StabilityParams base;
+  auto fields = Fields(base);
+  std::map<std::string, int> seen;
+  for (std::size_t i = 0; i < entries_.size(); ++i) {
+    const SpaceEntry& e = entries_[i];
+    const std::string at = "parameters[" + std::to_string(i) + "]";
+    auto it = fields.find(e.key);
+    if (it == fields.end()) {
+      pr.Add(at + ".key", "'" + e.key + "' is not a double or double-array stability parameter");
+      continue;
+    }
+    const FieldRef& f = it->second;
+    if (!(e.lo < e.hi)) pr.Add(at, "lo must be below hi");
+    if (e.scale == Scale::kLog && !(e.lo > 0)) pr.Add(at + ".lo", "log scale needs lo > 0");
+    if (e.scale == Scale::kFixed) pr.Add(at + ".scale", "must be linear or log");
+    if (seen.count(e.Label()))
+      pr.Add(at + ".key", "'" + e.Label() + "' is tuned twice (also parameters[" +
+                              std::to_string(seen[e.Label()]) + "])");
+    seen[e.Label()] = static_cast<int>(i);
+    switch (e.transform) {
+      case Transform::kDirect:
+        if (f.array && e.index < 0)
+          pr.Add(at + ".key",
+                 "an array parameter needs an element index key[i] or "
+                 "transform: scale_array");
+        if (f.array && e.index >= static_cast<int>(f.array->size()))
+          pr.Add(at + ".key", "element index out of range");
+        if (e.lo < f.meta.lo || e.hi > f.meta.hi)
+          pr.Add(at, "bounds [" + params::FormatNumber(e.lo) + ", " + params::FormatNumber(e.hi) +
+                         "] must lie within the schema bounds [" + params::FormatNumber(f.meta.lo) +
+                         ", " + params::FormatNumber(f.meta.hi) + "] of " + e.key);
+        break;
+      case Transform::kScaleArray:
+        if (!f.array) pr.Add(at + ".transform", "scale_array needs an array parameter");
+        if (!(e.lo > 0)) pr.Add(at + ".lo", "scale factors must be positive");
+        break;
+      case Transform::kOffset:
+      case Transform::kRatio: {
+        if (f.array && e.index < 0)
+          pr.Add(at + ".key", "offset/ratio apply to a scalar or one element key[i]");
+        auto ref = fields.find(e.of);
+        if (e.of.empty() || ref == fields.end())
+          pr.Add(at + ".of", "'" + e.of + "' is not a double or double-array parameter");
+        else if (ref->second.array && e.of_index >= static_cast<int>(ref->second.array->size()))
+          pr.Add(at + ".of", "element index out of range");
+        if (e.of == e.key && e.of_index == e.index) pr.Add(at + ".of", "refers to itself");
+        break;
+      }
+    }
+  }
+  if (!pr.empty()) throw ConfigError(name_, pr.items());
+}
+
+StabilityParams ParameterSpace::Decode(const std::vector<double>& u, const StabilityParams& base,
+                                       Problems* problems) const {
+  StabilityParams p = base;
+  auto fields = Fields(p);
+  StabilityParams base_copy = base;
+  auto base_fields = Fields(base_copy);
+  for (std::size_t i = 0; i < entries_.size(); ++i) {
+    const SpaceEntry& e = entries_[i];
+    const double x = ToX(e, i < u.size() ? u[i] : 0.5);
+    FieldRef& f = fields.at(e.key);
+    double* target = f.scalar;
+    if (f.array && e.index >= 0) target = &(*f.array)[static_cast<std::size_t>(e.index)];
+    switch (e.transform) {
+      case Transform::kDirect:
+        *target = x;
+        break;
+      case Transform::kOffset:
+        *target = RefValue(fields.at(e.of), e.of_index) + x;
+        break;
+      case Transform::kRatio:
+        *target = RefValue(fields.at(e.of), e.of_index) * x;
+        break;
+      case Transform::kScaleArray: {
+        // Scale the BASE array so the factor keeps its meaning whatever was decoded before.
+        const auto& src = *base_fields.at(e.key).array;
+        for (std::size_t j = 0; j < f.array->size() && j < src.size(); ++j)
+          (*f.array)[j] = src[j] * x;
+        break;
+      }
+    }
+  }
+  if (problems) *problems = params::Validate(p);
+  return p;
+}
+
+std::vector<double> ParameterSpace::Arguments(const std::vector<double>& u) const {
+  std::vector<double> x(entries_.size());
+  for (std::size_t i = 0; i < entries_.size(); ++i)
+    x[i] = ToX(entries_[i], i < u.size() ? u[i] : 0.5);
+  return x;
+}
+
+std::vector<double> ParameterSpace::Encode(const StabilityParams& p_in) const {
+  StabilityParams p = p_in;
+  auto fields = Fields(p);
+  std::vector<double> u(entries_.size(), 0.5);
+  for (std::size_t i = 0; i < entries_.size(); ++i) {
+    const SpaceEntry& e = entries_[i];
+    const FieldRef& f = fields.at(e.key);
+    const double v = f.array && e.index >= 0 ? (*f.array)[static_cast<std::size_t>(e.index)]
+                     : f.scalar              ? *f.scalar
+                                             : 1.0;
+    double x = v;
+    if (e.transform == Transform::kOffset) x = v - RefValue(fields.at(e.of), e.of_index);
+    if (e.transform == Transform::kRatio) {
+      const double r = RefValue(fields.at(e.of), e.of_index);
+      x = r != 0 ? v / r : 1.0;
+    }
+    if (e.transform == Transform::kScaleArray) x = 1.0;
+    u[i] = ToU(e, x);
+  }
+  return u;
+}
+
+std::string ParameterSpace::ToYaml() const {
+  std::string out = "name: " + params::QuoteString(name_) + "\nparameters:\n";
+  for (const auto& e : entries_) {
+    out += "  - {key: " + e.Label();
+    if (e.transform != Transform::kDirect)
+      out += std::string(", transform: ") + TransformName(e.transform);
+    if (!e.of.empty())
+      out += ", of: " + (e.of_index >= 0 ? e.of + "[" + std::to_string(e.of_index) + "]" : e.of);
+    out += ", lo: " + params::FormatDouble(e.lo) + ", hi: " + params::FormatDouble(e.hi);
+    out += std::string(", scale: ") + (e.scale == Scale::kLog ? "log" : "linear") + "}\n";
+  }
+  return out;
+}
+
+ParameterSpace ParameterSpace::FromYamlText(const std::string& text, const std::string& file) {
+  using params::YamlNode;
+  const YamlNode root = params::ParseYaml(text, file);
+  Problems pr;
+  std::string name = "space";
+  std::vector<SpaceEntry> entries;
+  if (root.kind != YamlNode::Kind::kMap) throw ConfigError(file, "", "top level must be a map");
+  const YamlNode* list = nullptr;
+  for (const auto& [k, v] : root.entries) {
+    if (k == "name" && v.kind == YamlNode::Kind::kScalar)
+      name = v.text;
+    else if (k == "parameters")
+      list = &v;
+    else
+      pr.Add(k, "unknown key (expected name, parameters)");
+  }
+  if (!list || list->kind != YamlNode::Kind::kSequence || list->items.empty())
+    pr.Add("parameters", "must be a non-empty list of {key, lo, hi, ...}");
+  else
+    for (std::size_t i = 0; i < list->items.size(); ++i) {
+      const YamlNode& item = list->items[i];
+      const std::string at = "parameters[" + std::to_string(i) + "]";
+      const std::string line = " (line " + std::to_string(item.line) + ")";
+      if (item.kind != YamlNode::Kind::kMap) {
+        pr.Add(at, "must be a map {key, lo, hi, ...}" + line);
+        continue;
+      }
+      SpaceEntry e;
+      bool has_key = false, has_lo = false, has_hi = false;
+      for (const auto& [k, v] : item.entries) {
+        const std::string path = at + "." + k;
+        if (v.kind != YamlNode::Kind::kScalar) {
+          pr.Add(path, "must be a single value" + line);
+          continue;
+        }
+        if (k == "key") {
+          auto [key, idx] = SplitIndex(v.text);
+          e.key = key, e.index = idx, has_key = true;
+          if (idx == -2) pr.Add(path, "bad element index in '" + v.text + "'" + line);
+        } else if (k == "of") {
+          auto [key, idx] = SplitIndex(v.text);
+          e.of = key, e.of_index = idx;
+          if (idx == -2) pr.Add(path, "bad element index in '" + v.text + "'" + line);
+        } else if (k == "lo" || k == "hi") {
+          double x = 0;
+          if (v.quoted || !params::ParseDouble(v.text, &x) || !std::isfinite(x)) {
+            pr.Add(path, "must be a finite number, got '" + v.text + "'" + line);
+            continue;
+          }
+          (k == "lo" ? e.lo : e.hi) = x;
+          (k == "lo" ? has_lo : has_hi) = true;
+        } else if (k == "scale") {
+          if (v.text == "linear")
+            e.scale = Scale::kLinear;
+          else if (v.text == "log")
+            e.scale = Scale::kLog;
+          else
+            pr.Add(path, "must be linear or log, got '" + v.text + "'" + line);
+        } else if (k == "transform") {
+          if (v.text == "direct")
+            e.transform = Transform::kDirect;
+          else if (v.text == "offset")
+            e.transform = Transform::kOffset;
+          else if (v.text == "ratio")
+            e.transform = Transform::kRatio;
+          else if (v.text == "scale_array")
+            e.transform = Transform::kScaleArray;
+          else
+            pr.Add(path,
+                   "must be direct, offset, ratio or scale_array, got '" + v.text + "'" + line);
+        } else {
+          pr.Add(path, "unknown key (expected key, lo, hi, scale, transform, of)" + line);
+        }
+      }
+      if (!has_key) pr.Add(at + ".key", "required key is missing" + line);
+      if (!has_lo) pr.Add(at + ".lo", "required key is missing" + line);
+      if (!has_hi) pr.Add(at + ".hi", "required key is missing" + line);
+      entries.push_back(e);
+    }
+  if (!pr.empty()) throw ConfigError(file, pr.items());
+  try {
+    return ParameterSpace(name, std::move(entries));
+  } catch (const ConfigError& e) {
+    throw ConfigError(file, e.problems());
+  }
+}
+
+ParameterSpace ParameterSpace::FromFile(const std::string& path) {
+  return FromYamlText(params::ReadTextFile(path), path);
+}
+
+ParameterSpace ParameterSpace::Default() {
+  using T = Transform;
+  const Scale kLin = Scale::kLinear, kLog = Scale::kLog;
+  std::vector<SpaceEntry> e = {
+      // ESC activation thresholds: shape kept, level scaled; deactivation as a fraction of the
+      // smallest activation value (valid hysteresis by construction).
+      {"ESC.beta_threshold_activate", -1, 0.5, 2.0, kLog, T::kScaleArray, "", -1},
+      {"ESC.psi_dot_error_threshold_activate", -1, 0.5, 2.0, kLog, T::kScaleArray, "", -1},
+      {"ESC.beta_error_threshold_activate", -1, 0.5, 2.0, kLog, T::kScaleArray, "", -1},
+      {"ESC.beta_threshold_deactivate", -1, 0.3, 1.0, kLin, T::kRatio,
+       "ESC.beta_threshold_activate", -1},
+      {"ESC.psi_dot_error_threshold_deactivate", -1, 0.3, 1.0, kLin, T::kRatio,
+       "ESC.psi_dot_error_threshold_activate", -1},
+      {"ESC.beta_error_threshold_deactivate", -1, 0.3, 1.0, kLin, T::kRatio,
+       "ESC.beta_error_threshold_activate", -1},
+      // Both PIDs (gains span decades: log scale).
+      {"ESC.kp_psi_dot", -1, 1.0, 40.0, kLog, T::kDirect, "", -1},
+      {"ESC.ki_psi_dot", -1, 0.1, 10.0, kLog, T::kDirect, "", -1},
+      {"ESC.kd_psi_dot", -1, 0.05, 3.0, kLog, T::kDirect, "", -1},
+      {"ESC.kp_beta", -1, 3.0, 100.0, kLog, T::kDirect, "", -1},
+      {"ESC.ki_beta", -1, 0.5, 40.0, kLog, T::kDirect, "", -1},
+      {"ESC.kd_beta", -1, 0.1, 5.0, kLog, T::kDirect, "", -1},
+      // Countersteer.
+      {"countersteer_system.slip_angle_filter_Ts", -1, 0.03, 0.5, kLog, T::kDirect, "", -1},
+      {"countersteer_system.enable_sideslip", -1, 0.002, 0.05, kLog, T::kDirect, "", -1},
+      {"countersteer_system.steering_factor", -1, 0.3, 1.5, kLin, T::kDirect, "", -1},
+  };
+  // ABS slip thresholds per axle: hold_reduce directly, the others as ordered gaps.
+  for (const std::string axle : {"front", "rear"}) {
+    const std::string a = "SlipControl.ABS." + axle + ".";
+    e.push_back({a + "slip_threshold_hold_reduce", -1, -20.0, -4.0, kLin, T::kDirect, "", -1});
+    e.push_back({a + "slip_threshold_safe", -1, 0.2, 0.95, kLin, T::kRatio,
+                 a + "slip_threshold_hold_reduce", -1});
+    e.push_back({a + "slip_threshold_reduce_hold", -1, -8.0, 0.0, kLin, T::kOffset,
+                 a + "slip_threshold_hold_reduce", -1});
+    e.push_back({a + "slip_threshold_increase_hold", -1, -8.0, 0.0, kLin, T::kOffset,
+                 a + "slip_threshold_reduce_hold", -1});
+    e.push_back({a + "slip_threshold_hold_increase", -1, -15.0, 0.0, kLin, T::kOffset,
+                 a + "slip_threshold_increase_hold", -1});
+  }
+  // TC rear slip thresholds (positive, ordered safe ≤ hold_reduce ≤ reduce_hold ≤ increase_hold ≤
+  // hold_increase).
+  const std::string t = "SlipControl.TC.rear.";
+  e.push_back({t + "slip_threshold_hold_reduce", -1, 3.0, 20.0, kLin, T::kDirect, "", -1});
+  e.push_back({t + "slip_threshold_safe", -1, 0.3, 1.0, kLin, T::kRatio,
+               t + "slip_threshold_hold_reduce", -1});
+  e.push_back({t + "slip_threshold_reduce_hold", -1, 0.0, 8.0, kLin, T::kOffset,
+               t + "slip_threshold_hold_reduce", -1});
+  e.push_back({t + "slip_threshold_increase_hold", -1, 0.0, 8.0, kLin, T::kOffset,
+               t + "slip_threshold_reduce_hold", -1});
+  e.push_back({t + "slip_threshold_hold_increase", -1, 0.0, 15.0, kLin, T::kOffset,
+               t + "slip_threshold_increase_hold", -1});
+  return ParameterSpace("default", std::move(e));
+}
+
+}  // namespace scw::tuning

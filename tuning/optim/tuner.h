@@ -1,0 +1,81 @@
+// Derivative-free tuning loop over the unit cube with NLopt 2.7.1 (ecosystem spec §2).
+//
+// * Algorithms by name: crs2 (GN_CRS2_LM), isres, esch, direct_l, sbplx (LN_SBPLX), neldermead,
+//   bobyqa, cobyla; "A+B" runs A on a share of the budget (global phase) and polishes with B from
+//   the best point. Default: "crs2+sbplx".
+// * The objective never throws into NLopt and never returns NaN/inf: exceptions and non-finite
+//   values become a finite penalty and are logged with their reason.
+// * Our own best-so-far record (NLopt's COBYLA may return its last point, not its best).
+// * Seeded: nlopt::srand(seed) right before every optimize() (its RNG is thread-local).
+//   Same inputs + seed + evaluation budget → identical evaluation sequence and result.
+// * Budget by evaluations (deterministic) and by wall time (a guard; stops are then
+//   speed-dependent).
+// * Every evaluation is appended to a CSV log as it happens (flushed per row, shortest
+//   round-trip numbers), so memory stays flat and an interrupted run keeps its log.
+// * Stop flag (Ctrl-C): the current evaluation finishes, NLopt is stopped, the best is kept.
+// * Resume: the evaluations of an earlier log are replayed in order without being recomputed —
+//   the optimiser is deterministic, so it asks for exactly the logged points — and the run goes on
+//   from there; the result equals that of an uninterrupted run.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace scw::tuning {
+
+/// One evaluation's outcome as the objective reports it.
+struct Evaluation {
+  double cost = 0.0;
+  std::string status = "ok";         ///< "ok" or a short failure reason
+  std::vector<std::string> columns;  ///< extra log fields (must match the extra header)
+};
+
+using Objective = std::function<Evaluation(const std::vector<double>& u)>;
+
+struct Progress {
+  int evals = 0;
+  int max_evals = 0;
+  double best_cost = 0.0;
+  double elapsed_s = 0.0;
+  std::string phase;
+};
+
+struct TunerOptions {
+  std::string algorithm = "crs2+sbplx";
+  int max_evals = 300;
+  double max_time_s = 0.0;  ///< 0: no wall-time limit
+  unsigned long long seed = 1;
+  double initial_step = 0.15;  ///< in unit-cube coordinates
+  double global_share = 0.6;   ///< budget share of the first phase of "A+B"
+  int population = 0;          ///< CRS2/ISRES population (0: 5·(n+1))
+  double xtol_abs = 1e-4;
+  double failure_cost = 1e6;  ///< cost of an evaluation that threw or returned NaN/inf
+  std::string log_path;       ///< CSV evaluation log ("" = none)
+  std::vector<std::string> log_extra_header;
+  std::vector<std::string> dimension_names;  ///< header names of u (default u0, u1, …)
+  std::string resume_path;                   ///< earlier log to replay first ("" = none)
+  const std::atomic<bool>* stop = nullptr;
+  std::function<void(const Progress&)> on_progress;
+};
+
+struct TuneResult {
+  std::vector<double> best_u;
+  double best_cost = std::numeric_limits<double>::infinity();
+  int best_eval = -1;
+  int evals = 0;
+  int replayed = 0;         ///< evaluations taken from the resume log
+  std::string stop_reason;  ///< "max_evals", "max_time", "converged", "interrupted", …
+};
+
+/// Minimises f over [0,1]^n starting from u0. Throws std::invalid_argument for bad options
+/// (unknown algorithm, n = 0) and std::runtime_error if the log cannot be written or the resume
+/// log does not match this problem.
+TuneResult Tune(const std::vector<double>& u0, const Objective& f, const TunerOptions& options);
+
+/// Names accepted in TunerOptions::algorithm.
+std::vector<std::string> TunerAlgorithms();
+
+}  // namespace scw::tuning
