@@ -1,0 +1,65 @@
+#include "tuning/cost.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace scw::tuning {
+namespace {
+
+RunMetrics Completed(double lap) {
+  RunMetrics m;
+  m.lap_times = {lap, lap, lap};
+  m.laps_planned = 3;
+  m.distance = m.distance_planned = 9000.0;
+  return m;
+}
+
+TEST(CostTest, CompletedRunCostsItsLapTimePlusViolations) {
+  params::CostWeights w;
+  RunMetrics m = Completed(62.0);
+  EXPECT_DOUBLE_EQ(ScenarioCost(m, w).total, 62.0);
+  m.sideslip_excess_integral = 1.5;
+  m.esc_brake_energy = 50000.0;
+  const auto c = ScenarioCost(m, w);
+  EXPECT_DOUBLE_EQ(c.sideslip, 1.5 * w.sideslip_weight);
+  EXPECT_DOUBLE_EQ(c.brake_energy, 50.0 * w.brake_energy_weight);
+  EXPECT_DOUBLE_EQ(c.total, 62.0 + c.sideslip + c.brake_energy);
+}
+
+TEST(CostTest, EveryAbortCostsMoreThanASlowCompletedRunAndEarlierIsWorse) {
+  params::CostWeights w;
+  RunMetrics slow = Completed(w.lap_time_cap - 1.0);
+  RunMetrics late = Completed(60.0);
+  late.status = RunStatus::kSideslip;
+  late.lap_times = {60.0, 60.0};
+  late.distance = 8900.0;
+  RunMetrics early = late;
+  early.lap_times.clear();
+  early.distance = 500.0;
+  EXPECT_LT(ScenarioCost(slow, w).total, ScenarioCost(late, w).total);
+  EXPECT_LT(ScenarioCost(late, w).total, ScenarioCost(early, w).total);
+}
+
+TEST(CostTest, AlwaysFinite) {
+  params::CostWeights w;
+  RunMetrics m = Completed(60.0);
+  m.sideslip_excess_integral = std::numeric_limits<double>::infinity();
+  EXPECT_TRUE(std::isfinite(ScenarioCost(m, w).total));
+  m = Completed(std::nan(""));
+  m.status = RunStatus::kNonFinite;
+  m.distance = std::nan("");
+  EXPECT_TRUE(std::isfinite(ScenarioCost(m, w).total));
+}
+
+TEST(CostTest, TotalIsTheWeightedSum) {
+  params::CostWeights w;
+  const auto a = ScenarioCost(Completed(60.0), w);
+  const auto b = ScenarioCost(Completed(70.0), w);
+  EXPECT_DOUBLE_EQ(TotalCost({a, b}, {1.0, 2.0}), 200.0);
+  EXPECT_DOUBLE_EQ(TotalCost({a, b}, {}), 130.0);
+}
+
+}  // namespace
+}  // namespace scw::tuning
