@@ -1,0 +1,105 @@
+#include "controller/motion/path.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace scw::controller::motion {
+
+double WrapAngle(double a) noexcept {
+  if (!std::isfinite(a)) return 0.0;
+  a = std::remainder(a, 2.0 * M_PI);
+  return a <= -M_PI ? a + 2.0 * M_PI : a;
+}
+
+Path::Path(std::vector<PathPoint> points, double length)
+    : points_(std::move(points)), length_(length) {
+  if (points_.size() < 3) throw std::invalid_argument("a path needs at least 3 stations");
+  if (points_.front().s != 0.0) throw std::invalid_argument("a path must start at s = 0");
+  for (std::size_t i = 1; i < points_.size(); ++i)
+    if (!(points_[i].s > points_[i - 1].s))
+      throw std::invalid_argument("path stations must increase in s (station " + std::to_string(i) +
+                                  ")");
+  if (!(length_ > points_.back().s))
+    throw std::invalid_argument("path length must exceed the last station");
+  for (const auto& p : points_)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.psi) ||
+        !std::isfinite(p.kappa) || !std::isfinite(p.v) || !std::isfinite(p.a_x))
+      throw std::invalid_argument("path stations must be finite");
+  mean_ds_ = length_ / static_cast<double>(points_.size());
+}
+
+double Path::Wrap(double s) const noexcept {
+  if (!std::isfinite(s)) return 0.0;
+  double w = std::fmod(s, length_);
+  if (w < 0) w += length_;
+  return w >= length_ ? 0.0 : w;
+}
+
+std::size_t Path::SegmentAt(double s) const noexcept {
+  // Stations are near-uniform: start from the estimate and walk.
+  const std::size_t n = points_.size();
+  std::size_t i = std::min(n - 1, static_cast<std::size_t>(s / mean_ds_));
+  while (i > 0 && points_[i].s > s) --i;
+  while (i + 1 < n && points_[i + 1].s <= s) ++i;
+  return i;
+}
+
+PathPoint Path::Sample(double s_in) const noexcept {
+  const double s = Wrap(s_in);
+  const std::size_t i = SegmentAt(s);
+  const std::size_t j = (i + 1) % points_.size();
+  const PathPoint& a = points_[i];
+  const PathPoint& b = points_[j];
+  const double s_b = j == 0 ? length_ : b.s;
+  const double t = (s - a.s) / (s_b - a.s);
+  PathPoint p;
+  p.s = s;
+  p.x = a.x + t * (b.x - a.x);
+  p.y = a.y + t * (b.y - a.y);
+  p.psi = WrapAngle(a.psi + t * WrapAngle(b.psi - a.psi));
+  p.kappa = a.kappa + t * (b.kappa - a.kappa);
+  p.v = a.v + t * (b.v - a.v);
+  p.a_x = a.a_x + t * (b.a_x - a.a_x);
+  return p;
+}
+
+PathProjection Path::Project(double x, double y, double psi, double s_hint,
+                             double window) const noexcept {
+  const std::size_t n = points_.size();
+  std::size_t first = 0, count = n;
+  if (std::isfinite(s_hint) && s_hint >= 0 && window > 0 && 2 * window < length_) {
+    const std::size_t half = static_cast<std::size_t>(window / mean_ds_) + 2;
+    const std::size_t center = SegmentAt(Wrap(s_hint));
+    first = (center + n - std::min(half, n)) % n;
+    count = std::min(n, 2 * half + 1);
+  }
+  double best_d2 = std::numeric_limits<double>::infinity();
+  PathProjection best;
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t i = (first + k) % n;
+    const std::size_t j = (i + 1) % n;
+    const PathPoint& a = points_[i];
+    const PathPoint& b = points_[j];
+    const double ex = b.x - a.x, ey = b.y - a.y;
+    const double len2 = ex * ex + ey * ey;
+    double t = len2 > 0 ? ((x - a.x) * ex + (y - a.y) * ey) / len2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    const double px = a.x + t * ex, py = a.y + t * ey;
+    const double d2 = (x - px) * (x - px) + (y - py) * (y - py);
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      const double s_b = j == 0 ? length_ : b.s;
+      best.s = Wrap(a.s + t * (s_b - a.s));
+      best.segment = i;
+      const double cross = ex * (y - a.y) - ey * (x - a.x);
+      best.lateral_error = (cross >= 0 ? 1.0 : -1.0) * std::sqrt(d2);
+      best.heading_error = WrapAngle(psi - (a.psi + t * WrapAngle(b.psi - a.psi)));
+    }
+  }
+  return best;
+}
+
+}  // namespace scw::controller::motion
