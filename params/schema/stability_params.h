@@ -268,8 +268,9 @@ struct AbsParams {
             {.key = "moving_average_fx_window_length",
              .unit = "samples",
              .lo = 1,
-             .hi = 10000,
-             .doc = "Window of the moving averages of the ABS safety limiter."});
+             .hi = 256,
+             .doc = "Window of the moving averages of the ABS safety limiter (the workspace "
+                    "keeps fixed-size buffers of at most 256 samples)."});
     v.Nested("front", s.front);
     v.Nested("rear", s.rear);
   }

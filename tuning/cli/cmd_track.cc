@@ -1,0 +1,178 @@
+// scw track info|line — the track and its reference trajectory (racing line + velocity profile).
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "params/io/load.h"
+#include "params/io/write.h"
+#include "params/schema/track_params.h"
+#include "plant/track/track_csv.h"
+#include "plant/track/yas_north.h"
+#include "tuning/cli/command.h"
+#include "tuning/trajectory/racing_line.h"
+#include "tuning/trajectory/velocity_profile.h"
+
+namespace scw::cli {
+namespace {
+
+struct TrackOptions {
+  std::string track, ggv, raceline, out;
+  double gg_scale = 1.0;
+  double ggv_exponent = 2.0;
+  double margin = 2.0;
+  double v_max = 90.0;
+};
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+/// Empty: the built-in Yas North; *.yaml/*.yml: a piecewise definition; otherwise a CSV centre
+/// line.
+plant::Track LoadTrack(const std::string& path) {
+  if (path.empty()) return plant::YasNorthTrack();
+  if (EndsWith(path, ".yaml") || EndsWith(path, ".yml"))
+    return plant::Track::FromDefinition(params::LoadPlainFile<params::TrackParams>(path), path);
+  return plant::LoadTrackCsv(path);
+}
+
+int Info(const TrackOptions& o) {
+  const plant::Track t = LoadTrack(o.track);
+  double wmin = 1e9, wmax = 0.0;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const double w = t.width_left()[i] + t.width_right()[i];
+    wmin = std::min(wmin, w);
+    wmax = std::max(wmax, w);
+  }
+  std::cout << "track:   " << t.name() << (o.track.empty() ? " (built-in)" : "") << '\n'
+            << "length:  " << std::fixed << std::setprecision(1) << t.length() << " m, "
+            << (t.total_turning() > 0 ? "anticlockwise" : "clockwise") << ", " << t.size()
+            << " nodes at " << std::setprecision(3) << t.step() << " m\n"
+            << "width:   " << std::setprecision(1) << wmin << " - " << wmax << " m\n";
+  // Corners: runs of |κ| > 1/250 m⁻¹ (R < 250 m), joined across gaps < 20 m of the same sign.
+  std::cout << "corners (R < 250 m):\n   #  dir    s_from   s_to  min R [m]  at s [m]\n";
+  const double k_on = 1.0 / 250.0;
+  const std::size_t n = t.size();
+  std::size_t start = 0;  // begin the scan on a straight-ish node so no corner is split at s = 0
+  while (start < n && std::abs(t.curvature()[start]) > k_on) ++start;
+  int count = 0;
+  std::size_t i = 0;
+  while (i < n) {
+    const std::size_t a = (start + i) % n;
+    if (std::abs(t.curvature()[a]) <= k_on) {
+      ++i;
+      continue;
+    }
+    const double sign = t.curvature()[a] > 0 ? 1.0 : -1.0;
+    std::size_t j = i, last = i;
+    double kmax = 0.0, s_at = 0.0;
+    while (j < n) {
+      const std::size_t b = (start + j) % n;
+      const double k = t.curvature()[b] * sign;
+      if (k > k_on) {
+        last = j;
+        if (k > kmax) {
+          kmax = k;
+          s_at = t.s()[b];
+        }
+      } else if ((j - last) * t.step() > 20.0) {
+        break;
+      }
+      ++j;
+    }
+    ++count;
+    std::cout << std::setw(4) << count << "  " << (sign > 0 ? "left " : "right") << std::setw(9)
+              << std::setprecision(0) << t.s()[(start + i) % n] << std::setw(7)
+              << t.s()[(start + last) % n] << std::setw(11) << std::setprecision(1) << 1.0 / kmax
+              << std::setw(10) << std::setprecision(0) << s_at << '\n';
+    i = last + 1;
+  }
+  return kExitOk;
+}
+
+int Line(const TrackOptions& o) {
+  const plant::Track t = LoadTrack(o.track);
+  const plant::GgvLimits ggv =
+      o.ggv.empty() ? tuning::RepresentativeGgv() : tuning::LoadGgvCsv(o.ggv, o.ggv_exponent);
+  tuning::RacingLine rl = [&] {
+    if (!o.raceline.empty()) return tuning::LoadRacingLine(o.raceline, t);
+    tuning::RacingLineOptions ro;
+    ro.margin = o.margin;
+    return tuning::MinimumCurvatureLine(t, ro);
+  }();
+  if (o.raceline.empty())
+    std::cerr << "racing line: minimum curvature, " << rl.offset.size() << " offsets, "
+              << rl.evaluations << " evaluations, " << rl.seconds << " s (" << rl.status << ")\n";
+  tuning::VelocityProfileOptions vo;
+  vo.gg_scale = o.gg_scale;
+  vo.v_max = o.v_max;
+  const tuning::ReferenceTrajectory r = tuning::ComputeVelocityProfile(rl.line, ggv, vo);
+  std::ostringstream csv;
+  csv << "s_m,x_m,y_m,psi_rad,kappa_radpm,v_mps,ax_mps2,ay_mps2,t_s\n";
+  using params::FormatNumber;
+  for (std::size_t i = 0; i < r.size(); ++i)
+    csv << FormatNumber(r.s[i]) << ',' << FormatNumber(r.x[i]) << ',' << FormatNumber(r.y[i]) << ','
+        << FormatNumber(r.psi[i]) << ',' << FormatNumber(r.kappa[i]) << ',' << FormatNumber(r.v[i])
+        << ',' << FormatNumber(r.a_x[i]) << ',' << FormatNumber(r.a_y[i]) << ','
+        << FormatNumber(r.t[i]) << '\n';
+  try {
+    params::WriteFileAtomic(o.out, csv.str());
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return kExitFailed;
+  }
+  double vmin = 1e9, vmax = 0.0;
+  for (double v : r.v) {
+    vmin = std::min(vmin, v);
+    vmax = std::max(vmax, v);
+  }
+  std::cout << std::fixed << std::setprecision(3) << "ideal lap time: " << r.lap_time << " s (GG "
+            << o.gg_scale << ", line " << std::setprecision(1) << r.length << " m, v " << vmin
+            << " - " << vmax << " m/s)\nwrote " << o.out << '\n';
+  return kExitOk;
+}
+
+void AddTrack(CLI::App& app) {
+  auto* cmd = app.add_subcommand("track", "Inspect a track and compute its reference trajectory");
+  cmd->require_subcommand(1, 1);
+  auto o = std::make_shared<TrackOptions>();
+  const char* track_help =
+      "Track: *.yaml piecewise definition or *.csv centre line (racetrack-database or Track3D); "
+      "default: the built-in Yas Marina North";
+
+  auto* info = cmd->add_subcommand("info",
+                                   "Length, width range and the corners with their "
+                                   "minimum radius");
+  info->add_option("--track", o->track, track_help);
+  info->callback([o] { SetExitCode(Info(*o)); });
+
+  auto* line = cmd->add_subcommand(
+      "line",
+      "Minimum-curvature racing line and forward-backward g-g-v velocity profile; writes a CSV "
+      "(s_m,x_m,y_m,psi_rad,kappa_radpm,v_mps,ax_mps2,ay_mps2,t_s) and prints the ideal lap time");
+  line->add_option("--track", o->track, track_help);
+  line->add_option("--gg-scale", o->gg_scale, "Acceleration scaling GG (multiplies every limit)")
+      ->check(CLI::Range(0.05, 5.0));
+  line->add_option("--ggv", o->ggv,
+                   "g-g-v table CSV: v_mps,ay_max_mps2,ax_drive_max_mps2,ax_brake_max_mps2 "
+                   "(default: a representative AV-21/EAV table)");
+  line->add_option("--ggv-exponent", o->ggv_exponent,
+                   "Combination exponent p of --ggv (1 diamond, 2 ellipse)")
+      ->check(CLI::Range(1.0, 10.0));
+  line->add_option("--raceline", o->raceline,
+                   "Use this raceline instead of optimising (x_m,y_m or s_opt,n_opt CSV)");
+  line->add_option("--margin", o->margin, "Distance kept from each track edge [m]")
+      ->check(CLI::Range(0.0, 20.0));
+  line->add_option("--v-max", o->v_max, "Top speed [m/s]")->check(CLI::Range(5.0, 150.0));
+  line->add_option("-o,--output", o->out, "Output CSV")->required();
+  line->callback([o] { SetExitCode(Line(*o)); });
+}
+
+const CommandRegistrar kReg(30, &AddTrack);
+
+}  // namespace
+}  // namespace scw::cli
