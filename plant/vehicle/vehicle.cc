@@ -1,0 +1,360 @@
+#include "plant/vehicle/vehicle.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "plant/tire/magic_formula.h"
+
+namespace scw::plant {
+namespace {
+
+const params::VehicleParams& Validated(const params::VehicleParams& p) {
+  params::ValidateOrThrow(p, p.name);
+  return p;
+}
+
+// Coulomb friction with stiction on a spinning body: `w_free` is the speed after the step without
+// friction, `dw` the largest speed change friction can cause in the step. Friction stops the body
+// but never reverses it.
+inline double ApplyFriction(double w_free, double dw) noexcept {
+  if (std::abs(w_free) <= dw) return 0.0;
+  return w_free > 0.0 ? w_free - dw : w_free + dw;
+}
+
+// Smooth sign for the continuous right-hand side.
+inline double SmoothSign(double w) noexcept { return std::clamp(w * 10.0, -1.0, 1.0); }
+
+constexpr int kOmega = kOmegaFL;
+constexpr int kKappa = kKappaFL;
+constexpr int kAlpha = kAlphaFL;
+
+}  // namespace
+
+struct Vehicle::Eval {
+  PerWheel<double> fz{}, fx_t{}, fy_t{};
+  double fx = 0.0, fy = 0.0, mz = 0.0;  // body totals incl. drag
+  double vx_dot = 0.0, vy_dot = 0.0, r_dot = 0.0;
+  PerWheel<double> torque{};    // wheel torque without friction [N*m]
+  PerWheel<double> friction{};  // friction torque capacity >= 0 [N*m]
+  double engine_inertia = 0.0;  // engine inertia reflected to the rear axle [kg m^2]
+  double engine_torque = 0.0, axle_torque = 0.0;
+};
+
+Vehicle::Vehicle(const params::VehicleParams& p)
+    : p_(Validated(p)),
+      h_(p_.simulation.time_step),
+      engine_(p_.engine),
+      gearbox_(p_.gearbox),
+      diff_(p_.differential),
+      steering_(p_.steering, p_.simulation.time_step),
+      brakes_(p_.brakes, p_.simulation.time_step) {
+  const auto& c = p_.chassis;
+  m_ = c.mass;
+  iz_ = c.yaw_inertia;
+  g_ = c.gravity;
+  l_ = c.wheelbase;
+  lf_ = c.cg_to_front_axle;
+  lr_ = l_ - lf_;
+  hcg_ = c.cg_height;
+  px_ = {lf_, lf_, -lr_, -lr_};
+  py_ = {0.5 * c.track_front, -0.5 * c.track_front, 0.5 * c.track_rear, -0.5 * c.track_rear};
+  radius_ = FromFrontRear(p_.wheels.radius_front, p_.wheels.radius_rear);
+  inertia_ = FromFrontRear(p_.wheels.inertia_front, p_.wheels.inertia_rear);
+  kb_ = FromFrontRear(p_.brakes.torque_gain_front, p_.brakes.torque_gain_rear);
+  fz_static_ = FromFrontRear(0.5 * m_ * g_ * lr_ / l_, 0.5 * m_ * g_ * lf_ / l_);
+  const auto& gr = p_.grip;
+  for (std::size_t i = 0; i < 4; ++i) {
+    lambda_x_[i] = gr.mu * (IsFront(i) ? gr.front_mu_x : gr.rear_mu_x) * gr.wheel_mu_x[i];
+    lambda_y_[i] = gr.mu * (IsFront(i) ? gr.front_mu_y : gr.rear_mu_y) * gr.wheel_mu_y[i];
+  }
+  share_f_ = c.roll_stiffness_share_front;
+  inv_bf_ = 1.0 / c.track_front;
+  inv_br_ = 1.0 / c.track_rear;
+  drag_k_ = 0.5 * p_.aero.air_density * p_.aero.drag_area;
+  lift_kf_ = 0.5 * p_.aero.air_density * p_.aero.downforce_area_front;
+  lift_kr_ = 0.5 * p_.aero.air_density * p_.aero.downforce_area_rear;
+  inv_tau_lt_ = 1.0 / c.load_transfer_time_constant;
+  lt_gain_ = 1.0 - std::exp(-h_ * inv_tau_lt_);
+  crr_ = p_.wheels.rolling_resistance;
+  clutch_slip_speed_ = RpmToRadPerSec(p_.engine.clutch_slip_rpm);
+  engine_inertia_ = p_.engine.inertia;
+}
+
+PerWheel<double> Vehicle::WheelLoads(const StateVector& x) const noexcept {
+  const double vx2 = x[kVx] * x[kVx];
+  const double down_f = 0.5 * lift_kf_ * vx2;  // per wheel
+  const double down_r = 0.5 * lift_kr_ * vx2;
+  const double d_long = 0.5 * m_ * hcg_ * x[kAxLoadTransfer] / l_;  // per wheel, to the rear
+  const double may_h = m_ * x[kAyLoadTransfer] * hcg_;
+  const double d_lat_f = share_f_ * may_h * inv_bf_;  // to the right wheel when a_y > 0
+  const double d_lat_r = (1.0 - share_f_) * may_h * inv_br_;
+  const double f = fz_static_[kFL] + down_f - d_long;
+  const double r = fz_static_[kRL] + down_r + d_long;
+  return {std::max(0.0, f - d_lat_f), std::max(0.0, f + d_lat_f), std::max(0.0, r - d_lat_r),
+          std::max(0.0, r + d_lat_r)};
+}
+
+double Vehicle::KinematicEngineSpeed(const StateVector& x, int gear) const noexcept {
+  return 0.5 * (x[kOmegaRL] + x[kOmegaRR]) * gearbox_.overall[gear - 1];
+}
+
+void Vehicle::SlipKinematics(const StateVector& x, double steer, PerWheel<double>* kappa,
+                             PerWheel<double>* alpha, PerWheel<double>* inv_tau_k,
+                             PerWheel<double>* inv_tau_a) const noexcept {
+  const auto& k = p_.tires.kinematics;
+  const double c = std::cos(steer), s = std::sin(steer);
+  const double vx = x[kVx], vy = x[kVy], r = x[kYawRate];
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double vxw = vx - r * py_[i];
+    const double vyw = vy + r * px_[i];
+    double vxt = vxw, vyt = vyw;
+    if (IsFront(i)) {
+      vxt = c * vxw + s * vyw;
+      vyt = -s * vxw + c * vyw;
+    }
+    const double avx = std::abs(vxt);
+    (*kappa)[i] =
+        std::clamp((x[kOmega + i] * radius_[i] - vxt) / std::max(avx, k.slip_speed_min_long),
+                   -k.slip_limit, k.slip_limit);
+    (*alpha)[i] = -std::atan(vyt / std::max(avx, k.slip_speed_min_lat));
+    const double v_relax = std::max(avx, k.relaxation_speed_min);
+    (*inv_tau_k)[i] = v_relax / k.relaxation_length_long;
+    (*inv_tau_a)[i] = v_relax / k.relaxation_length_lat;
+  }
+}
+
+void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, Eval* e) const noexcept {
+  e->fz = WheelLoads(x);
+  const double c = std::cos(u.steer), s = std::sin(u.steer);
+  double fx = 0.0, fy = 0.0, mz = 0.0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const bool left = IsLeft(i);
+    const double alpha = x[kAlpha + i];
+    const TireForce f =
+        TireForces({e->fz[i], x[kKappa + i], left ? alpha : -alpha, lambda_x_[i], lambda_y_[i]},
+                   IsFront(i) ? p_.tires.front : p_.tires.rear);
+    const double fyt = left ? f.fy : -f.fy;
+    e->fx_t[i] = f.fx;
+    e->fy_t[i] = fyt;
+    double fxv = f.fx, fyv = fyt;
+    if (IsFront(i)) {
+      fxv = c * f.fx - s * fyt;
+      fyv = s * f.fx + c * fyt;
+    }
+    fx += fxv;
+    fy += fyv;
+    mz += px_[i] * fyv - py_[i] * fxv;
+  }
+  const double vx = x[kVx], vy = x[kVy], r = x[kYawRate];
+  fx -= drag_k_ * vx * std::abs(vx);
+  e->fx = fx;
+  e->fy = fy;
+  e->mz = mz;
+  e->vx_dot = fx / m_ + r * vy;
+  e->vy_dot = fy / m_ - r * vx;
+  e->r_dot = mz / iz_;
+
+  // Driveline.
+  const int g = std::clamp(u.gear, 1, gearbox_.gears);
+  const double ratio = gearbox_.overall[g - 1];
+  const double w_kin = 0.5 * (x[kOmegaRL] + x[kOmegaRR]) * ratio;
+  e->engine_torque = 0.0;
+  e->engine_inertia = 0.0;
+  if (!u.torque_cut) {
+    if (w_kin >= clutch_slip_speed_) {
+      e->engine_torque = engine_.Torque(w_kin, u.throttle);
+      e->engine_inertia = engine_inertia_ * ratio * ratio;
+    } else {
+      // Launch clutch slipping: the engine runs at the slip speed and pushes only forward.
+      e->engine_torque = std::max(0.0, engine_.Torque(clutch_slip_speed_, u.throttle));
+    }
+  }
+  e->axle_torque = e->engine_torque * ratio * gearbox_.eta[g - 1];
+
+  for (std::size_t i = 0; i < 4; ++i) {
+    e->torque[i] = -e->fx_t[i] * radius_[i];
+    e->friction[i] = kb_[i] * u.brake_pressure[i] + crr_ * e->fz[i] * radius_[i];
+  }
+  e->torque[kRL] += 0.5 * e->axle_torque;
+  e->torque[kRR] += 0.5 * e->axle_torque;
+  if (!diff_.spool) {
+    const double lsd = LsdTorque(x[kOmegaRL], x[kOmegaRR], e->axle_torque, diff_);
+    e->torque[kRL] -= lsd;
+    e->torque[kRR] += lsd;
+  }
+}
+
+StateVector Vehicle::Derivatives(const StateVector& x, const PlantInputs& u) const noexcept {
+  Eval e;
+  Evaluate(x, u, &e);
+  StateVector d;
+  const double cp = std::cos(x[kPsi]), sp = std::sin(x[kPsi]);
+  d[kX] = x[kVx] * cp - x[kVy] * sp;
+  d[kY] = x[kVx] * sp + x[kVy] * cp;
+  d[kPsi] = x[kYawRate];
+  d[kVx] = e.vx_dot;
+  d[kVy] = e.vy_dot;
+  d[kYawRate] = e.r_dot;
+  for (std::size_t i : {kFL, kFR})
+    d[kOmega + i] = (e.torque[i] - e.friction[i] * SmoothSign(x[kOmega + i])) / inertia_[i];
+  const double t_rl = e.torque[kRL] - e.friction[kRL] * SmoothSign(x[kOmegaRL]);
+  const double t_rr = e.torque[kRR] - e.friction[kRR] * SmoothSign(x[kOmegaRR]);
+  const double i_r = inertia_[kRL];
+  const double wm_dot = (t_rl + t_rr) / (2.0 * i_r + e.engine_inertia);
+  const double wd_dot = diff_.spool ? 0.0 : (t_rl - t_rr) / (2.0 * i_r);
+  d[kOmegaRL] = wm_dot + wd_dot;
+  d[kOmegaRR] = wm_dot - wd_dot;
+  PerWheel<double> kk, ka, itk, ita;
+  SlipKinematics(x, u.steer, &kk, &ka, &itk, &ita);
+  for (std::size_t i = 0; i < 4; ++i) {
+    d[kKappa + i] = (kk[i] - x[kKappa + i]) * itk[i];
+    d[kAlpha + i] = (ka[i] - x[kAlpha + i]) * ita[i];
+  }
+  d[kAxLoadTransfer] = (e.fx / m_ - x[kAxLoadTransfer]) * inv_tau_lt_;
+  d[kAyLoadTransfer] = (e.fy / m_ - x[kAyLoadTransfer]) * inv_tau_lt_;
+  return d;
+}
+
+State Vehicle::MakeState(const InitialCondition& ic) const {
+  State s;
+  s.x[kX] = ic.x;
+  s.x[kY] = ic.y;
+  s.x[kPsi] = ic.psi;
+  s.x[kVx] = ic.speed;
+  for (std::size_t i = 0; i < 4; ++i) s.x[kOmega + i] = ic.speed / radius_[i];
+  s.steering = steering_.MakeState(0.0);
+  s.brakes = brakes_.MakeState();
+  const int gear = GearForSpeed(s.x[kOmegaRL], p_.gearbox.initial_gear, gearbox_);
+  s.gearbox = GearboxState{gear, gear, ShiftPhase::kEngaged, 0.0};
+  s.out.fz = WheelLoads(s.x);
+  s.out.engine_speed = std::max(KinematicEngineSpeed(s.x, gear), clutch_slip_speed_);
+  return s;
+}
+
+void Vehicle::Step(const Actuators& u, State* state) const noexcept {
+  State& s = *state;
+  const double h = h_;
+  if (s.status & kStatusNonFinite) {
+    s.time += h;
+    return;
+  }
+  // 1. Actuators and gearbox (discrete, held over the step).
+  PlantInputs in;
+  in.steer = steering_.Step(u.steer_req, &s.steering);
+  in.brake_pressure = brakes_.Step(u.brake_pressure_req, &s.brakes);
+  in.throttle = std::isfinite(u.throttle) ? std::clamp(u.throttle, 0.0, 1.0) : 0.0;
+  s.throttle = in.throttle;
+  s.gearbox = Next(s.gearbox, KinematicEngineSpeed(s.x, s.gearbox.engaged), h, gearbox_);
+  in.gear = s.gearbox.engaged;
+  in.torque_cut = s.gearbox.phase == ShiftPhase::kShifting;
+
+  // 2. Forces at the start of the step.
+  Eval e;
+  Evaluate(s.x, in, &e);
+
+  // 3. Velocities explicit, positions with the new velocities (symplectic Euler).
+  StateVector& x = s.x;
+  const StateVector x_old = x;
+  x[kVx] += h * e.vx_dot;
+  x[kVy] += h * e.vy_dot;
+  x[kYawRate] += h * e.r_dot;
+  x[kPsi] += h * x[kYawRate];
+  const double cp = std::cos(x[kPsi]), sp = std::sin(x[kPsi]);
+  x[kX] += h * (x[kVx] * cp - x[kVy] * sp);
+  x[kY] += h * (x[kVx] * sp + x[kVy] * cp);
+
+  // Wheels: driving/tyre torques explicit, friction (brakes, rolling resistance) implicit.
+  for (std::size_t i : {kFL, kFR}) {
+    const double inv_i = 1.0 / inertia_[i];
+    x[kOmega + i] =
+        ApplyFriction(x[kOmega + i] + h * e.torque[i] * inv_i, h * e.friction[i] * inv_i);
+  }
+  const double i_r = inertia_[kRL];
+  const double inv_im = 1.0 / (2.0 * i_r + e.engine_inertia);  // mean (axle) mode
+  if (diff_.spool) {
+    const double wm = 0.5 * (x[kOmegaRL] + x[kOmegaRR]);
+    const double w = ApplyFriction(wm + h * (e.torque[kRL] + e.torque[kRR]) * inv_im,
+                                   h * (e.friction[kRL] + e.friction[kRR]) * inv_im);
+    x[kOmegaRL] = w;
+    x[kOmegaRR] = w;
+  } else {
+    // Mean/difference modes; the friction impulse of one wheel moves both modes. Wheels are
+    // projected one after the other (exact unless both stop in the same step).
+    const double inv_id = 1.0 / (2.0 * i_r);
+    const double g_self = inv_im + inv_id, g_cross = inv_im - inv_id;
+    double wl = x[kOmegaRL] + h * ((e.torque[kRL] + e.torque[kRR]) * inv_im +
+                                   (e.torque[kRL] - e.torque[kRR]) * inv_id);
+    double wr = x[kOmegaRR] + h * ((e.torque[kRL] + e.torque[kRR]) * inv_im -
+                                   (e.torque[kRL] - e.torque[kRR]) * inv_id);
+    auto project = [&](double* w_self, double* w_other, double friction) {
+      const double w_new = ApplyFriction(*w_self, h * friction * g_self);
+      const double impulse = (w_new - *w_self) / g_self;
+      *w_self = w_new;
+      *w_other += g_cross * impulse;
+    };
+    project(&wl, &wr, e.friction[kRL]);
+    project(&wr, &wl, e.friction[kRR]);
+    x[kOmegaRL] = wl;
+    x[kOmegaRR] = wr;
+  }
+
+  // Load-transfer lag (exact for the held accelerations).
+  x[kAxLoadTransfer] += lt_gain_ * (e.fx / m_ - x[kAxLoadTransfer]);
+  x[kAyLoadTransfer] += lt_gain_ * (e.fy / m_ - x[kAyLoadTransfer]);
+
+  // 4. Tyre relaxation, backward Euler towards the slips of the new velocities.
+  PerWheel<double> kk, ka, itk, ita;
+  SlipKinematics(x, in.steer, &kk, &ka, &itk, &ita);
+  for (std::size_t i = 0; i < 4; ++i) {
+    x[kKappa + i] = (x[kKappa + i] + h * itk[i] * kk[i]) / (1.0 + h * itk[i]);
+    x[kAlpha + i] = (x[kAlpha + i] + h * ita[i] * ka[i]) / (1.0 + h * ita[i]);
+  }
+
+  if (!x.allFinite()) {
+    x = x_old;
+    s.status |= kStatusNonFinite;
+  }
+
+  // Diagnostics.
+  StepOutputs& o = s.out;
+  o.a_x = e.fx / m_;
+  o.a_y = e.fy / m_;
+  o.fz = e.fz;
+  o.fx = e.fx_t;
+  o.fy = e.fy_t;
+  for (std::size_t i = 0; i < 4; ++i) {
+    o.kappa[i] = x_old[kKappa + i];
+    o.alpha[i] = x_old[kAlpha + i];
+    o.brake_torque[i] = kb_[i] * in.brake_pressure[i];
+  }
+  o.engine_torque = e.engine_torque;
+  o.axle_torque = e.axle_torque;
+  o.engine_speed = std::max(KinematicEngineSpeed(x, s.gearbox.engaged), clutch_slip_speed_);
+  s.time += h;
+}
+
+Measurement Vehicle::Measure(const State& s, SensorNoiseState* noise) const noexcept {
+  Measurement m;
+  m.time = s.time;
+  m.x = s.x[kX];
+  m.y = s.x[kY];
+  m.psi = s.x[kPsi];
+  m.v_x = s.x[kVx];
+  m.v_y = s.x[kVy];
+  m.yaw_rate = s.x[kYawRate];
+  m.a_x = s.out.a_x;
+  m.a_y = s.out.a_y;
+  for (std::size_t i = 0; i < 4; ++i) m.wheel_speed[i] = s.x[kOmega + i];
+  m.steering_angle = s.steering.angle;
+  m.brake_pressure = s.brakes.pressure;
+  m.gear = s.gearbox.engaged;
+  m.gear_request = s.gearbox.requested;
+  m.engine_speed = s.out.engine_speed;
+  m.wheel_load = s.out.fz;
+  m.throttle = s.throttle;
+  m.status = s.status;
+  if (noise != nullptr) AddSensorNoise(p_.sensors, &m, noise);
+  return m;
+}
+
+}  // namespace scw::plant

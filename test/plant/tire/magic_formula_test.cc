@@ -1,0 +1,143 @@
+// MF5.2 invariants: symmetry, peak = mu Fz, combined slip inside the friction ellipse, finiteness.
+#include "plant/tire/magic_formula.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "params/schema/vehicle_params.h"
+
+namespace scw::plant {
+namespace {
+
+std::vector<params::Mf52Params> SymmetricSets() {
+  const params::VehicleParams p;
+  return {p.tires.front, p.tires.rear};
+}
+
+// The AV-21 fit has ply-steer/conicity shifts: used for finiteness only.
+params::Mf52Params ShiftedSet() {
+  params::Mf52Params t;
+  t.fnomin = 3114;
+  t.phx1 = -0.00058;
+  t.phx2 = 0.00079;
+  t.phy1 = 0.0039;
+  t.phy2 = -0.00253;
+  t.pvy1 = -0.01038;
+  t.pvy2 = -0.1;
+  t.pey3 = 0.26886;
+  t.rhx1 = 0.00211;
+  t.rby3 = -0.01179;
+  t.rhy1 = 0.00667;
+  t.rhy2 = 0.00207;
+  t.rvy1 = 0.0426;
+  t.rvy2 = 0.03077;
+  t.rvy4 = 100;
+  t.rvy5 = 2.2;
+  t.rvy6 = 25;
+  t.pex4 = 0.3;
+  return t;
+}
+
+const std::vector<double> kLoads = {200.0, 1500.0, 3000.0, 6000.0, 9000.0};
+const std::vector<double> kSlips = {0.001, 0.01, 0.03, 0.06, 0.1, 0.2, 0.5, 1.0};
+const std::vector<double> kAngles = {0.001, 0.01, 0.03, 0.06, 0.1, 0.2, 0.5, 1.2};
+
+TEST(MagicFormula, LateralForceIsOddInSlipAngle) {
+  for (const auto& t : SymmetricSets())
+    for (double fz : kLoads)
+      for (double k : {0.0, 0.05, -0.1})
+        for (double a : kAngles) {
+          const TireForce p = TireForces({fz, k, a}, t);
+          const TireForce n = TireForces({fz, k, -a}, t);
+          EXPECT_DOUBLE_EQ(p.fy, -n.fy) << fz << " " << k << " " << a;
+          EXPECT_DOUBLE_EQ(p.fx, n.fx);
+          EXPECT_GT(p.fy, 0.0) << "alpha > 0 must push left";
+        }
+}
+
+TEST(MagicFormula, LongitudinalForceIsOddInSlip) {
+  for (const auto& t : SymmetricSets())
+    for (double fz : kLoads)
+      for (double a : {0.0, 0.05, -0.1})
+        for (double k : kSlips) {
+          const TireForce p = TireForces({fz, k, a}, t);
+          const TireForce n = TireForces({fz, -k, a}, t);
+          EXPECT_DOUBLE_EQ(p.fx, -n.fx);
+          EXPECT_DOUBLE_EQ(p.fy, n.fy);
+          EXPECT_GT(p.fx, 0.0) << "kappa > 0 must drive";
+        }
+}
+
+// The pure-slip force peak equals mu * Fz (D), with and without friction scaling.
+TEST(MagicFormula, PeakEqualsMuTimesLoad) {
+  for (const auto& t : SymmetricSets())
+    for (double fz : kLoads)
+      for (double lambda : {1.0, 0.8, 0.5}) {
+        double fx_max = 0.0, fy_max = 0.0;
+        for (int i = 1; i <= 4000; ++i) {
+          const double s = i * 2.5e-4;  // up to 1.0
+          fx_max = std::max(fx_max, TireForces({fz, s, 0.0, lambda, lambda}, t).fx);
+          fy_max = std::max(fy_max, TireForces({fz, 0.0, s, lambda, lambda}, t).fy);
+        }
+        const TirePeakFriction mu = PeakFriction(fz, lambda, lambda, t);
+        EXPECT_NEAR(fx_max, mu.mu_x * fz, 1e-3 * mu.mu_x * fz) << fz << " " << lambda;
+        EXPECT_NEAR(fy_max, mu.mu_y * fz, 1e-3 * mu.mu_y * fz) << fz << " " << lambda;
+      }
+}
+
+TEST(MagicFormula, GripScalingScalesThePeak) {
+  const params::Mf52Params t;
+  const auto base = PeakFriction(3000, 1.0, 1.0, t);
+  const auto low = PeakFriction(3000, 1.0, 0.8, t);
+  EXPECT_DOUBLE_EQ(low.mu_y, 0.8 * base.mu_y);
+  EXPECT_DOUBLE_EQ(low.mu_x, base.mu_x);
+}
+
+TEST(MagicFormula, CombinedSlipStaysInsideFrictionEllipse) {
+  for (const auto& t : SymmetricSets())
+    for (double fz : kLoads) {
+      const TirePeakFriction mu = PeakFriction(fz, 1.0, 1.0, t);
+      for (double k = -1.0; k <= 1.0; k += 0.01)
+        for (double a = -0.6; a <= 0.6; a += 0.005) {
+          const TireForce f = TireForces({fz, k, a}, t);
+          const double ex = f.fx / (mu.mu_x * fz), ey = f.fy / (mu.mu_y * fz);
+          ASSERT_LE(ex * ex + ey * ey, 1.0 + 1e-9)
+              << "fz " << fz << " kappa " << k << " alpha " << a;
+        }
+    }
+}
+
+TEST(MagicFormula, FiniteForEveryInputIncludingZeroLoad) {
+  auto sets = SymmetricSets();
+  sets.push_back(ShiftedSet());
+  const double big = 1e6;
+  for (const auto& t : sets)
+    for (double fz : {-100.0, 0.0, 1e-9, 1.0, 3000.0, 40000.0, big})
+      for (double k : {-big, -1.5, -1.0, -1e-12, 0.0, 1e-12, 0.3, 1.5, big})
+        for (double a : {-1.5707963, -0.7, -1e-12, 0.0, 1e-12, 0.4, 1.5707963, 10.0})
+          for (double lambda : {0.05, 1.0, 2.0}) {
+            const TireForce f = TireForces({fz, k, a, lambda, lambda}, t);
+            ASSERT_TRUE(std::isfinite(f.fx) && std::isfinite(f.fy))
+                << fz << " " << k << " " << a << " " << lambda;
+            if (fz <= 0.0) {
+              EXPECT_EQ(f.fx, 0.0);
+              EXPECT_EQ(f.fy, 0.0);
+            }
+          }
+}
+
+TEST(MagicFormula, StiffnessesMatchTheSlopeAtZero) {
+  for (const auto& t : SymmetricSets())
+    for (double fz : kLoads) {
+      const double d = 1e-7;
+      const double cy = TireForces({fz, 0.0, d}, t).fy / d;
+      const double cx = TireForces({fz, d, 0.0}, t).fx / d;
+      EXPECT_NEAR(cy, CorneringStiffness(fz, t), 1e-4 * cy);
+      EXPECT_NEAR(cx, SlipStiffness(fz, t), 1e-4 * cx);
+    }
+}
+
+}  // namespace
+}  // namespace scw::plant
