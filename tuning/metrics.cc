@@ -24,6 +24,8 @@ const char* RunStatusName(RunStatus s) {
       return "non_finite";
     case RunStatus::kTimeout:
       return "timeout";
+    case RunStatus::kInvalidParams:
+      return "invalid_params";
   }
   return "?";
 }

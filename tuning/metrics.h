@@ -8,14 +8,15 @@ namespace scw::tuning {
 
 /// How a run ended. Everything but kCompleted is an abort.
 enum class RunStatus {
-  kCompleted,     ///< all laps driven
-  kSideslip,      ///< |β| above the abort threshold
-  kLateralError,  ///< lateral error above the abort threshold
-  kWheelLock,     ///< a wheel's slip below −threshold for longer than the allowed time
-  kWheelSpin,     ///< a wheel's slip above +threshold for longer than the allowed time
-  kOffTrack,      ///< the car left the track bounds
-  kNonFinite,     ///< NaN/inf in the plant or controller
-  kTimeout,       ///< simulated time limit reached before the laps were done
+  kCompleted,      ///< all laps driven
+  kSideslip,       ///< |β| above the abort threshold
+  kLateralError,   ///< lateral error above the abort threshold
+  kWheelLock,      ///< a wheel's slip below −threshold for longer than the allowed time
+  kWheelSpin,      ///< a wheel's slip above +threshold for longer than the allowed time
+  kOffTrack,       ///< the car left the track bounds
+  kNonFinite,      ///< NaN/inf in the plant or controller
+  kTimeout,        ///< simulated time limit reached before the laps were done
+  kInvalidParams,  ///< the parameter set was rejected before the run (schema rule violated)
 };
 
 const char* RunStatusName(RunStatus s);

@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace scw::cli {
 
@@ -26,5 +27,8 @@ struct CommandRegistrar {
 
 /// Called by a command's callback to set the process exit code.
 void SetExitCode(int code);
+
+/// The process's command line (for run manifests).
+const std::vector<std::string>& CommandLine();
 
 }  // namespace scw::cli

@@ -14,7 +14,10 @@ std::vector<std::pair<int, AddCommandFn>>& Registry() {
   return commands;
 }
 int g_exit_code = kExitOk;
+std::vector<std::string> g_command_line;
 }  // namespace
+
+const std::vector<std::string>& CommandLine() { return g_command_line; }
 
 CommandRegistrar::CommandRegistrar(int order, AddCommandFn add) {
   Registry().emplace_back(order, add);
@@ -26,6 +29,7 @@ void SetExitCode(int code) { g_exit_code = code; }
 
 int main(int argc, char** argv) {
   using namespace scw::cli;
+  g_command_line.assign(argv, argv + argc);
   CLI::App app{
       "scw - stability-control workspace: design, tune and export the stability control\n"
       "(ESC, ABS/TC slip control, countersteer) of an autonomous race car."};

@@ -1,0 +1,101 @@
+#include "tuning/evaluator.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "tuning/optim/space.h"
+#include "tuning/optim/tuner.h"
+
+namespace scw::tuning {
+namespace {
+
+std::vector<ScenarioEntry> SmallSet() {
+  return {{"short_nominal", 1.0, "", {"laps=1", "gg_scale=1.1"}},
+          {"short_oversteer",
+           2.0,
+           "",
+           {"laps=1", "grip.rear_mu_y=0.8", "gg_scale=1.3", "abort.lock_slip_pct=100"}}};
+}
+
+TEST(EvaluatorTest, DefaultSetFileEqualsBuiltIn) {
+  const auto file =
+      ScenarioSet::FromFile(std::string(SCW_SOURCE_DIR) + "/params/scenarios/default_set.yaml");
+  EXPECT_EQ(file.ToYaml(), ScenarioSet::Default().ToYaml())
+      << "regenerate with: scw tune --print-scenarios > params/scenarios/default_set.yaml";
+}
+
+TEST(EvaluatorTest, BadSetFilesNameEntryAndRule) {
+  const char* bad[] = {
+      "training: []\n",
+      "training:\n  - {weight: 1.0}\n",
+      "training:\n  - {name: a, weight: -1.0}\n",
+      "training:\n  - {name: a, set: [gg_scale]}\n",
+      "training:\n  - {name: a, colour: red}\n",
+      "name: x\n",
+      "training:\n  - {name: a}\ncost: {sideslip_weight: -2.0}\n",
+  };
+  for (const char* text : bad) {
+    SCOPED_TRACE(text);
+    EXPECT_THROW(ScenarioSet::FromYamlText(text, "set.yaml"), ConfigError);
+  }
+}
+
+TEST(EvaluatorTest, ResultsAreIdenticalForOneAndTwoThreads) {
+  const params::CostWeights w;
+  const auto one = BatchEvaluator::FromEntries(SmallSet(), "", w, 1);
+  const auto two = BatchEvaluator::FromEntries(SmallSet(), "", w, 2);
+  params::StabilityParams a, b;
+  b.ESC.kp_psi_dot = 4.0;
+  const auto r1 = one.Evaluate(std::vector<params::StabilityParams>{a, b});
+  const auto r2 = two.Evaluate(std::vector<params::StabilityParams>{a, b});
+  ASSERT_EQ(r1.size(), 2u);
+  for (std::size_t s = 0; s < 2; ++s) {
+    EXPECT_EQ(r1[s].total, r2[s].total);
+    for (std::size_t k = 0; k < r1[s].runs.size(); ++k) {
+      EXPECT_EQ(r1[s].runs[k].lap_times, r2[s].runs[k].lap_times);
+      EXPECT_EQ(r1[s].runs[k].max_abs_sideslip, r2[s].runs[k].max_abs_sideslip);
+    }
+  }
+  // Weighted sum of the per-scenario costs.
+  EXPECT_DOUBLE_EQ(r1[0].total, r1[0].costs[0].total + 2.0 * r1[0].costs[1].total);
+}
+
+TEST(EvaluatorTest, AnInvalidSetIsAResultWithAStatus) {
+  const auto ev = BatchEvaluator::FromEntries({SmallSet()[0]}, "", params::CostWeights{}, 2);
+  params::StabilityParams bad;
+  bad.ESC.beta_threshold_activate = {0.1, 0.2, 0.3};  // unequal array lengths
+  const auto r = ev.Evaluate(bad);
+  EXPECT_EQ(r.runs[0].status, RunStatus::kInvalidParams);
+  EXPECT_FALSE(r.invalid.empty());
+  EXPECT_TRUE(std::isfinite(r.total));
+}
+
+TEST(EvaluatorTest, TuneIsDeterministicForOneAndTwoThreads) {
+  const auto space = ParameterSpace::Default();
+  const params::StabilityParams base;
+  auto run = [&](int threads, const std::string& log) {
+    const auto ev =
+        BatchEvaluator::FromEntries({SmallSet()[1]}, "", params::CostWeights{}, threads);
+    TunerOptions o;
+    o.max_evals = 8;
+    o.seed = 5;
+    o.log_path = log;
+    return Tune(
+        space.Encode(base),
+        [&](const std::vector<double>& u) {
+          Problems pr;
+          const auto p = space.Decode(u, base, &pr);
+          return Evaluation{pr.empty() ? ev.Evaluate(p).total : 1e4, "ok", {}};
+        },
+        o);
+  };
+  const auto dir = std::filesystem::temp_directory_path();
+  const auto a = run(1, (dir / "scw_tune_t1.csv").string());
+  const auto b = run(2, (dir / "scw_tune_t2.csv").string());
+  EXPECT_EQ(a.best_u, b.best_u);
+  EXPECT_EQ(a.best_cost, b.best_cost);
+}
+
+}  // namespace
+}  // namespace scw::tuning

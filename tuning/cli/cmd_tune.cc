@@ -1,0 +1,342 @@
+// scw tune — the main job: tune the stability parameters against the scenario set, compare the
+// tuned set with the starting set on training and held-out scenarios, export the car's params
+// files. scw evaluate — compare given parameter files side by side.
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include <nlopt.hpp>
+
+#include "params/io/load.h"
+#include "params/io/ros2_check.h"
+#include "params/io/write.h"
+#include "tuning/cli/command.h"
+#include "tuning/evaluator.h"
+#include "tuning/optim/space.h"
+#include "tuning/optim/tuner.h"
+#include "tuning/report.h"
+#include "tuning/scenario_set.h"
+
+namespace scw::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::atomic<bool> g_stop{false};
+extern "C" void OnSigint(int) { g_stop = true; }
+
+struct TuneOptions {
+  std::string space, scenarios, base, algorithm = "crs2+sbplx", out, resume, node;
+  int max_evals = 180;
+  double max_time = 170.0;
+  int threads = 0;
+  unsigned long long seed = 1;
+  std::string progress = "auto";
+  bool print_set = false;
+  std::vector<std::string> params_files;  // evaluate
+  std::string csv;                        // evaluate
+};
+
+std::uint64_t Fnv1a(const std::string& s) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
+  return h;
+}
+std::string Hex(std::uint64_t h) {
+  char buf[17];
+  std::snprintf(buf, sizeof(buf), "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+std::string FreshRunFolder(const std::string& requested) {
+  if (!requested.empty()) {
+    fs::create_directories(requested);
+    return requested;
+  }
+  const std::time_t now = std::time(nullptr);
+  char stamp[32];
+  std::strftime(stamp, sizeof(stamp), "%Y%m%d-%H%M%S", std::localtime(&now));
+  std::string dir = std::string("scw-runs/tune-") + stamp;
+  for (int k = 2; fs::exists(dir); ++k)
+    dir = std::string("scw-runs/tune-") + stamp + "-" + std::to_string(k);
+  fs::create_directories(dir);
+  return dir;
+}
+
+params::StabilityParams LoadBase(const std::string& path, std::set<std::string>* present) {
+  if (path.empty()) return params::StabilityParams{};
+  params::LoadReport rep;
+  auto p = params::LoadRosFile<params::StabilityParams>(path, params::kStabilityNodeKey, &rep);
+  if (present) *present = rep.present;
+  return p;
+}
+
+tuning::ScenarioSet LoadSet(const std::string& path) {
+  return path.empty() ? tuning::ScenarioSet::Default() : tuning::ScenarioSet::FromFile(path);
+}
+
+void CheckExport(const std::string& text, bool complete, const std::string& path) {
+  params::CheckOptions co;
+  co.node_key = params::kStabilityNodeKey;
+  co.expect_complete = complete;
+  const auto rep =
+      params::CheckRosParamsText(text, params::DeclaredParams<params::StabilityParams>(), co);
+  if (!rep.ok())
+    throw std::runtime_error("the export " + path + " fails the ROS 2 params check:\n" +
+                             rep.Format(path));
+}
+
+int RunTune(const TuneOptions& o) {
+  const auto t_start = std::chrono::steady_clock::now();
+  const tuning::ScenarioSet set = LoadSet(o.scenarios);
+  if (o.print_set) {
+    std::cout << set.ToYaml();
+    return kExitOk;
+  }
+  const tuning::ParameterSpace space = o.space.empty() ? tuning::ParameterSpace::Default()
+                                                       : tuning::ParameterSpace::FromFile(o.space);
+  std::set<std::string> present;
+  const params::StabilityParams base = LoadBase(o.base, &present);
+  const std::string dir = FreshRunFolder(o.out);
+  std::cerr << "scw tune: " << space.size() << " parameters, " << set.training.size()
+            << " training and " << set.held_out.size() << " held-out scenarios; output in " << dir
+            << "\n";
+
+  const auto training =
+      tuning::BatchEvaluator::FromEntries(set.training, set.base_dir, set.cost, o.threads);
+  std::cerr << "  scenarios prepared in "
+            << std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()
+            << " s (" << training.threads() << " threads)\n";
+
+  // Objective: decode, reject invalid sets with a graded penalty, evaluate the training set.
+  std::vector<std::string> extra;
+  for (const auto& e : space.entries()) extra.push_back("x:" + e.Label());
+  for (const auto& sc : training.scenarios()) {
+    extra.push_back("cost:" + sc.spec.name);
+    extra.push_back("status:" + sc.spec.name);
+    extra.push_back("lap:" + sc.spec.name);
+  }
+  const double invalid_cost =
+      (set.cost.abort_base + set.cost.abort_progress_weight + set.cost.lap_time_cap) *
+      static_cast<double>(std::max<std::size_t>(1, set.training.size()));
+  auto objective = [&](const std::vector<double>& u) -> tuning::Evaluation {
+    tuning::Evaluation ev;
+    for (double x : space.Arguments(u)) ev.columns.push_back(params::FormatDouble(x));
+    Problems pr;
+    const params::StabilityParams p = space.Decode(u, base, &pr);
+    if (!pr.empty()) {
+      ev.cost = invalid_cost;
+      ev.status = "infeasible: " + pr.items()[0].path;
+      return ev;
+    }
+    const tuning::SetEvaluation r = training.Evaluate(p);
+    ev.cost = r.total;
+    int aborts = 0;
+    for (std::size_t k = 0; k < r.runs.size(); ++k) {
+      aborts += r.runs[k].aborted();
+      ev.columns.push_back(params::FormatDouble(r.costs[k].total));
+      ev.columns.push_back(tuning::RunStatusName(r.runs[k].status));
+      const double lap = r.runs[k].MeanLapTime();
+      ev.columns.push_back(std::isnan(lap) ? "nan" : params::FormatDouble(lap));
+    }
+    ev.status = aborts ? std::to_string(aborts) + " abort(s)" : "ok";
+    return ev;
+  };
+
+  tuning::TunerOptions to;
+  to.algorithm = o.algorithm;
+  to.max_evals = o.max_evals;
+  to.max_time_s = o.max_time;
+  to.seed = o.seed;
+  to.log_path = (fs::path(dir) / "evaluations.csv").string();
+  to.resume_path = o.resume;
+  to.log_extra_header = extra;
+  for (const auto& e : space.entries()) to.dimension_names.push_back("u:" + e.Label());
+  to.stop = &g_stop;
+  to.failure_cost = invalid_cost;
+  const bool show = o.progress == "always" || (o.progress == "auto" && ::isatty(2));
+  if (show)
+    to.on_progress = [&](const tuning::Progress& p) {
+      const double eta = p.evals > 0 ? p.elapsed_s / p.evals * (p.max_evals - p.evals) : 0.0;
+      std::fprintf(stderr, "\r  %-6s eval %4d/%d  best cost %.3f  elapsed %4.0f s  eta %4.0f s  ",
+                   p.phase.c_str(), p.evals, p.max_evals, p.best_cost, p.elapsed_s, eta);
+      std::fflush(stderr);
+    };
+  g_stop = false;
+  auto previous = std::signal(SIGINT, OnSigint);
+  const auto u0 = space.Encode(base);
+  tuning::TuneResult r;
+  try {
+    r = tuning::Tune(u0, objective, to);
+  } catch (...) {
+    std::signal(SIGINT, previous);
+    throw;
+  }
+  std::signal(SIGINT, previous);
+  if (show) std::fprintf(stderr, "\n");
+  std::cerr << "  optimisation: " << r.evals << " evaluations (" << r.replayed
+            << " replayed), stop: " << r.stop_reason << ", best cost " << r.best_cost
+            << " at evaluation " << r.best_eval << "\n";
+
+  // Result: baseline (the starting set itself) vs tuned, on training and held-out scenarios.
+  Problems pr;
+  const params::StabilityParams tuned = space.Decode(r.best_u, base, &pr);
+  if (!pr.empty())
+    throw std::runtime_error("internal error: the best point decodes to an invalid set");
+  const std::vector<std::string> labels = {"baseline", "tuned"};
+  const auto train_res = training.Evaluate(std::vector<params::StabilityParams>{base, tuned});
+  std::string md =
+      "# scw tune: comparison\n\nbaseline = " +
+      (o.base.empty() ? std::string("the car's shipped parameters (built-in)") : o.base) +
+      "; tuned = best of " + std::to_string(r.evals) + " evaluations (" + o.algorithm + ", seed " +
+      std::to_string(o.seed) + ")\n\n";
+  md += tuning::ComparisonMarkdown("Training scenarios", training, labels, train_res);
+  std::string csv = tuning::ComparisonCsv("training", training, labels, train_res, true);
+  if (!set.held_out.empty()) {
+    const auto held =
+        tuning::BatchEvaluator::FromEntries(set.held_out, set.base_dir, set.cost, o.threads);
+    const auto held_res = held.Evaluate(std::vector<params::StabilityParams>{base, tuned});
+    md += tuning::ComparisonMarkdown("Held-out scenarios (not used for tuning)", held, labels,
+                                     held_res);
+    csv += tuning::ComparisonCsv("held_out", held, labels, held_res, false);
+    md += held_res[1].total <= held_res[0].total
+              ? "Held-out: the tuned set improves the cost.\n"
+              : "Held-out: the tuned set does NOT improve the cost (possible over-fitting to the "
+                "training scenarios); review before using it on the car.\n";
+  }
+  // Outputs (each atomically).
+  const std::string full = (fs::path(dir) / "stability_tuned.yaml").string();
+  const std::string over = (fs::path(dir) / "stability_overrides.yaml").string();
+  const std::string header = "Tuned by scw tune (" + o.algorithm + ", seed " +
+                             std::to_string(o.seed) + ", " + std::to_string(r.evals) +
+                             " evaluations)";
+  const std::string full_text =
+      params::ToRosYaml(tuned, params::kStabilityNodeKey, present, header);
+  const std::string over_text = params::ToRosOverrides(
+      tuned, base, params::kStabilityNodeKey,
+      header + "; overrides of " + (o.base.empty() ? std::string("the shipped file") : o.base) +
+          ", load after it");
+  CheckExport(full_text, true, full);
+  CheckExport(over_text, false, over);
+  params::WriteFileAtomic(full, full_text);
+  params::WriteFileAtomic(over, over_text);
+  params::WriteFileAtomic((fs::path(dir) / "comparison.md").string(), md);
+  params::WriteFileAtomic((fs::path(dir) / "comparison.csv").string(), csv);
+
+  std::string cmdline;
+  for (const auto& a : CommandLine()) cmdline += (cmdline.empty() ? "" : " ") + a;
+  std::ostringstream man;
+  man << "scw_version: " << SCW_VERSION << "\n"
+      << "git_revision: " << SCW_GIT_REVISION << "\n"
+      << "nlopt_version: " << nlopt::version_major() << "." << nlopt::version_minor() << "."
+      << nlopt::version_bugfix() << "\n"
+      << "command_line: " << params::QuoteString(cmdline) << "\n"
+      << "base: " << params::QuoteString(o.base.empty() ? "built-in" : o.base) << "\n"
+      << "base_hash: " << Hex(Fnv1a(params::ToRosYaml(base, params::kStabilityNodeKey))) << "\n"
+      << "space: " << params::QuoteString(o.space.empty() ? "built-in default" : o.space) << "\n"
+      << "space_hash: " << Hex(Fnv1a(space.ToYaml())) << "\n"
+      << "scenarios: "
+      << params::QuoteString(o.scenarios.empty() ? "built-in default" : o.scenarios) << "\n"
+      << "scenarios_hash: " << Hex(Fnv1a(set.ToYaml())) << "\n"
+      << "algorithm: " << o.algorithm << "\n"
+      << "seed: " << o.seed << "\n"
+      << "max_evals: " << o.max_evals << "\n"
+      << "max_time_s: " << params::FormatDouble(o.max_time) << "\n"
+      << "threads: " << training.threads() << "\n"
+      << "evaluations: " << r.evals << "\n"
+      << "replayed_evaluations: " << r.replayed << "\n"
+      << "stop_reason: " << r.stop_reason << "\n"
+      << "best_cost: " << params::FormatDouble(r.best_cost) << "\n"
+      << "best_evaluation: " << r.best_eval << "\n"
+      << "baseline_cost: " << params::FormatDouble(train_res[0].total) << "\n"
+      << "tuned_cost: " << params::FormatDouble(train_res[1].total) << "\n"
+      << "tuned_hash: " << Hex(Fnv1a(full_text)) << "\n"
+      << "wall_time_s: "
+      << params::FormatDouble(
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count())
+      << "\n";
+  params::WriteFileAtomic((fs::path(dir) / "manifest.yaml").string(), man.str());
+  std::cout << md;
+  std::cout << "outputs: " << dir << "/{evaluations.csv, stability_tuned.yaml, "
+            << "stability_overrides.yaml, comparison.md, comparison.csv, manifest.yaml}\n";
+  return r.stop_reason == "resume_mismatch" ? kExitBadInput : kExitOk;
+}
+
+int RunEvaluate(const TuneOptions& o) {
+  const tuning::ScenarioSet set = LoadSet(o.scenarios);
+  std::vector<params::StabilityParams> sets;
+  std::vector<std::string> labels;
+  for (const auto& f : o.params_files) {
+    sets.push_back(LoadBase(f, nullptr));
+    labels.push_back(fs::path(f).filename().string());
+  }
+  if (sets.empty()) {
+    sets.push_back(params::StabilityParams{});
+    labels.push_back("built-in");
+  }
+  std::string md, csv;
+  bool header = true;
+  for (const auto* group : {&set.training, &set.held_out}) {
+    if (group->empty()) continue;
+    const auto ev = tuning::BatchEvaluator::FromEntries(*group, set.base_dir, set.cost, o.threads);
+    const auto res = ev.Evaluate(sets);
+    const std::string name = group == &set.training ? "training" : "held_out";
+    md += tuning::ComparisonMarkdown(name, ev, labels, res);
+    csv += tuning::ComparisonCsv(name, ev, labels, res, header);
+    header = false;
+  }
+  std::cout << md;
+  if (!o.csv.empty()) params::WriteFileAtomic(o.csv, csv);
+  return kExitOk;
+}
+
+void AddTune(CLI::App& app) {
+  auto o = std::make_shared<TuneOptions>();
+  auto* cmd = app.add_subcommand(
+      "tune",
+      "Tune the stability parameters on the scenario set (no arguments: the built-in "
+      "space and scenarios, about 3 minutes on 2 cores) and export the car's params files");
+  cmd->add_option("--space", o->space, "Search space file (params/spaces/*.yaml)");
+  cmd->add_option("--scenarios", o->scenarios, "Scenario set file (params/scenarios/*.yaml)");
+  cmd->add_option("--base", o->base, "Starting stability params file (car's ROS 2 layout)");
+  cmd->add_option("--algorithm", o->algorithm,
+                  "NLopt algorithm: crs2, isres, esch, direct_l, sbplx, neldermead, bobyqa, "
+                  "cobyla, or A+B (global A, then local B)");
+  cmd->add_option("--max-evals", o->max_evals, "Evaluation budget")->check(CLI::Range(1, 1000000));
+  cmd->add_option("--max-time", o->max_time, "Wall-time guard [s] (0: none)")
+      ->check(CLI::Range(0.0, 1e7));
+  cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")
+      ->check(CLI::Range(0, 1024));
+  cmd->add_option("--seed", o->seed, "Optimizer seed");
+  cmd->add_option("--out", o->out, "Output folder (default: a fresh scw-runs/tune-<time>)");
+  cmd->add_option("--resume", o->resume,
+                  "Continue an interrupted run from its evaluations.csv (same options)");
+  cmd->add_option("--progress", o->progress, "Progress line on stderr: auto, always, never")
+      ->check(CLI::IsMember({"auto", "always", "never"}));
+  cmd->add_flag("--print-scenarios", o->print_set, "Print the scenario set as YAML and exit");
+  cmd->callback([o] { SetExitCode(RunTune(*o)); });
+
+  auto e = std::make_shared<TuneOptions>();
+  auto* ev = app.add_subcommand(
+      "evaluate",
+      "Evaluate stability params files side by side on the training and held-out "
+      "scenarios");
+  ev->add_option("PARAMS", e->params_files, "Stability params files (car's ROS 2 layout)");
+  ev->add_option("--scenarios", e->scenarios, "Scenario set file (default: built-in)");
+  ev->add_option("--threads", e->threads, "Worker threads (0: all cores)");
+  ev->add_option("--csv", e->csv, "Also write the table as CSV");
+  ev->callback([e] { SetExitCode(RunEvaluate(*e)); });
+}
+
+const CommandRegistrar kRegistrar(25, &AddTune);
+
+}  // namespace
+}  // namespace scw::cli

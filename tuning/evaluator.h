@@ -1,0 +1,56 @@
+// Batch evaluation of (parameter set × scenario) jobs on a thread pool.
+//
+// Every job is a pure function of its inputs (the resolved scenario, the parameter set and the
+// scenario's seed); results land in per-index slots and are aggregated serially in index order,
+// so the results are bit-identical for any thread count. A failed run (abort, NaN, invalid set)
+// is a result with a status, never an exception.
+//
+// Thread safety: an evaluator is immutable after construction; Evaluate may be called from one
+// thread at a time (it owns the worker threads of its call).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "params/schema/cost_params.h"
+#include "params/schema/stability_params.h"
+#include "tuning/cost.h"
+#include "tuning/metrics.h"
+#include "tuning/scenario.h"
+#include "tuning/scenario_set.h"
+
+namespace scw::tuning {
+
+struct SetEvaluation {
+  std::vector<RunMetrics> runs;      ///< per scenario
+  std::vector<CostBreakdown> costs;  ///< per scenario
+  double total = 0.0;                ///< Σ weight · J
+  std::string invalid;               ///< non-empty: the set was rejected (first problem)
+};
+
+class BatchEvaluator {
+ public:
+  BatchEvaluator(std::vector<ResolvedScenario> scenarios, std::vector<double> weights,
+                 params::CostWeights cost, int threads = 0);
+
+  /// Resolves the entries of a set (training or held-out) in parallel.
+  static BatchEvaluator FromEntries(const std::vector<ScenarioEntry>& entries,
+                                    const std::string& base_dir, const params::CostWeights& cost,
+                                    int threads = 0);
+
+  std::vector<SetEvaluation> Evaluate(const std::vector<params::StabilityParams>& sets) const;
+  SetEvaluation Evaluate(const params::StabilityParams& set) const;
+
+  const std::vector<ResolvedScenario>& scenarios() const { return scenarios_; }
+  const std::vector<double>& weights() const { return weights_; }
+  const params::CostWeights& cost() const { return cost_; }
+  int threads() const { return threads_; }
+
+ private:
+  std::vector<ResolvedScenario> scenarios_;
+  std::vector<double> weights_;
+  params::CostWeights cost_;
+  int threads_;
+};
+
+}  // namespace scw::tuning

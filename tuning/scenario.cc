@@ -1,0 +1,226 @@
+#include "tuning/scenario.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "params/io/load.h"
+#include "params/io/override.h"
+#include "params/schema/track_params.h"
+#include "plant/track/track_csv.h"
+#include "plant/track/yas_north.h"
+#include "plant/vehicle/ggv.h"
+#include "tuning/trajectory/racing_line.h"
+#include "tuning/trajectory/velocity_profile.h"
+
+namespace scw::tuning {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string ResolvePath(const std::string& base_dir, const std::string& file) {
+  if (file.empty() || base_dir.empty() || fs::path(file).is_absolute()) return file;
+  return (fs::path(base_dir) / file).lexically_normal().string();
+}
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+plant::Track LoadTrack(const std::string& file) {
+  if (file.empty() || file == "yas_north") return plant::YasNorthTrack();
+  if (EndsWith(file, ".csv")) return plant::LoadTrackCsv(file);
+  if (EndsWith(file, ".yaml") || EndsWith(file, ".yml"))
+    return plant::Track::FromDefinition(params::LoadPlainFile<params::TrackParams>(file), file);
+  throw ConfigError(file, "track", "unknown track file type (expected .csv, .yaml or .yml)");
+}
+
+/// The plant's steady-state limits as the velocity planner's g-g-v table.
+plant::GgvLimits PlantGgv(const params::VehicleParams& v) {
+  std::vector<double> speeds;
+  for (double s = 10.0; s <= 90.0; s += 10.0) speeds.push_back(s);
+  const auto points = plant::ComputeGgv(v, speeds);
+  plant::GgvLimits g;
+  g.speed.clear();
+  g.ay_max.clear();
+  g.ax_drive_max.clear();
+  g.ax_brake_max.clear();
+  for (const auto& p : points) {
+    g.speed.push_back(p.speed);
+    g.ay_max.push_back(std::max(p.lateral_max, 1.0));
+    g.ax_drive_max.push_back(std::max(p.traction_max, 0.0));
+    g.ax_brake_max.push_back(std::max(p.braking_max, 1.0));
+  }
+  g.exponent = 1.5;
+  g.Validate("vehicle g-g-v");
+  return g;
+}
+
+std::shared_ptr<const controller::motion::Path> ToPath(const ReferenceTrajectory& r) {
+  std::vector<controller::motion::PathPoint> pts(r.size());
+  for (std::size_t i = 0; i < r.size(); ++i)
+    pts[i] = {r.s[i], r.x[i], r.y[i], r.psi[i], r.kappa[i], r.v[i], r.a_x[i]};
+  // The velocity profile may repeat the closing node at s = length: drop it.
+  while (pts.size() > 3 && pts.back().s >= r.length) pts.pop_back();
+  return std::make_shared<controller::motion::Path>(std::move(pts), r.length);
+}
+
+void ApplyGrip(const params::GripParams& f, params::GripParams* g) {
+  g->mu *= f.mu;
+  g->front_mu_x *= f.front_mu_x;
+  g->front_mu_y *= f.front_mu_y;
+  g->rear_mu_x *= f.rear_mu_x;
+  g->rear_mu_y *= f.rear_mu_y;
+  for (std::size_t i = 0; i < g->wheel_mu_x.size() && i < f.wheel_mu_x.size(); ++i)
+    g->wheel_mu_x[i] *= f.wheel_mu_x[i];
+  for (std::size_t i = 0; i < g->wheel_mu_y.size() && i < f.wheel_mu_y.size(); ++i)
+    g->wheel_mu_y[i] *= f.wheel_mu_y[i];
+}
+
+}  // namespace
+
+params::ScenarioParams LoadScenario(const std::string& path,
+                                    const std::vector<std::string>& overrides) {
+  auto spec = params::LoadPlainFile<params::ScenarioParams>(path);
+  params::ApplyOverrides(spec, overrides);
+  return spec;
+}
+
+params::ScenarioParams DefaultScenario(const std::vector<std::string>& overrides) {
+  params::ScenarioParams spec;
+  params::ApplyOverrides(spec, overrides);
+  return spec;
+}
+
+void InjectVehicleConstants(const params::VehicleParams& v, const std::set<std::string>& present,
+                            params::StabilityParams* p) {
+  auto set = [&](const char* key, double* field, double value) {
+    if (!present.count(key)) *field = value;
+  };
+  auto& n = p->vehicle;
+  set("vehicle.mass.total", &n.mass.total, v.chassis.mass);
+  set("vehicle.inertia.yaw", &n.inertia.yaw, v.chassis.yaw_inertia);
+  set("vehicle.dimension.wheelbase", &n.dimension.wheelbase, v.chassis.wheelbase);
+  set("vehicle.dimension.distance_to_front_axle", &n.dimension.distance_to_front_axle,
+      v.chassis.cg_to_front_axle);
+  set("vehicle.dimension.track_width_front", &n.dimension.track_width_front, v.chassis.track_front);
+  set("vehicle.dimension.track_width_rear", &n.dimension.track_width_rear, v.chassis.track_rear);
+  // vehicle.dimension.trackwidth is NOT provided by the car's vehicle handler (spec §7.2): the
+  // node keeps its own default, and so do we.
+  set("vehicle.dimension.cog_height", &n.dimension.cog_height, v.chassis.cg_height);
+  set("tires.front_left.radius.radius_20mps", &p->tires.front_left.radius.radius_20mps,
+      v.wheels.radius_front);
+  set("tires.rear_left.radius.radius_20mps", &p->tires.rear_left.radius.radius_20mps,
+      v.wheels.radius_rear);
+  set("vehicle.drivetrain.transmission_ratio", &n.drivetrain.transmission_ratio,
+      v.gearbox.final_drive_ratio);
+  if (!present.count("vehicle.drivetrain.gear_ratios")) n.drivetrain.gear_ratios = v.gearbox.ratios;
+  if (!present.count("tires.front_left.radius.velocity_scaling.velocity") &&
+      !present.count("tires.front_left.radius.velocity_scaling.factor")) {
+    // The plant's rolling radius does not grow with speed.
+    p->tires.front_left.radius.velocity_scaling.factor.assign(
+        p->tires.front_left.radius.velocity_scaling.velocity.size(), 1.0);
+  }
+  const double area = 1.0;
+  set("vehicle.aero.air_density", &n.aero.air_density, v.aero.air_density);
+  set("vehicle.aero.cross_track_area", &n.aero.cross_track_area, area);
+  const double cl_a = v.aero.downforce_area_front + v.aero.downforce_area_rear;
+  set("vehicle.aero.lift_coeff", &n.aero.lift_coeff, -cl_a / area);
+  set("vehicle.aero.front_downforce_share", &n.aero.front_downforce_share,
+      cl_a > 0 ? v.aero.downforce_area_front / cl_a : 0.5);
+  set("vehicle.steering.min_angle", &n.steering.min_angle, -v.steering.max_angle);
+  set("vehicle.steering.max_angle", &n.steering.max_angle, v.steering.max_angle);
+}
+
+controller::motion::LongitudinalModel LongitudinalModelFor(const params::VehicleParams& v) {
+  controller::motion::LongitudinalModel m;
+  m.mass = v.chassis.mass;
+  m.air_density = v.aero.air_density;
+  m.drag_area = v.aero.drag_area;
+  m.downforce_area = v.aero.downforce_area_front + v.aero.downforce_area_rear;
+  m.rolling_resistance = v.wheels.rolling_resistance;
+  m.radius_front = v.wheels.radius_front;
+  m.radius_rear = v.wheels.radius_rear;
+  m.gear_ratios = v.gearbox.ratios;
+  m.final_drive = v.gearbox.final_drive_ratio;
+  m.efficiency = (v.gearbox.efficiency.empty() ? 1.0 : v.gearbox.efficiency.front()) *
+                 v.gearbox.final_drive_efficiency;
+  for (double rpm : v.engine.map_speed_rpm) m.map_speed.push_back(rpm * M_PI / 30.0);
+  m.map_throttle = v.engine.map_throttle;
+  m.map_torque = v.engine.map_torque;
+  m.brake_gain_front = v.brakes.torque_gain_front;
+  m.brake_gain_rear = v.brakes.torque_gain_rear;
+  m.max_pressure = v.brakes.max_pressure;
+  return m;
+}
+
+ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& base_dir,
+                         const std::string& source) {
+  ResolvedScenario sc;
+  sc.spec = spec;
+  sc.source = source;
+  const std::string where = source == "built-in" ? "scenario " + spec.name : source;
+
+  // Vehicle (with the scenario's grip factors).
+  sc.vehicle =
+      spec.vehicle.empty()
+          ? params::VehicleParams{}
+          : params::LoadPlainFile<params::VehicleParams>(ResolvePath(base_dir, spec.vehicle));
+  const params::VehicleParams nominal = sc.vehicle;
+  ApplyGrip(spec.grip, &sc.vehicle.grip);
+  sc.vehicle.sensors.noise = sc.vehicle.sensors.noise || spec.sensor_noise;
+  params::ValidateOrThrow(sc.vehicle, where + " (vehicle with the scenario's grip)");
+
+  // Track and reference line.
+  auto track = std::make_shared<plant::Track>(LoadTrack(ResolvePath(base_dir, spec.track)));
+  sc.track = track;
+  auto reference_line = [&]() -> plant::Track {
+    if (spec.motion.raceline == "centerline") return *track;
+    if (spec.motion.raceline == "optimal" || spec.motion.raceline.empty()) {
+      RacingLineOptions ro;
+      ro.margin = spec.motion.raceline_margin;
+      return MinimumCurvatureLine(*track, ro).line;
+    }
+    return LoadRacingLine(ResolvePath(base_dir, spec.motion.raceline), *track).line;
+  };
+  const plant::Track line = reference_line();
+  VelocityProfileOptions vo;
+  vo.gg_scale = spec.gg_scale * spec.limit_fraction;
+  const plant::GgvLimits ggv = PlantGgv(spec.plan_with_nominal_grip ? nominal : sc.vehicle);
+  const ReferenceTrajectory ref = ComputeVelocityProfile(line, ggv, vo);
+  sc.path = ToPath(ref);
+  sc.ideal_lap_time = ref.lap_time;
+  sc.limit_lap_time = ComputeVelocityProfile(line, ggv, VelocityProfileOptions{}).lap_time;
+
+  // Stability parameters: the car's file (or defaults) with the vehicle handler's constants.
+  if (!spec.stability.empty()) {
+    params::LoadReport rep;
+    sc.stability = params::LoadRosFile<params::StabilityParams>(
+        ResolvePath(base_dir, spec.stability), params::kStabilityNodeKey, &rep);
+    sc.stability_present = rep.present;
+  }
+  InjectVehicleConstants(sc.vehicle, sc.stability_present, &sc.stability);
+  params::ValidateOrThrow(sc.stability, where + " (stability parameters)");
+
+  // Motion control.
+  if (!spec.motion.params.empty())
+    sc.tracking = params::LoadRosFile<params::TrackingParams>(
+        ResolvePath(base_dir, spec.motion.params), params::kTrackingNodeKey);
+  sc.tracking.vehicle.min_angle = -sc.vehicle.steering.max_angle;
+  sc.tracking.vehicle.max_angle = sc.vehicle.steering.max_angle;
+  sc.longitudinal_model = LongitudinalModelFor(sc.vehicle);
+  return sc;
+}
+
+params::StabilityParams PrepareStability(const ResolvedScenario& sc, params::StabilityParams p) {
+  InjectVehicleConstants(sc.vehicle, sc.stability_present, &p);
+  const auto& sw = sc.spec.subsystems;
+  p.ESC.enabled = p.ESC.enabled && sw.esc;
+  p.countersteer_system.enabled = p.countersteer_system.enabled && sw.cs;
+  p.SlipControl.ABS.enabled = p.SlipControl.ABS.enabled && sw.abs;
+  p.SlipControl.TC.enabled = p.SlipControl.TC.enabled && sw.tc;
+  return p;
+}
+
+}  // namespace scw::tuning

@@ -1,0 +1,72 @@
+// Scenario files and their resolution into everything one closed-loop run needs.
+//
+// Resolution (once per scenario; the tuner then runs many stability parameter sets on it):
+//   track     built-in Yas Marina North, a piecewise .yaml definition or a .csv centre line
+//   vehicle   built-in EAV24-class car or a params/vehicles/*.yaml file; the scenario's grip
+//             factors multiply the vehicle's
+//   reference minimum-curvature racing line (or centre line, or a given raceline file) with the
+//             forward–backward velocity profile from the plant's own steady-state g-g-v limits
+//             (scw vehicle gg) times the acceleration scaling GG
+//   stability the car's params file (or the built-in defaults); the vehicle constants the car's
+//             vehicle handler would inject (mass, yaw inertia, geometry, radii, ratios, aero,
+//             steering limits) are taken from the vehicle unless the file sets them
+//   motion    pure pursuit with the tracking params file (or the shipped values) and the
+//             longitudinal controller with its knowledge of the car from the vehicle
+// Relative file names in a scenario file are relative to that file's folder.
+#pragma once
+
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "controller/motion/longitudinal.h"
+#include "controller/motion/path.h"
+#include "params/schema/scenario_params.h"
+#include "params/schema/stability_params.h"
+#include "params/schema/tracking_params.h"
+#include "params/schema/vehicle_params.h"
+#include "plant/track/track.h"
+
+namespace scw::tuning {
+
+struct ResolvedScenario {
+  params::ScenarioParams spec;
+  std::string source;  ///< scenario file or "built-in"
+  std::shared_ptr<const plant::Track> track;
+  std::shared_ptr<const controller::motion::Path> path;  ///< reference line with speed profile
+  double ideal_lap_time = 0.0;        ///< [s] of the reference (limits × limit_fraction × GG)
+  double limit_lap_time = 0.0;        ///< [s] on the same line at the plant's full g-g-v limits
+  params::VehicleParams vehicle;      ///< grip factors applied
+  params::StabilityParams stability;  ///< base set, vehicle keys injected
+  std::set<std::string> stability_present;  ///< keys the stability file set
+  params::TrackingParams tracking;
+  controller::motion::LongitudinalModel longitudinal_model;
+};
+
+/// Loads a scenario file (plain YAML, strict) and applies `overrides` ("key=value").
+params::ScenarioParams LoadScenario(const std::string& path,
+                                    const std::vector<std::string>& overrides = {});
+/// The built-in default scenario with `overrides` applied.
+params::ScenarioParams DefaultScenario(const std::vector<std::string>& overrides = {});
+
+/// Builds everything a run needs. `base_dir` resolves relative file names ("" = current folder).
+/// Throws ConfigError on bad files.
+ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& base_dir = "",
+                         const std::string& source = "built-in");
+
+/// The stability set a run uses: `candidate` with the vehicle constants injected (except keys in
+/// `present`) and the scenario's subsystem switches applied (a subsystem runs if enabled in the
+/// set AND in the scenario).
+params::StabilityParams PrepareStability(const ResolvedScenario& sc,
+                                         params::StabilityParams candidate);
+
+/// Vehicle constants the car's vehicle handler injects into the stability node (spec §7.2),
+/// taken from the plant's vehicle parameters; keys in `present` are left as they are.
+void InjectVehicleConstants(const params::VehicleParams& vehicle,
+                            const std::set<std::string>& present, params::StabilityParams* p);
+
+/// The longitudinal controller's knowledge of the car.
+controller::motion::LongitudinalModel LongitudinalModelFor(const params::VehicleParams& v);
+
+}  // namespace scw::tuning
