@@ -5,9 +5,9 @@
 #include <cmath>
 
 #include "controller/motion/longitudinal.h"
-#include "controller/motion/pure_pursuit.h"
 #include "plant/vehicle/vehicle.h"
 #include "tuning/csv_writer.h"
+#include "tuning/motion_factory.h"
 
 namespace scw::tuning {
 namespace {
@@ -81,9 +81,8 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
   sopt.release_compat = sc.spec.subsystems.release_compat;
   const controller::StabilityController ctl(stab, sopt);
   const plant::Vehicle car(sc.vehicle);
-  controller::motion::PurePursuitOptions ppo;
-  ppo.max_curvature_lookahead = sc.spec.motion.max_curvature_lookahead;
-  const controller::motion::PurePursuit pp(sc.tracking, sc.path, ppo);
+  const auto motion = MakeMotionController(sc);
+  const controller::motion::MotionController& pp = *motion;
   const controller::motion::LongitudinalController lon(sc.spec.motion.longitudinal,
                                                        sc.longitudinal_model, sc.tracking.tS);
   const auto& ab = sc.spec.abort;
@@ -91,6 +90,10 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
   const double h = car.time_step();
   const double ts = stab.tS;
   const long ratio = std::max(1L, std::lround(ts / h));
+  // The motion controller may run slower than the stability controller (MPCs); its output is
+  // held between its steps.
+  const long motion_every = std::max(1L, std::lround(pp.sample_time() / ts));
+  controller::motion::MotionOutput mo;
   const long log_every = std::max(1L, std::lround(1.0 / (sc.spec.log_rate * ts)));
   const double timeout = ab.timeout_factor * sc.spec.laps * std::max(sc.ideal_lap_time, 1.0);
 
@@ -160,7 +163,7 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
     controller::motion::MotionInput mi{
         t,        meas.x,        meas.y,   meas.psi, meas.v_x,
         meas.v_y, meas.yaw_rate, meas.a_x, meas.a_y, meas.steering_angle};
-    const auto mo = pp.Step(mi, motion_state.get());
+    if (tick % motion_every == 0) mo = pp.Step(mi, motion_state.get());
     const double speed = std::hypot(meas.v_x, meas.v_y);
     const auto lo = lon.Step(
         {mo.ax_request, meas.a_x, speed, meas.engine_speed, meas.gear, slip_active}, &lon_state);
