@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <mutex>
 
 #include "params/io/load.h"
 #include "params/io/override.h"
+#include "params/io/write.h"
 #include "params/schema/track_params.h"
 #include "plant/track/track_csv.h"
 #include "plant/track/yas_north.h"
@@ -36,8 +39,36 @@ plant::Track LoadTrack(const std::string& file) {
   throw ConfigError(file, "track", "unknown track file type (expected .csv, .yaml or .yml)");
 }
 
+/// Process-wide memo of expensive, pure preparation steps (racing line, g-g-v table), keyed by a
+/// text that determines the result. Thread-safe; values are immutable once stored.
+template <class T>
+class Memo {
+ public:
+  template <class Make>
+  std::shared_ptr<const T> Get(const std::string& key, Make&& make) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      auto it = items_.find(key);
+      if (it != items_.end()) return it->second;
+    }
+    auto value = std::make_shared<const T>(make());  // computed outside the lock
+    std::lock_guard<std::mutex> lock(mutex_);
+    return items_.emplace(key, value).first->second;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<const T>> items_;
+};
+
 /// The plant's steady-state limits as the velocity planner's g-g-v table.
+plant::GgvLimits ComputePlantGgv(const params::VehicleParams& v);
 plant::GgvLimits PlantGgv(const params::VehicleParams& v) {
+  static Memo<plant::GgvLimits> memo;
+  return *memo.Get(params::ToPlainYaml(v), [&] { return ComputePlantGgv(v); });
+}
+
+plant::GgvLimits ComputePlantGgv(const params::VehicleParams& v) {
   std::vector<double> speeds;
   for (double s = 10.0; s <= 90.0; s += 10.0) speeds.push_back(s);
   const auto points = plant::ComputeGgv(v, speeds);
@@ -175,7 +206,7 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
   // Track and reference line.
   auto track = std::make_shared<plant::Track>(LoadTrack(ResolvePath(base_dir, spec.track)));
   sc.track = track;
-  auto reference_line = [&]() -> plant::Track {
+  auto compute_line = [&]() -> plant::Track {
     if (spec.motion.raceline == "centerline") return *track;
     if (spec.motion.raceline == "optimal" || spec.motion.raceline.empty()) {
       RacingLineOptions ro;
@@ -184,7 +215,12 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
     }
     return LoadRacingLine(ResolvePath(base_dir, spec.motion.raceline), *track).line;
   };
-  const plant::Track line = reference_line();
+  // The line depends only on the track file and the line options: shared within the process.
+  static Memo<plant::Track> lines;
+  const std::string line_key = ResolvePath(base_dir, spec.track) + "|" + spec.motion.raceline +
+                               "|" + ResolvePath(base_dir, spec.motion.raceline) + "|" +
+                               params::FormatDouble(spec.motion.raceline_margin);
+  const plant::Track& line = *lines.Get(line_key, compute_line);
   VelocityProfileOptions vo;
   vo.gg_scale = spec.gg_scale * spec.limit_fraction;
   const plant::GgvLimits ggv = PlantGgv(spec.plan_with_nominal_grip ? nominal : sc.vehicle);

@@ -1,5 +1,5 @@
 // scw bench --plant [...] — wall-clock speed of the simulation parts on one core.
-// Each mode flag runs one workload; more modes (e.g. --closed-loop) are added as flags here.
+// Each mode flag runs one workload; without a flag: the default closed loop.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -13,12 +13,17 @@
 #include "plant/vehicle/maneuver.h"
 #include "plant/vehicle/vehicle.h"
 #include "tuning/cli/command.h"
+#include "tuning/closed_loop.h"
+#include "tuning/evaluator.h"
+#include "tuning/scenario.h"
 
 namespace scw::cli {
 namespace {
 
 struct BenchOptions {
   bool plant = false;
+  bool evaluator = false;
+  int evaluations = 4;
   std::string vehicle;
   double duration = 600.0;
   int repeat = 3;
@@ -66,11 +71,65 @@ int BenchPlant(const BenchOptions& o) {
   return kExitOk;
 }
 
+// The default closed loop (plant + stability controller + pure pursuit + longitudinal controller)
+// on the built-in scenario, 3 laps, one thread, best of `repeat` runs.
+int BenchClosedLoop(const BenchOptions& o) {
+  const tuning::ResolvedScenario sc = tuning::Resolve(tuning::DefaultScenario());
+  double best = 1e300;
+  tuning::RunMetrics m;
+  for (int r = 0; r < o.repeat; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    m = tuning::RunClosedLoop(sc, sc.stability);
+    best = std::min(best,
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "closed loop: built-in scenario (Yas Marina North, %d laps, %s), plant 1 kHz, "
+                "controllers 100 Hz, 1 thread, best of %d\ncpu: %s\n"
+                "wall time: %.4f s for %.1f s simulated (%.2f us per plant step)\n",
+                sc.spec.laps, tuning::RunStatusName(m.status), o.repeat, CpuModel().c_str(), best,
+                m.time, 1e6 * best / (m.time * 1000.0));
+  std::cout << buf << "real-time factor: " << static_cast<long>(m.time / best) << '\n';
+  return kExitOk;
+}
+
+// Evaluations per second of the tuning objective (the default training set) with 1 and 2 threads.
+int BenchEvaluator(const BenchOptions& o) {
+  const auto set = tuning::ScenarioSet::Default();
+  std::vector<params::StabilityParams> sets(static_cast<std::size_t>(o.evaluations));
+  for (std::size_t i = 0; i < sets.size(); ++i)
+    sets[i].ESC.kp_psi_dot = 6.0 + static_cast<double>(i);  // distinct sets
+  double rate[2] = {0, 0};
+  for (int threads : {1, 2}) {
+    const auto ev = tuning::BatchEvaluator::FromEntries(set.training, "", set.cost, threads);
+    double best = 1e300;
+    for (int r = 0; r < o.repeat; ++r) {
+      const auto t0 = std::chrono::steady_clock::now();
+      for (const auto& p : sets) ev.Evaluate(p);  // one set at a time, as the tuner asks
+      best = std::min(best,
+                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    rate[threads - 1] = static_cast<double>(sets.size()) / best;
+    std::printf("evaluator: %zu scenarios per evaluation, %d thread(s): %.3f evaluations/s\n",
+                set.training.size(), threads, rate[threads - 1]);
+  }
+  std::printf("cpu: %s\nspeed-up 1 -> 2 threads: %.2fx\n", CpuModel().c_str(), rate[1] / rate[0]);
+  return kExitOk;
+}
+
 void AddBench(CLI::App& app) {
-  auto* cmd = app.add_subcommand("bench", "Measure simulation speed (wall clock, one core)");
+  auto* cmd = app.add_subcommand(
+      "bench",
+      "Measure speed (wall clock): the default closed loop on one core (no flag), the "
+      "plant alone (--plant), or tuning evaluations per second (--evaluator)");
   auto o = std::make_shared<BenchOptions>();
   cmd->add_flag("--plant", o->plant,
                 "The plant alone driving its reference manoeuvre; prints 'real-time factor: N'");
+  cmd->add_flag("--evaluator", o->evaluator,
+                "Tuning evaluations per second with 1 and 2 threads (default training set)");
+  cmd->add_option("--evaluations", o->evaluations, "Evaluations per measurement (--evaluator)")
+      ->check(CLI::Range(1, 1000));
   cmd->add_option("--vehicle", o->vehicle, "Vehicle file (default: built-in EAV24 set)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--duration", o->duration, "Simulated time per run [s]")
@@ -78,12 +137,9 @@ void AddBench(CLI::App& app) {
   cmd->add_option("--repeat", o->repeat, "Runs; the fastest is reported")
       ->check(CLI::Range(1, 100));
   cmd->callback([o] {
-    if (!o->plant) {
-      std::cerr << "error: choose what to measure, e.g. scw bench --plant\n";
-      SetExitCode(kExitBadInput);
-      return;
-    }
-    SetExitCode(BenchPlant(*o));
+    if (o->plant) return SetExitCode(BenchPlant(*o));
+    if (o->evaluator) return SetExitCode(BenchEvaluator(*o));
+    SetExitCode(BenchClosedLoop(*o));
   });
 }
 
