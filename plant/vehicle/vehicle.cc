@@ -1,8 +1,10 @@
 #include "plant/vehicle/vehicle.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
+#include "plant/common/fast_math.h"
 #include "plant/tire/magic_formula.h"
 
 namespace scw::plant {
@@ -38,6 +40,7 @@ struct Vehicle::Eval {
   PerWheel<double> friction{};  // friction torque capacity >= 0 [N*m]
   double engine_inertia = 0.0;  // engine inertia reflected to the rear axle [kg m^2]
   double engine_torque = 0.0, axle_torque = 0.0;
+  double cos_steer = 1.0, sin_steer = 0.0;  // of the road-wheel angle, reused by SlipKinematics
 };
 
 Vehicle::Vehicle(const params::VehicleParams& p)
@@ -98,12 +101,12 @@ double Vehicle::KinematicEngineSpeed(const StateVector& x, int gear) const noexc
   return 0.5 * (x[kOmegaRL] + x[kOmegaRR]) * gearbox_.overall[gear - 1];
 }
 
-void Vehicle::SlipKinematics(const StateVector& x, double steer, PerWheel<double>* kappa,
+void Vehicle::SlipKinematics(const StateVector& x, double c, double s, PerWheel<double>* kappa,
                              PerWheel<double>* alpha, PerWheel<double>* inv_tau_k,
                              PerWheel<double>* inv_tau_a) const noexcept {
   const auto& k = p_.tires.kinematics;
-  const double c = std::cos(steer), s = std::sin(steer);
   const double vx = x[kVx], vy = x[kVy], r = x[kYawRate];
+  Double2 tan_alpha[2];
   for (std::size_t i = 0; i < 4; ++i) {
     const double vxw = vx - r * py_[i];
     const double vyw = vy + r * px_[i];
@@ -116,23 +119,37 @@ void Vehicle::SlipKinematics(const StateVector& x, double steer, PerWheel<double
     (*kappa)[i] =
         std::clamp((x[kOmega + i] * radius_[i] - vxt) / std::max(avx, k.slip_speed_min_long),
                    -k.slip_limit, k.slip_limit);
-    (*alpha)[i] = -std::atan(vyt / std::max(avx, k.slip_speed_min_lat));
+    tan_alpha[i / 2][i % 2] = vyt / std::max(avx, k.slip_speed_min_lat);
     const double v_relax = std::max(avx, k.relaxation_speed_min);
     (*inv_tau_k)[i] = v_relax / k.relaxation_length_long;
     (*inv_tau_a)[i] = v_relax / k.relaxation_length_lat;
+  }
+  // Two wheels per Double2: the four atan chains overlap (plant/common/fast_math.h).
+  for (std::size_t j = 0; j < 2; ++j) {
+    const Double2 alpha_pair = -FastAtan(tan_alpha[j]);
+    (*alpha)[2 * j] = alpha_pair[0];
+    (*alpha)[2 * j + 1] = alpha_pair[1];
   }
 }
 
 void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, Eval* e) const noexcept {
   e->fz = WheelLoads(x);
-  const double c = std::cos(u.steer), s = std::sin(u.steer);
+  e->cos_steer = std::cos(u.steer);
+  e->sin_steer = std::sin(u.steer);
+  const double c = e->cos_steer, s = e->sin_steer;
+  std::array<TireInput, 4> tire_in;
+  std::array<const params::Mf52Params*, 4> tire_p;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double alpha = x[kAlpha + i];
+    tire_in[i] = {e->fz[i], x[kKappa + i], IsLeft(i) ? alpha : -alpha, lambda_x_[i], lambda_y_[i]};
+    tire_p[i] = IsFront(i) ? &p_.tires.front : &p_.tires.rear;
+  }
+  std::array<TireForce, 4> tire_f;
+  TireForces4(tire_in, tire_p, &tire_f);
   double fx = 0.0, fy = 0.0, mz = 0.0;
   for (std::size_t i = 0; i < 4; ++i) {
     const bool left = IsLeft(i);
-    const double alpha = x[kAlpha + i];
-    const TireForce f =
-        TireForces({e->fz[i], x[kKappa + i], left ? alpha : -alpha, lambda_x_[i], lambda_y_[i]},
-                   IsFront(i) ? p_.tires.front : p_.tires.rear);
+    const TireForce& f = tire_f[i];
     const double fyt = left ? f.fy : -f.fy;
     e->fx_t[i] = f.fx;
     e->fy_t[i] = fyt;
@@ -205,7 +222,7 @@ StateVector Vehicle::Derivatives(const StateVector& x, const PlantInputs& u) con
   d[kOmegaRL] = wm_dot + wd_dot;
   d[kOmegaRR] = wm_dot - wd_dot;
   PerWheel<double> kk, ka, itk, ita;
-  SlipKinematics(x, u.steer, &kk, &ka, &itk, &ita);
+  SlipKinematics(x, e.cos_steer, e.sin_steer, &kk, &ka, &itk, &ita);
   for (std::size_t i = 0; i < 4; ++i) {
     d[kKappa + i] = (kk[i] - x[kKappa + i]) * itk[i];
     d[kAlpha + i] = (ka[i] - x[kAlpha + i]) * ita[i];
@@ -304,7 +321,7 @@ void Vehicle::Step(const Actuators& u, State* state) const noexcept {
 
   // 4. Tyre relaxation, backward Euler towards the slips of the new velocities.
   PerWheel<double> kk, ka, itk, ita;
-  SlipKinematics(x, in.steer, &kk, &ka, &itk, &ita);
+  SlipKinematics(x, e.cos_steer, e.sin_steer, &kk, &ka, &itk, &ita);
   for (std::size_t i = 0; i < 4; ++i) {
     x[kKappa + i] = (x[kKappa + i] + h * itk[i] * kk[i]) / (1.0 + h * itk[i]);
     x[kAlpha + i] = (x[kAlpha + i] + h * ita[i] * ka[i]) / (1.0 + h * ita[i]);

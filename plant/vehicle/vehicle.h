@@ -209,7 +209,8 @@ class Vehicle {
  private:
   struct Eval;  // forces and accelerations of one evaluation
   void Evaluate(const StateVector& x, const PlantInputs& u, Eval* e) const noexcept;
-  void SlipKinematics(const StateVector& x, double steer, PerWheel<double>* kappa,
+  // c, s: cosine and sine of the road-wheel angle (computed once per evaluation).
+  void SlipKinematics(const StateVector& x, double c, double s, PerWheel<double>* kappa,
                       PerWheel<double>* alpha, PerWheel<double>* inv_tau_k,
                       PerWheel<double>* inv_tau_a) const noexcept;
   double KinematicEngineSpeed(const StateVector& x, int gear) const noexcept;

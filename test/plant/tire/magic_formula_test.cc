@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -126,6 +127,27 @@ TEST(MagicFormula, FiniteForEveryInputIncludingZeroLoad) {
               EXPECT_EQ(f.fy, 0.0);
             }
           }
+}
+
+TEST(MagicFormula, FourTyreCallIsBitIdenticalToSingleCalls) {
+  const params::VehicleParams vp;
+  const params::Mf52Params shifted = ShiftedSet();
+  const std::array<const params::Mf52Params*, 4> sets = {&vp.tires.front, &shifted, &vp.tires.rear,
+                                                         &vp.tires.rear};
+  for (double k : {-1.0, -0.05, 0.0, 0.02, 0.3})
+    for (double a : {-0.5, -0.01, 0.0, 0.03, 0.2}) {
+      // Different loads (one unloaded), slips and grip per tyre, as on the car.
+      const std::array<TireInput, 4> in = {
+          TireInput{3500.0, k, a, 1.0, 0.9}, TireInput{0.0, -k, a, 1.0, 1.0},
+          TireInput{5200.0, 0.5 * k, -a, 0.8, 1.1}, TireInput{900.0, k, 2.0 * a, 1.2, 1.0}};
+      std::array<TireForce, 4> out;
+      TireForces4(in, sets, &out);
+      for (std::size_t i = 0; i < 4; ++i) {
+        const TireForce f = TireForces(in[i], *sets[i]);
+        EXPECT_EQ(out[i].fx, f.fx) << i << " " << k << " " << a;
+        EXPECT_EQ(out[i].fy, f.fy) << i << " " << k << " " << a;
+      }
+    }
 }
 
 TEST(MagicFormula, StiffnessesMatchTheSlopeAtZero) {
