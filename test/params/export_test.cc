@@ -160,6 +160,14 @@ TEST(ExportTest, AtomicWriteLeavesNoPartialFile) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(ExportTest, GeneratedDocsExist) {
+  for (const char* kind : {"tracking", "scenario", "vehicle", "track", "cost"}) {
+    const std::string path = scw::test::SourcePath(std::string("docs/parameters-") + kind + ".md");
+    EXPECT_TRUE(std::filesystem::exists(path))
+        << path << ": regenerate with scw params docs --kind " << kind << " -o " << path;
+  }
+}
+
 TEST(ExportTest, DocsTableIsUpToDate) {
   // docs/parameters-stability.md is generated: `scw params docs -o docs/parameters-stability.md`.
   const std::string path = scw::test::SourcePath("docs/parameters-stability.md");

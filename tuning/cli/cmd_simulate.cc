@@ -19,6 +19,7 @@ namespace {
 struct SimulateOptions {
   std::string scenario, stability, trace, summary, controller_log;
   std::vector<std::string> overrides;
+  bool print = false;
 };
 
 int RunSimulate(const SimulateOptions& o) {
@@ -28,6 +29,10 @@ int RunSimulate(const SimulateOptions& o) {
   const std::string base =
       o.scenario.empty() ? std::string() : fs::path(o.scenario).parent_path().string();
   if (!o.stability.empty()) spec.stability = fs::absolute(o.stability).string();
+  if (o.print) {
+    std::cout << params::ToPlainYaml(spec);
+    return kExitOk;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   const tuning::ResolvedScenario sc =
       tuning::Resolve(spec, base, o.scenario.empty() ? "built-in" : o.scenario);
@@ -72,6 +77,8 @@ void AddSimulate(CLI::App& app) {
   cmd->add_option("--controller-log", o->controller_log,
                   "Write the stability controller's inputs in the replay log format "
                   "(docs/replay.md); scw replay reproduces the run's controller outputs");
+  cmd->add_flag("--print-scenario", o->print,
+                "Print the scenario (with the overrides applied) as YAML and exit");
   cmd->callback([o] { SetExitCode(RunSimulate(*o)); });
 }
 

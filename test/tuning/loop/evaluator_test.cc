@@ -99,3 +99,28 @@ TEST(EvaluatorTest, TuneIsDeterministicForOneAndTwoThreads) {
 
 }  // namespace
 }  // namespace scw::tuning
+
+#include "params/io/write.h"
+#include "tuning/scenario.h"
+
+namespace scw::tuning {
+namespace {
+
+TEST(ScenarioFilesTest, ShippedScenarioFilesLoadAndDefaultEqualsBuiltIn) {
+  const std::string dir = std::string(SCW_SOURCE_DIR) + "/params/scenarios";
+  int loaded = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name == "default_set.yaml" || entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(name);
+    EXPECT_NO_THROW(LoadScenario(entry.path().string()));
+    ++loaded;
+  }
+  EXPECT_GE(loaded, 4);
+  EXPECT_EQ(params::ToPlainYaml(LoadScenario(dir + "/default.yaml")),
+            params::ToPlainYaml(DefaultScenario()))
+      << "regenerate with: scw simulate --print-scenario > params/scenarios/default.yaml";
+}
+
+}  // namespace
+}  // namespace scw::tuning
