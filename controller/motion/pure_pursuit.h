@@ -25,7 +25,8 @@ namespace scw::controller::motion {
 
 struct PurePursuitOptions {
   double max_curvature_lookahead = 20.0;  ///< [m] cap of g_κ/|κ|
-  double projection_window = 60.0;        ///< [m] local search window of the path matching
+  double projection_window =
+      20.0;  ///< [m] local search window of the path matching (the car moves < 1 m per step)
 };
 
 class PurePursuit final : public MotionController {
