@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Runs every experiment: the paper's three simulation studies, the comparison of parameter sets
+# (the car's set plus any files given as arguments) and the report. Outputs go to
+# experiments/results/ (not committed); the report is experiments/results/report.md.
+#
+#   experiments/run_all.sh [PARAMS.yaml ...]        (SCW_BIN=/path/to/scw to choose the binary)
+#
+# About 2-4 minutes on 2 cores with pure pursuit only; the MPC controllers of study 3 add more.
+set -euo pipefail
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+# Debian's python3 has numpy and matplotlib; another python3 first on PATH may not.
+py=python3
+if ! python3 -c "import matplotlib, numpy" >/dev/null 2>&1 && [ -x /usr/bin/python3 ]; then
+  py=/usr/bin/python3
+fi
+start=$SECONDS
+"$py" "$here/study1_longitudinal.py" --no-report
+"$py" "$here/study2_lateral.py" --no-report
+"$py" "$here/study3_motion.py" --no-report
+"$py" "$here/compare.py" --no-report "$here/../params/stability/default.yaml" "$@"
+"$py" "$here/report.py"
+echo "run_all: $((SECONDS - start)) s; report: $here/results/report.md"

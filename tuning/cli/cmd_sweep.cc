@@ -1,0 +1,143 @@
+// scw sweep — a scenario over a grid of overrides and named configurations (tuning/sweep/sweep.h).
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "params/io/write.h"
+#include "tuning/cli/command.h"
+#include "tuning/motion_factory.h"
+#include "tuning/sweep/sweep.h"
+
+namespace scw::cli {
+namespace {
+
+struct SweepOptions {
+  std::string scenario, stability, out, trace_dir;
+  std::vector<std::string> overrides, vary, configs, trace_at;
+  bool stop_at_first_abort = false, list_controllers = false;
+  int threads = 0;
+};
+
+std::string Fixed(double x, int digits) {
+  if (std::isnan(x)) return "-";
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << x;
+  return s.str();
+}
+
+int RunSweepCommand(const SweepOptions& o) {
+  if (o.list_controllers) {
+    for (const auto& name : tuning::MotionControllerNames()) std::cout << name << '\n';
+    return kExitOk;
+  }
+  tuning::SweepDefinition d;
+  d.scenario_file = o.scenario;
+  d.base_overrides = o.overrides;
+  d.stability_file = o.stability;
+  d.stop_at_first_abort = o.stop_at_first_abort;
+  {
+    // Every malformed argument at once.
+    std::vector<Problem> problems;
+    for (const auto& v : o.vary) try {
+        d.axes.push_back(tuning::ParseVary(v));
+      } catch (const ConfigError& e) {
+        problems.push_back({e.file(), e.problems().front().message});
+      }
+    for (const auto& c : o.configs) try {
+        d.configs.push_back(tuning::ParseConfig(c));
+      } catch (const ConfigError& e) {
+        problems.push_back({e.file(), e.problems().front().message});
+      }
+    if (!problems.empty()) throw ConfigError("scw sweep", problems);
+  }
+  tuning::SweepTraceOptions to;
+  to.dir = o.trace_dir;
+  to.at = o.trace_at;
+  if (to.dir.empty() && !to.at.empty())
+    throw ConfigError("scw sweep", "--trace-at", "needs --trace-dir DIR (where to write)");
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const tuning::SweepResult r = tuning::RunSweep(d, o.threads, to);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!o.out.empty()) tuning::WriteSweepCsv(o.out, r);
+
+  int reported = 0;
+  for (const auto& run : r.runs) {
+    if (!run.reported) continue;
+    ++reported;
+    const auto& m = run.metrics;
+    std::cout << std::left << std::setw(14)
+              << r.configs[static_cast<std::size_t>(run.point.config)].name;
+    for (std::size_t i = 0; i < r.axes.size(); ++i)
+      std::cout << ' ' << r.axes[i].key << '='
+                << r.axes[i].values[static_cast<std::size_t>(run.point.value[i])];
+    std::cout << "  " << std::setw(13) << tuning::RunStatusName(m.status) << " mean lap "
+              << std::right << std::setw(7) << Fixed(m.MeanLapTime(), 3) << " s  max|beta| "
+              << std::setw(5) << Fixed(m.max_abs_sideslip * 180.0 / M_PI, 2) << " deg  slip f/r "
+              << Fixed(m.max_slip_front, 1) << '/' << Fixed(m.max_slip_rear, 1) << " %\n";
+  }
+  std::cout << std::flush;
+  std::cerr << "sweep: " << r.runs.size() << " runs (" << reported << " reported), " << r.resolves
+            << " scenario resolutions, " << Fixed(wall, 1) << " s wall";
+  if (!o.out.empty()) std::cerr << "; table: " << o.out;
+  if (!o.trace_dir.empty()) std::cerr << "; traces: " << o.trace_dir;
+  std::cerr << '\n';
+  return kExitOk;
+}
+
+void AddSweep(CLI::App& app) {
+  auto o = std::make_shared<SweepOptions>();
+  auto* cmd = app.add_subcommand(
+      "sweep",
+      "Run a scenario over a grid of overrides and named configurations as one parallel, "
+      "deterministic batch (the paper's studies: GG raised until the first abort)");
+  cmd->footer(
+      "Runs are ordered by configuration, then the other varied keys, then the first varied key;\n"
+      "a series is one configuration over the values of the first --vary key.\n"
+      "Example (the lateral study):\n"
+      "  scw sweep --set grip.rear_mu_y=0.8 abort.lock_slip_pct=100 \\\n"
+      "    --vary gg_scale=1.0:0.05:1.6 --stop-at-first-abort \\\n"
+      "    --config none:subsystems.esc=false,subsystems.cs=false \\\n"
+      "    --config esc:subsystems.cs=false --config cs:subsystems.esc=false --config esc+cs \\\n"
+      "    -o lateral.csv --trace-dir traces --trace-at gg_scale=1.4\n"
+      "Exit codes: 0 every run evaluated and the outputs written (aborted runs are results),\n"
+      "1 a run or a write failed, 2 bad arguments or files.");
+  cmd->add_option("--scenario", o->scenario,
+                  "Scenario file (params/scenarios/*.yaml); default: the built-in scenario");
+  cmd->add_option("--set", o->overrides, "Override a scenario key for every run, e.g. laps=3")
+      ->take_all();
+  cmd->add_option("--vary", o->vary,
+                  "Varied key: key=v1,v2,... or key=start:step:stop (inclusive); repeat for a "
+                  "grid (Cartesian product)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  cmd->add_option("--config", o->configs,
+                  "Named configuration name:key=v,key=v (repeatable), e.g. "
+                  "esc:subsystems.cs=false")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  cmd->add_flag("--stop-at-first-abort", o->stop_at_first_abort,
+                "Report each series only up to and including its first abort (the paper)");
+  cmd->add_option("--stability", o->stability,
+                  "Stability params file (car's ROS 2 layout); overrides the scenario's");
+  cmd->add_option("-o,--out", o->out, "Write the results table (CSV, one row per reported run)");
+  cmd->add_option("--trace-dir", o->trace_dir, "Write the traces of the selected runs here");
+  cmd->add_option("--trace-at", o->trace_at,
+                  "Select runs to trace: key=value with key config or a varied key (repeatable; "
+                  "different keys: all must match; default: every reported run)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")
+      ->check(CLI::Range(0, 1024));
+  cmd->add_flag("--list-controllers", o->list_controllers,
+                "Print the motion controllers (motion.controller values) and exit");
+  cmd->callback([o] { SetExitCode(RunSweepCommand(*o)); });
+}
+
+const CommandRegistrar kRegistrar(22, &AddSweep);
+
+}  // namespace
+}  // namespace scw::cli

@@ -1,0 +1,548 @@
+#include "tuning/sweep/sweep.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <memory>
+
+#include "params/io/write.h"
+#include "tuning/closed_loop.h"
+#include "tuning/csv_writer.h"
+#include "tuning/optim/parallel.h"
+#include "tuning/scenario.h"
+
+namespace scw::tuning {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kMaxAxisValues = 10000;
+
+std::string Trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t");
+  return s.substr(b, e - b + 1);
+}
+
+/// Splits at commas outside [...] (list values such as [0.8, 1.0] stay whole).
+std::vector<std::string> SplitTopLevel(const std::string& s) {
+  std::vector<std::string> out;
+  std::string cur;
+  int depth = 0;
+  for (char c : s) {
+    if (c == '[') ++depth;
+    if (c == ']' && depth > 0) --depth;
+    if (c == ',' && depth == 0) {
+      out.push_back(Trim(cur));
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  out.push_back(Trim(cur));
+  return out;
+}
+
+bool ParseNumber(const std::string& text, double* out) {
+  const char* b = text.data();
+  const char* e = b + text.size();
+  if (b != e && *b == '+') ++b;
+  const auto r = std::from_chars(b, e, *out);
+  return r.ec == std::errc() && r.ptr == e && b != e && std::isfinite(*out);
+}
+
+int Decimals(const std::string& text) {
+  const auto dot = text.find('.');
+  return dot == std::string::npos ? 0 : static_cast<int>(text.size() - dot - 1);
+}
+
+bool HasExponent(const std::string& text) { return text.find_first_of("eE") != std::string::npos; }
+
+/// `x` with `decimals` digits after the point, trailing zeros (and a bare point) removed.
+std::string FormatFixed(double x, int decimals) {
+  char buf[64];
+  const auto r =
+      std::to_chars(buf, buf + sizeof buf, x, std::chars_format::fixed, std::min(decimals, 17));
+  std::string s(buf, r.ptr);
+  if (s.find('.') != std::string::npos) {
+    while (!s.empty() && s.back() == '0') s.pop_back();
+    if (!s.empty() && s.back() == '.') s.pop_back();
+  }
+  if (s == "-0") s = "0";
+  return s;
+}
+
+bool ValidName(const std::string& name) {
+  if (name.empty()) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '+' ||
+           c == '-';
+  });
+}
+
+std::string VaryText(const SweepAxis& a) {
+  std::string s = "--vary " + a.key + "=";
+  for (std::size_t i = 0; i < a.values.size(); ++i) s += (i ? "," : "") + a.values[i];
+  return s;
+}
+
+std::string ConfigText(const SweepConfig& c) {
+  std::string s = "--config " + c.name;
+  for (std::size_t i = 0; i < c.overrides.size(); ++i) s += (i ? "," : ":") + c.overrides[i];
+  return s;
+}
+
+std::string FirstProblems(const ConfigError& e) {
+  std::string out;
+  for (const auto& p : e.problems()) {
+    if (!out.empty()) out += "; ";
+    out += p.path.empty() ? p.message : p.path + ": " + p.message;
+  }
+  return out.empty() ? std::string(e.what()) : out;
+}
+
+params::ScenarioParams BaseScenario(const SweepDefinition& d,
+                                    const std::vector<std::string>& overrides) {
+  params::ScenarioParams spec = d.scenario_file.empty() ? DefaultScenario(overrides)
+                                                        : LoadScenario(d.scenario_file, overrides);
+  if (!d.stability_file.empty()) spec.stability = fs::absolute(d.stability_file).string();
+  return spec;
+}
+
+/// The scenario with the keys only the closed loop reads reset: equal texts resolve equally.
+std::string ResolveKey(params::ScenarioParams spec) {
+  const params::ScenarioParams defaults;
+  spec.name = defaults.name;
+  spec.subsystems = defaults.subsystems;
+  spec.abort = defaults.abort;
+  spec.laps = defaults.laps;
+  return params::ToPlainYaml(spec);
+}
+
+struct Condition {
+  int axis = -1;  ///< -1 = config
+  std::vector<std::string> values;
+};
+
+std::vector<Condition> ParseConditions(const std::vector<SweepAxis>& axes,
+                                       const std::vector<std::string>& at) {
+  std::vector<Condition> out;
+  Problems problems;
+  for (const auto& c : at) {
+    const auto eq = c.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == c.size()) {
+      problems.Add("--trace-at " + c, "must look like key=value (key: config or a varied key)");
+      continue;
+    }
+    const std::string key = c.substr(0, eq);
+    int axis = -2;
+    if (key == "config") axis = -1;
+    for (std::size_t i = 0; i < axes.size(); ++i)
+      if (axes[i].key == key) axis = static_cast<int>(i);
+    if (axis == -2) {
+      std::string known = "config";
+      for (const auto& a : axes) known += ", " + a.key;
+      problems.Add("--trace-at " + c,
+                   "'" + key + "' is neither config nor a varied key (" + known + ")");
+      continue;
+    }
+    auto it =
+        std::find_if(out.begin(), out.end(), [&](const Condition& x) { return x.axis == axis; });
+    if (it == out.end()) it = out.insert(out.end(), Condition{axis, {}});
+    it->values.push_back(c.substr(eq + 1));
+  }
+  if (!problems.empty()) throw ConfigError("scw sweep", problems.items());
+  return out;
+}
+
+bool SameValue(const std::string& a, const std::string& b) {
+  double x, y;
+  if (ParseNumber(a, &x) && ParseNumber(b, &y))
+    return std::abs(x - y) <= 1e-9 * std::max({1.0, std::abs(x), std::abs(y)});
+  return a == b;
+}
+
+bool Matches(const SweepResult& r, const SweepRun& run, const std::vector<Condition>& conds) {
+  for (const auto& c : conds) {
+    const std::string& have = c.axis < 0
+                                  ? r.configs[static_cast<std::size_t>(run.point.config)].name
+                                  : r.axes[static_cast<std::size_t>(c.axis)]
+                                        .values[static_cast<std::size_t>(run.point.value[c.axis])];
+    if (std::none_of(c.values.begin(), c.values.end(),
+                     [&](const std::string& v) { return SameValue(have, v); }))
+      return false;
+  }
+  return true;
+}
+
+std::string CsvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+std::string SafeFilePart(const std::string& s) {
+  std::string out = s;
+  for (char& c : out)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '+' ||
+          c == '-'))
+      c = '_';
+  return out;
+}
+
+}  // namespace
+
+SweepAxis ParseVary(const std::string& arg) {
+  const std::string where = "--vary " + arg;
+  const auto eq = arg.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw ConfigError(where, "", "must look like key=v1,v2,... or key=start:step:stop");
+  SweepAxis axis;
+  axis.key = Trim(arg.substr(0, eq));
+  const std::string rhs = Trim(arg.substr(eq + 1));
+  if (axis.key.empty() || rhs.empty())
+    throw ConfigError(where, "", "must look like key=v1,v2,... or key=start:step:stop");
+  if (axis.key == "config")
+    throw ConfigError(where, "", "'config' names the configurations (use --config)");
+
+  const bool maybe_range = rhs.find(',') == std::string::npos &&
+                           rhs.find('[') == std::string::npos &&
+                           std::count(rhs.begin(), rhs.end(), ':') == 2;
+  if (maybe_range) {
+    const auto c1 = rhs.find(':');
+    const auto c2 = rhs.find(':', c1 + 1);
+    const std::string parts[3] = {Trim(rhs.substr(0, c1)), Trim(rhs.substr(c1 + 1, c2 - c1 - 1)),
+                                  Trim(rhs.substr(c2 + 1))};
+    double v[3];
+    for (int i = 0; i < 3; ++i)
+      if (!ParseNumber(parts[i], &v[i]))
+        throw ConfigError(
+            where, "",
+            "a range start:step:stop needs three finite numbers, got '" + parts[i] + "'");
+    const double start = v[0], step = v[1], stop = v[2];
+    if (step == 0.0) throw ConfigError(where, "", "the step of start:step:stop must not be 0");
+    const double span = (stop - start) / step;
+    if (span < -1e-9)
+      throw ConfigError(where, "",
+                        "the step " + parts[1] + " does not lead from " + parts[0] + " to " +
+                            parts[2] + " (check its sign)");
+    const double n = std::floor(std::max(span, 0.0) + 1e-9) + 1.0;
+    if (n > kMaxAxisValues)
+      throw ConfigError(where, "",
+                        "the range has more than " + std::to_string(kMaxAxisValues) + " values");
+    const bool exp = HasExponent(parts[0]) || HasExponent(parts[1]) || HasExponent(parts[2]);
+    const int decimals = std::max({Decimals(parts[0]), Decimals(parts[1]), Decimals(parts[2])});
+    for (int i = 0; i < static_cast<int>(n); ++i) {
+      const double x = start + i * step;
+      axis.values.push_back(exp ? params::FormatDouble(x) : FormatFixed(x, decimals));
+    }
+    return axis;
+  }
+  axis.values = SplitTopLevel(rhs);
+  for (std::size_t i = 0; i < axis.values.size(); ++i)
+    if (axis.values[i].empty())
+      throw ConfigError(where, "", "value " + std::to_string(i + 1) + " is empty");
+  return axis;
+}
+
+SweepConfig ParseConfig(const std::string& arg) {
+  const std::string where = "--config " + arg;
+  const auto colon = arg.find(':');
+  SweepConfig c;
+  c.name = Trim(arg.substr(0, colon));
+  if (!ValidName(c.name))
+    throw ConfigError(where, "",
+                      "must look like name:key=v,key=v with a name of letters, digits and _.+- "
+                      "(got '" +
+                          c.name + "')");
+  if (colon == std::string::npos) return c;
+  const std::string rest = Trim(arg.substr(colon + 1));
+  if (rest.empty()) return c;
+  for (const auto& o : SplitTopLevel(rest)) {
+    const auto eq = o.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw ConfigError(where, "",
+                        "override '" + o + "' must look like key=value (name:key=v,key=v)");
+    c.overrides.push_back(o);
+  }
+  return c;
+}
+
+std::vector<GridPoint> ExpandGrid(const std::vector<SweepAxis>& axes, int n_configs) {
+  std::vector<GridPoint> out;
+  const std::size_t n_axes = axes.size();
+  for (const auto& a : axes)
+    if (a.values.empty()) return out;
+  // Axes 2..n as a mixed-radix number (last axis fastest), the first axis innermost.
+  long outer = 1;
+  for (std::size_t i = 1; i < n_axes; ++i) outer *= static_cast<long>(axes[i].values.size());
+  const int n_first = n_axes ? static_cast<int>(axes[0].values.size()) : 1;
+  int series = 0;
+  for (int c = 0; c < n_configs; ++c) {
+    for (long o = 0; o < outer; ++o, ++series) {
+      std::vector<int> idx(n_axes, 0);
+      long rest = o;
+      for (std::size_t i = n_axes; i-- > 1;) {
+        const long size = static_cast<long>(axes[i].values.size());
+        idx[i] = static_cast<int>(rest % size);
+        rest /= size;
+      }
+      for (int k = 0; k < n_first; ++k) {
+        GridPoint p;
+        p.config = c;
+        p.value = idx;
+        if (n_axes) p.value[0] = k;
+        p.series = series;
+        out.push_back(std::move(p));
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<bool> ReportedRuns(const std::vector<int>& series, const std::vector<bool>& aborted,
+                               bool stop_at_first_abort) {
+  std::vector<bool> out(series.size(), true);
+  if (!stop_at_first_abort) return out;
+  std::map<int, bool> stopped;
+  for (std::size_t i = 0; i < series.size(); ++i) {
+    bool& s = stopped[series[i]];
+    out[i] = !s;
+    if (aborted[i]) s = true;
+  }
+  return out;
+}
+
+params::ScenarioParams PointScenario(const SweepDefinition& d, const GridPoint& p) {
+  std::vector<std::string> o = d.base_overrides;
+  if (!d.configs.empty()) {
+    const auto& c = d.configs[static_cast<std::size_t>(p.config)];
+    o.insert(o.end(), c.overrides.begin(), c.overrides.end());
+  }
+  for (std::size_t i = 0; i < d.axes.size(); ++i)
+    o.push_back(d.axes[i].key + "=" + d.axes[i].values[static_cast<std::size_t>(p.value[i])]);
+  return BaseScenario(d, o);
+}
+
+void ValidateSweep(const SweepDefinition& d) {
+  // The base scenario first: its errors name the file or --set themselves.
+  (void)BaseScenario(d, d.base_overrides);
+  Problems problems;
+  for (std::size_t i = 0; i < d.configs.size(); ++i) {
+    const auto& c = d.configs[i];
+    for (std::size_t j = 0; j < i; ++j)
+      if (d.configs[j].name == c.name)
+        problems.Add(ConfigText(c), "configuration name '" + c.name + "' is used twice");
+    std::vector<std::string> o = d.base_overrides;
+    o.insert(o.end(), c.overrides.begin(), c.overrides.end());
+    try {
+      (void)BaseScenario(d, o);
+    } catch (const ConfigError& e) {
+      problems.Add(ConfigText(c), FirstProblems(e));
+    }
+  }
+  for (std::size_t i = 0; i < d.axes.size(); ++i) {
+    const auto& a = d.axes[i];
+    for (std::size_t j = 0; j < i; ++j)
+      if (d.axes[j].key == a.key) problems.Add(VaryText(a), "key '" + a.key + "' is varied twice");
+    for (std::size_t k = 0; k < a.values.size(); ++k) {
+      for (std::size_t j = 0; j < k; ++j)
+        if (a.values[j] == a.values[k])
+          problems.Add(VaryText(a), "value '" + a.values[k] + "' is given twice");
+      std::vector<std::string> o = d.base_overrides;
+      o.push_back(a.key + "=" + a.values[k]);
+      try {
+        (void)BaseScenario(d, o);
+      } catch (const ConfigError& e) {
+        problems.Add(VaryText(a), FirstProblems(e));
+        break;  // one message per argument
+      }
+    }
+  }
+  if (!problems.empty()) throw ConfigError("scw sweep", problems.items());
+}
+
+SweepResult RunSweep(const SweepDefinition& d, int threads, const SweepTraceOptions& traces) {
+  ValidateSweep(d);
+  SweepResult r;
+  r.axes = d.axes;
+  r.configs = d.configs.empty() ? std::vector<SweepConfig>{{"default", {}}} : d.configs;
+  const auto conditions = ParseConditions(r.axes, traces.at);
+
+  const std::vector<GridPoint> grid = ExpandGrid(d.axes, static_cast<int>(r.configs.size()));
+  const int n = static_cast<int>(grid.size());
+  r.runs.resize(grid.size());
+  // Scenarios (serially: cheap, and errors come out in run order), grouped by resolution.
+  std::map<std::string, int> resolve_index;
+  std::vector<int> run_resolve(grid.size());
+  std::vector<params::ScenarioParams> unique_specs;
+  for (int i = 0; i < n; ++i) {
+    SweepRun& run = r.runs[static_cast<std::size_t>(i)];
+    run.point = grid[static_cast<std::size_t>(i)];
+    run.spec = PointScenario(d, run.point);
+    const auto [it, added] =
+        resolve_index.emplace(ResolveKey(run.spec), static_cast<int>(unique_specs.size()));
+    if (added) unique_specs.push_back(run.spec);
+    run_resolve[static_cast<std::size_t>(i)] = it->second;
+  }
+  r.resolves = static_cast<int>(unique_specs.size());
+  const std::string base_dir =
+      d.scenario_file.empty() ? std::string() : fs::path(d.scenario_file).parent_path().string();
+  const std::string source = d.scenario_file.empty() ? "built-in" : d.scenario_file;
+  std::vector<ResolvedScenario> resolved(unique_specs.size());
+  ParallelFor(r.resolves, threads, [&](int k) {
+    resolved[static_cast<std::size_t>(k)] =
+        Resolve(unique_specs[static_cast<std::size_t>(k)], base_dir, source);
+  });
+
+  auto scenario_of = [&](int i) {
+    ResolvedScenario sc =
+        resolved[static_cast<std::size_t>(run_resolve[static_cast<std::size_t>(i)])];
+    sc.spec = r.runs[static_cast<std::size_t>(i)].spec;
+    return sc;
+  };
+  auto run_one = [&](int i) {
+    const ResolvedScenario sc = scenario_of(i);
+    SweepRun& run = r.runs[static_cast<std::size_t>(i)];
+    run.metrics = RunClosedLoop(sc, sc.stability);
+    run.ideal_lap_time = sc.ideal_lap_time;
+    run.computed = true;
+  };
+  if (!d.stop_at_first_abort) {
+    ParallelFor(n, threads, run_one);
+  } else {
+    // Waves: the next few runs of every series still going, in parallel; a series stops after
+    // its first abort. Which runs get computed depends on the thread count, the reported ones
+    // (every run up to the first abort) do not.
+    int n_series = 0;
+    for (const auto& p : grid) n_series = std::max(n_series, p.series + 1);
+    std::vector<std::vector<int>> members(static_cast<std::size_t>(n_series));
+    for (int i = 0; i < n; ++i)
+      members[static_cast<std::size_t>(grid[static_cast<std::size_t>(i)].series)].push_back(i);
+    std::vector<std::size_t> next(members.size(), 0);
+    std::vector<bool> stopped(members.size(), false);
+    const int workers = ResolveThreads(threads);
+    while (true) {
+      std::vector<std::size_t> alive;
+      for (std::size_t s = 0; s < members.size(); ++s)
+        if (!stopped[s] && next[s] < members[s].size()) alive.push_back(s);
+      if (alive.empty()) break;
+      const std::size_t per = std::max<std::size_t>(
+          1, (static_cast<std::size_t>(workers) + alive.size() - 1) / alive.size());
+      std::vector<int> batch;
+      for (std::size_t s : alive)
+        for (std::size_t k = next[s]; k < std::min(next[s] + per, members[s].size()); ++k)
+          batch.push_back(members[s][k]);
+      ParallelFor(static_cast<int>(batch.size()), threads,
+                  [&](int k) { run_one(batch[static_cast<std::size_t>(k)]); });
+      for (std::size_t s : alive) {
+        const std::size_t end = std::min(next[s] + per, members[s].size());
+        for (; next[s] < end && !stopped[s]; ++next[s])
+          if (r.runs[static_cast<std::size_t>(members[s][next[s]])].metrics.aborted())
+            stopped[s] = true;
+      }
+    }
+  }
+
+  std::vector<int> series(grid.size());
+  std::vector<bool> aborted(grid.size());
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    series[i] = r.runs[i].point.series;
+    // A run not computed comes after its series' first abort: never reported.
+    aborted[i] = !r.runs[i].computed || r.runs[i].metrics.aborted();
+  }
+  const std::vector<bool> reported = ReportedRuns(series, aborted, d.stop_at_first_abort);
+  for (std::size_t i = 0; i < grid.size(); ++i) r.runs[i].reported = reported[i];
+
+  if (!traces.dir.empty()) {
+    std::vector<int> selected;
+    for (int i = 0; i < n; ++i) {
+      const SweepRun& run = r.runs[static_cast<std::size_t>(i)];
+      if (run.reported && Matches(r, run, conditions)) selected.push_back(i);
+    }
+    fs::create_directories(traces.dir);
+    ParallelFor(static_cast<int>(selected.size()), threads, [&](int k) {
+      const int i = selected[static_cast<std::size_t>(k)];
+      const ResolvedScenario sc = scenario_of(i);
+      CsvWriter w(
+          (fs::path(traces.dir) / TraceFileName(r, r.runs[static_cast<std::size_t>(i)])).string(),
+          TraceHeader());
+      RunOptions ro;
+      ro.trace = &w;
+      (void)RunClosedLoop(sc, sc.stability, ro);
+      w.Commit();
+    });
+  }
+  return r;
+}
+
+bool MatchesTraceConditions(const SweepResult& r, const SweepRun& run,
+                            const std::vector<std::string>& at) {
+  return Matches(r, run, ParseConditions(r.axes, at));
+}
+
+std::string TraceFileName(const SweepResult& r, const SweepRun& run) {
+  std::string name = SafeFilePart(r.configs[static_cast<std::size_t>(run.point.config)].name);
+  for (std::size_t i = 0; i < r.axes.size(); ++i)
+    name += "__" + SafeFilePart(r.axes[i].key) + "-" +
+            SafeFilePart(r.axes[i].values[static_cast<std::size_t>(run.point.value[i])]);
+  return name + ".csv";
+}
+
+void WriteSweepCsv(const std::string& path, const SweepResult& r) {
+  int max_laps = 0;
+  for (const auto& run : r.runs) max_laps = std::max(max_laps, run.spec.laps);
+  std::vector<std::string> header = {"config"};
+  for (const auto& a : r.axes) header.push_back(CsvField(a.key));
+  for (const char* h : {"status", "progress", "laps_completed"}) header.emplace_back(h);
+  for (int k = 1; k <= max_laps; ++k) header.push_back("lap_" + std::to_string(k) + "_s");
+  for (const char* h :
+       {"mean_lap_time_s", "max_abs_sideslip_deg", "max_slip_front_pct", "max_slip_rear_pct",
+        "max_abs_lateral_error_m", "max_abs_heading_error_deg", "max_speed_mps", "esc_count",
+        "cs_count", "abs_count", "tc_count", "esc_time_s", "cs_time_s", "abs_time_s", "tc_time_s",
+        "esc_brake_energy_J", "end_lap", "end_s_m", "ideal_lap_time_s"})
+    header.emplace_back(h);
+  CsvWriter w(path, header);
+  constexpr double kDeg = 180.0 / M_PI;
+  for (const auto& run : r.runs) {
+    if (!run.reported) continue;
+    const RunMetrics& m = run.metrics;
+    w.Add(CsvField(r.configs[static_cast<std::size_t>(run.point.config)].name));
+    for (std::size_t i = 0; i < r.axes.size(); ++i)
+      w.Add(CsvField(r.axes[i].values[static_cast<std::size_t>(run.point.value[i])]));
+    w.Add(std::string(RunStatusName(m.status)));
+    w.Add(m.Progress());
+    w.Add(static_cast<int>(m.lap_times.size()));
+    for (int k = 0; k < max_laps; ++k)
+      w.Add(k < static_cast<int>(m.lap_times.size()) ? m.lap_times[static_cast<std::size_t>(k)]
+                                                     : std::nan(""));
+    w.Add(m.MeanLapTime());
+    w.Add(m.max_abs_sideslip * kDeg);
+    w.Add(m.max_slip_front);
+    w.Add(m.max_slip_rear);
+    w.Add(m.max_abs_lateral_error);
+    w.Add(m.max_abs_heading_error * kDeg);
+    w.Add(m.max_speed);
+    w.Add(m.esc_count);
+    w.Add(m.cs_count);
+    w.Add(m.abs_count);
+    w.Add(m.tc_count);
+    w.Add(m.esc_time);
+    w.Add(m.cs_time);
+    w.Add(m.abs_time);
+    w.Add(m.tc_time);
+    w.Add(m.esc_brake_energy);
+    w.Add(m.end_lap);
+    w.Add(m.end_s);
+    w.Add(run.ideal_lap_time);
+    w.EndRow();
+  }
+  w.Commit();
+}
+
+}  // namespace scw::tuning
