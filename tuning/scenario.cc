@@ -225,6 +225,7 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
   vo.gg_scale = spec.gg_scale * spec.limit_fraction;
   const plant::GgvLimits ggv = PlantGgv(spec.plan_with_nominal_grip ? nominal : sc.vehicle);
   const ReferenceTrajectory ref = ComputeVelocityProfile(line, ggv, vo);
+  sc.ggv = ggv;
   sc.path = ToPath(ref);
   sc.ideal_lap_time = ref.lap_time;
   sc.limit_lap_time = ComputeVelocityProfile(line, ggv, VelocityProfileOptions{}).lap_time;

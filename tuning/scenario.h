@@ -26,6 +26,7 @@
 #include "params/schema/stability_params.h"
 #include "params/schema/tracking_params.h"
 #include "params/schema/vehicle_params.h"
+#include "plant/track/ggv.h"
 #include "plant/track/track.h"
 
 namespace scw::tuning {
@@ -42,6 +43,9 @@ struct ResolvedScenario {
   std::set<std::string> stability_present;  ///< keys the stability file set
   params::TrackingParams tracking;
   controller::motion::LongitudinalModel longitudinal_model;
+  /// The plant's steady-state g-g-v table the reference was planned with (unscaled; the planner
+  /// used it × limit_fraction × GG). The MPC motion controllers constrain their plans with it.
+  plant::GgvLimits ggv;
 };
 
 /// Loads a scenario file (plain YAML, strict) and applies `overrides` ("key=value").

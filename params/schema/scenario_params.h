@@ -23,9 +23,10 @@ struct MotionScenario {
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
     v.Field(s.controller, {.key = "controller",
-                           .doc = "Motion controller: pure_pursuit (more arrive with the MPC "
-                                  "issue).",
-                           .choices = "pure_pursuit"});
+                           .doc = "Motion controller: pure_pursuit, pmpc (point-mass tube "
+                                  "MPC) or nmpc (single-track nonlinear MPC); see "
+                                  "docs/motion_controllers.md.",
+                           .choices = "pure_pursuit|pmpc|nmpc"});
     v.Field(s.params, {.key = "params",
                        .doc = "Tracking-controller params file (ROS 2 layout of "
                               "/core/control/TrackingController); empty = built-in.",

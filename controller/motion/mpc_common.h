@@ -1,0 +1,99 @@
+// Shared pieces of the model-predictive motion controllers (point-mass tube MPC, single-track
+// NMPC): the planner's acceleration limits, the drivable corridor around the reference path, the
+// solve-time statistics and the plan shift used as warm start.
+//
+// Acceleration limits (GgTable), the same law as the velocity planner (plant/track/ggv.h):
+//   |a_y| ≤ ay_max(v),   a_x ≤ ax_drive_max(v)·(1 − (|a_y|/ay_max(v))^p)^(1/p),
+//   −a_x ≤ ax_brake_max(v)·(1 − (|a_y|/ay_max(v))^p)^(1/p)
+// with tables over v [m/s] interpolated linearly and held outside; all entries [m/s²] already
+// scaled (limit_fraction × GG × the plant's steady-state limits), so the MPCs use exactly the
+// limits the reference was planned with.
+//
+// Corridor: for every station of the reference Path the admissible lateral offset n [m] of the
+// CoG from the path (n > 0 left, as PathProjection::lateral_error): −right(s) ≤ n ≤ left(s), both
+// ≥ 0, built by the caller from the track widths (tuning/motion_factory.cc).
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "controller/motion/path.h"
+
+namespace scw::controller::motion {
+
+struct GgTable {
+  std::vector<double> speed{0.0, 100.0};         ///< [m/s], strictly ascending
+  std::vector<double> ay_max{10.0, 10.0};        ///< [m/s²] > 0
+  std::vector<double> ax_drive_max{5.0, 5.0};    ///< [m/s²] ≥ 0
+  std::vector<double> ax_brake_max{10.0, 10.0};  ///< [m/s²] > 0
+  double exponent = 2.0;                         ///< p of the combination law, in [1, 10]
+
+  /// Throws std::invalid_argument for unequal lengths, non-ascending speeds or bad values.
+  void Validate() const;
+  double AyMax(double v) const noexcept;
+  double AxDriveMax(double v) const noexcept;
+  double AxBrakeMax(double v) const noexcept;
+  /// (1 − r^p)^(1/p), r = |a_y|/ay_max clamped to [0, 1].
+  double Combine(double ay_abs, double v) const noexcept;
+};
+
+/// Lateral bounds around the path, one entry per Path station (see the file comment).
+struct Corridor {
+  std::vector<double> left;   ///< [m] ≥ 0, room to the left of the path
+  std::vector<double> right;  ///< [m] ≥ 0, room to the right of the path
+};
+
+/// Linear interpolation of per-station values of `path` at s (wrapped). Allocation-free.
+double InterpolateStations(const Path& path, const std::vector<double>& values, double s) noexcept;
+
+/// Solve-time statistics over a run: every solve's wall time in a ring buffer preallocated at
+/// construction (the newest `capacity` solves are kept for the median; count and max cover all).
+/// Wall-clock time is used for statistics only, never for control outputs.
+class SolveStats {
+ public:
+  explicit SolveStats(std::size_t capacity = 1 << 16) : times_(capacity, 0.0) {}
+  void Add(double seconds) noexcept;
+  std::int64_t count() const noexcept { return count_; }
+  double max() const noexcept { return max_; }
+  double mean() const noexcept { return count_ > 0 ? sum_ / static_cast<double>(count_) : 0.0; }
+  /// Median of the kept samples [s] (0 without samples). Allocates a copy: call outside Step.
+  double Median() const;
+  /// Quantile q in [0, 1] of the kept samples [s].
+  double Quantile(double q) const;
+
+ private:
+  std::vector<double> times_;
+  std::int64_t count_ = 0;
+  double max_ = 0.0;
+  double sum_ = 0.0;
+};
+
+/// Measures the wall time of a scope into a SolveStats (statistics only).
+class ScopedSolveTimer {
+ public:
+  explicit ScopedSolveTimer(SolveStats* stats) noexcept
+      : stats_(stats), start_(std::chrono::steady_clock::now()) {}
+  ~ScopedSolveTimer() {
+    stats_->Add(std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count());
+  }
+  ScopedSolveTimer(const ScopedSolveTimer&) = delete;
+  ScopedSolveTimer& operator=(const ScopedSolveTimer&) = delete;
+
+ private:
+  SolveStats* stats_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+/// What every MPC state reports (solver health and timing).
+struct MpcDiagnostics {
+  SolveStats solve_time;            ///< per solver call [s]
+  std::int64_t solves = 0;          ///< solver calls
+  std::int64_t failures = 0;        ///< calls whose result was not used (plan shifted instead)
+  std::int64_t fallback_steps = 0;  ///< steps driven by the fallback law (no usable plan left)
+  std::int64_t iterations = 0;      ///< solver iterations, summed
+  int last_status = 0;              ///< last Ipopt ApplicationReturnStatus
+};
+
+}  // namespace scw::controller::motion

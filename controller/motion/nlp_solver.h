@@ -1,0 +1,84 @@
+// Thin bridge from the MPCs' sparse problems to Ipopt (Debian's coinor-libipopt-dev, 3.11), the
+// only file of the library that sees Ipopt's headers.
+//
+//   min f(z)   s.t.   z_l ≤ z ≤ z_u,   g_l ≤ g(z) ≤ g_u
+//
+// A problem describes itself through SparseNlp (0-based triplets, Hessian of the Lagrangian
+// obj_factor·∇²f + Σ λ_i ∇²g_i as lower triangle). NlpSolver owns one Ipopt application with the
+// options fixed at construction; Solve never throws and never reads the wall clock for a decision
+// (iteration limits only, so results do not depend on the machine's speed).
+//
+// Allocation: Ipopt allocates its iterates and MUMPS's factor storage inside every Solve; the
+// problem's own data live in the caller's preallocated workspace.
+#pragma once
+
+#include <memory>
+#include <string>
+
+namespace scw::controller::motion {
+
+struct NlpSizes {
+  int n = 0;         ///< variables
+  int m = 0;         ///< constraints
+  int nnz_jac = 0;   ///< structural non-zeros of ∂g/∂z
+  int nnz_hess = 0;  ///< structural non-zeros of the Lagrangian Hessian (lower triangle)
+};
+
+class SparseNlp {
+ public:
+  virtual ~SparseNlp() = default;
+  virtual NlpSizes Sizes() const = 0;
+  virtual void Bounds(double* z_l, double* z_u, double* g_l, double* g_u) const = 0;
+  virtual void Start(double* z) const = 0;
+  virtual double Objective(const double* z) const = 0;
+  virtual void Gradient(const double* z, double* grad) const = 0;
+  virtual void Constraints(const double* z, double* g) = 0;
+  virtual void JacobianStructure(int* rows, int* cols) const = 0;
+  virtual void JacobianValues(const double* z, double* values) = 0;
+  virtual void HessianStructure(int* rows, int* cols) const = 0;
+  virtual void HessianValues(const double* z, double obj_factor, const double* lambda,
+                             double* values) = 0;
+  /// Called once with the last iterate (also when not converged).
+  virtual void Solution(const double* z) = 0;
+};
+
+struct NlpSolverOptions {
+  int max_iter = 50;
+  double tol = 1e-6;             ///< Ipopt `tol`
+  double acceptable_tol = 1e-4;  ///< Ipopt `acceptable_tol`
+  int acceptable_iter = 5;       ///< Ipopt `acceptable_iter`
+  double constr_viol_tol = 1e-6;
+  bool quadratic = false;  ///< linear constraints, constant Hessian: Ipopt evaluates them once
+  double mu_init = 0.1;
+  std::string mu_strategy = "monotone";
+  /// An iterate that stopped on the iteration limit is still used when its constraint violation
+  /// (max over rows and bounds, in the problem's units) is below this.
+  double usable_violation = 1e-3;
+  int print_level = 0;
+};
+
+struct NlpResult {
+  int status = -199;       ///< Ipopt::ApplicationReturnStatus
+  int iterations = 0;      ///< Ipopt iterations of this solve
+  bool usable = false;     ///< converged, or feasible within usable_violation
+  double violation = 0.0;  ///< max violation of rows and bounds at the returned iterate
+};
+
+class NlpSolver {
+ public:
+  /// Creates and configures the Ipopt application (throws std::runtime_error if Ipopt refuses).
+  explicit NlpSolver(const NlpSolverOptions& options);
+  ~NlpSolver();
+  NlpSolver(const NlpSolver&) = delete;
+  NlpSolver& operator=(const NlpSolver&) = delete;
+
+  /// Solves `nlp`, starting from nlp->Start(). Never throws: Ipopt exceptions and failures come
+  /// back as a non-usable result.
+  NlpResult Solve(SparseNlp* nlp) noexcept;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace scw::controller::motion

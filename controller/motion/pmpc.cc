@@ -1,0 +1,517 @@
+#include "controller/motion/pmpc.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "controller/motion/nlp_solver.h"
+
+namespace scw::controller::motion {
+namespace {
+
+constexpr double kInf = 1e19;  // Ipopt's "no bound"
+
+// Vertices of the inscribed g-g polygon in r = |a_n|/ay_max.
+constexpr double kPolygonR[] = {0.0, 0.5, 0.85, 1.0};
+
+double CentripetalScale(double n, double kappa) { return 1.0 / std::max(1.0 - n * kappa, 0.2); }
+
+}  // namespace
+
+PointMassModel::StateVec PointMassModel::Step(const StateVec& x, const InputVec& u, double kappa,
+                                              double dt) noexcept {
+  const double c = kappa * x[kV] * x[kV] * CentripetalScale(x[kN], kappa);
+  const double an = u[kAn] - c;
+  return {x[kN] + dt * x[kW] + 0.5 * dt * dt * an, x[kW] + dt * an, x[kV] + dt * u[kAt]};
+}
+
+void PointMassModel::Jacobians(const StateVec& x, const InputVec&, double kappa, double dt,
+                               Eigen::Matrix3d* a, Eigen::Matrix<double, 3, 2>* b) noexcept {
+  const double den = 1.0 - x[kN] * kappa;
+  const double g = CentripetalScale(x[kN], kappa);
+  // ∂c/∂n (zero where the denominator is clamped) and ∂c/∂v.
+  const double dc_dn = den > 0.2 ? kappa * kappa * x[kV] * x[kV] * g * g : 0.0;
+  const double dc_dv = 2.0 * kappa * x[kV] * g;
+  const double h2 = 0.5 * dt * dt;
+  *a << 1.0 - h2 * dc_dn, dt, -h2 * dc_dv,  //
+      -dt * dc_dn, 1.0, -dt * dc_dv,        //
+      0.0, 0.0, 1.0;
+  *b << 0.0, h2,  //
+      0.0, dt,    //
+      dt, 0.0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The QP: z = [x_0 .. x_N (n, w, v), u_0 .. u_{N-1} (a_t, a_n), ε_1 .. ε_N],
+// min ½ zᵀHz + lᵀz, rows: dynamics (3N, equalities), corridor (2N), g-g polygon (4·S·N).
+struct PointMassMpc::Workspace final : SparseNlp {
+  Workspace(const PmpcOptions& o, int segments)
+      : N(o.horizon_steps), S(segments), solver([&] {
+          NlpSolverOptions so;
+          so.quadratic = true;
+          so.max_iter = o.max_iter;
+          so.tol = o.tol;
+          so.mu_strategy = "monotone";
+          so.mu_init = 1e-1;
+          return so;
+        }()) {
+    nv = 3 * (N + 1) + 2 * N + N;
+    m = 3 * N + 2 * N + 4 * S * N;
+    zl.assign(nv, -kInf);
+    zu.assign(nv, kInf);
+    gl.assign(m, -kInf);
+    gu.assign(m, kInf);
+    z0.assign(nv, 0.0);
+    z.assign(nv, 0.0);
+    lin.assign(nv, 0.0);
+    // Jacobian structure.
+    for (int k = 0; k < N; ++k)
+      for (int i = 0; i < 3; ++i) {
+        const int row = 3 * k + i;
+        Add(row, X(k + 1, i));
+        for (int j = 0; j < 3; ++j) Add(row, X(k, j));
+        for (int j = 0; j < 2; ++j) Add(row, U(k, j));
+      }
+    for (int k = 1; k <= N; ++k) {
+      const int row = 3 * N + 2 * (k - 1);
+      Add(row, X(k, 0));
+      Add(row, E(k));
+      Add(row + 1, X(k, 0));
+      Add(row + 1, E(k));
+    }
+    for (int k = 0; k < N; ++k)
+      for (int r = 0; r < 4 * S; ++r) {
+        Add(GgRow(k, r), U(k, 0));
+        Add(GgRow(k, r), U(k, 1));
+      }
+    jv.assign(jr.size(), 0.0);
+    // Hessian: the diagonal, then the Δu couplings u_k–u_{k−1}.
+    for (int i = 0; i < nv; ++i) {
+      hr.push_back(i);
+      hc.push_back(i);
+    }
+    for (int k = 1; k < N; ++k)
+      for (int j = 0; j < 2; ++j) {
+        hr.push_back(U(k, j));
+        hc.push_back(U(k - 1, j));
+      }
+    hv.assign(hr.size(), 0.0);
+  }
+
+  int X(int k, int i) const { return 3 * k + i; }
+  int U(int k, int j) const { return 3 * (N + 1) + 2 * k + j; }
+  int E(int k) const { return 3 * (N + 1) + 2 * N + (k - 1); }
+  int GgRow(int k, int r) const { return 5 * N + 4 * S * k + r; }
+  void Add(int row, int col) {
+    jr.push_back(row);
+    jc.push_back(col);
+  }
+
+  // weight·(z_i − ref)²
+  void Quad(int i, double weight, double ref) {
+    hv[static_cast<std::size_t>(i)] += 2.0 * weight;
+    lin[static_cast<std::size_t>(i)] -= 2.0 * weight * ref;
+  }
+
+  NlpSizes Sizes() const override {
+    return {nv, m, static_cast<int>(jr.size()), static_cast<int>(hr.size())};
+  }
+  void Bounds(double* z_l, double* z_u, double* g_l, double* g_u) const override {
+    std::copy(zl.begin(), zl.end(), z_l);
+    std::copy(zu.begin(), zu.end(), z_u);
+    std::copy(gl.begin(), gl.end(), g_l);
+    std::copy(gu.begin(), gu.end(), g_u);
+  }
+  void Start(double* out) const override { std::copy(z0.begin(), z0.end(), out); }
+  double Objective(const double* x) const override {
+    double f = 0.0;
+    for (std::size_t e = 0; e < hr.size(); ++e) {
+      const double p = hv[e] * x[hr[e]] * x[hc[e]];
+      f += hr[e] == hc[e] ? 0.5 * p : p;
+    }
+    for (int i = 0; i < nv; ++i) f += lin[static_cast<std::size_t>(i)] * x[i];
+    return f;
+  }
+  void Gradient(const double* x, double* grad) const override {
+    std::copy(lin.begin(), lin.end(), grad);
+    for (std::size_t e = 0; e < hr.size(); ++e) {
+      grad[hr[e]] += hv[e] * x[hc[e]];
+      if (hr[e] != hc[e]) grad[hc[e]] += hv[e] * x[hr[e]];
+    }
+  }
+  void Constraints(const double* x, double* g) override {
+    std::fill(g, g + m, 0.0);
+    for (std::size_t e = 0; e < jr.size(); ++e) g[jr[e]] += jv[e] * x[jc[e]];
+  }
+  void JacobianStructure(int* rows, int* cols) const override {
+    std::copy(jr.begin(), jr.end(), rows);
+    std::copy(jc.begin(), jc.end(), cols);
+  }
+  void JacobianValues(const double*, double* values) override {
+    std::copy(jv.begin(), jv.end(), values);
+  }
+  void HessianStructure(int* rows, int* cols) const override {
+    std::copy(hr.begin(), hr.end(), rows);
+    std::copy(hc.begin(), hc.end(), cols);
+  }
+  void HessianValues(const double*, double obj_factor, const double*, double* values) override {
+    for (std::size_t e = 0; e < hv.size(); ++e) values[e] = obj_factor * hv[e];
+  }
+  void Solution(const double* x) override { std::copy(x, x + nv, z.begin()); }
+
+  int N, S, nv = 0, m = 0;
+  std::vector<double> zl, zu, gl, gu, z0, z, lin;
+  std::vector<int> jr, jc, hr, hc;
+  std::vector<double> jv, hv;
+  NlpSolver solver;
+};
+
+namespace {
+
+void ResizePlan(PointMassMpc::Plan* p, int n) {
+  const auto nodes = static_cast<std::size_t>(n + 1), steps = static_cast<std::size_t>(n);
+  p->n.assign(nodes, 0.0);
+  p->w.assign(nodes, 0.0);
+  p->v.assign(nodes, 0.0);
+  p->s.assign(nodes, 0.0);
+  p->at.assign(steps, 0.0);
+  p->an.assign(steps, 0.0);
+  p->kappa.assign(steps, 0.0);
+  p->valid = false;
+}
+
+// Linear interpolation of node values at time tau after node 0 (held outside).
+double NodeAt(const std::vector<double>& v, double tau, double dt) {
+  const double x = tau / dt;
+  if (x <= 0.0) return v.front();
+  const auto last = static_cast<double>(v.size() - 1);
+  if (x >= last) return v.back();
+  const auto i = static_cast<std::size_t>(x);
+  const double w = x - static_cast<double>(i);
+  return v[i] + w * (v[i + 1] - v[i]);
+}
+
+// Interval value (piecewise constant input) at time tau after node 0.
+double IntervalAt(const std::vector<double>& u, double tau, double dt) {
+  const double x = std::floor(tau / dt + 1e-9);
+  if (x <= 0.0) return u.front();
+  const auto i = std::min(static_cast<std::size_t>(x), u.size() - 1);
+  return u[i];
+}
+
+// Mean curvature of the path between s0 and s1 (heading change over arc length).
+double MeanCurvature(const Path& path, double s0, double s1) {
+  const double ds = s1 - s0;
+  if (ds < 0.5) return path.Sample(s0).kappa;
+  return WrapAngle(path.Sample(s1).psi - path.Sample(s0).psi) / ds;
+}
+
+}  // namespace
+
+PointMassMpc::State::State(const PointMassMpc& c)
+    : ws(std::make_unique<Workspace>(c.options_, static_cast<int>(c.slope_.size()))) {
+  ResizePlan(&plan, c.options_.horizon_steps);
+  ResizePlan(&scratch, c.options_.horizon_steps);
+}
+PointMassMpc::State::~State() = default;
+
+PointMassMpc::PointMassMpc(const PmpcOptions& options, GgTable limits, Corridor corridor,
+                           std::shared_ptr<const Path> path)
+    : options_(options),
+      limits_(std::move(limits)),
+      corridor_(std::move(corridor)),
+      path_(std::move(path)) {
+  if (!path_) throw std::invalid_argument("pmpc: needs a path");
+  limits_.Validate();
+  const auto& o = options_;
+  if (o.horizon_steps < 2 || o.horizon_steps > 200)
+    throw std::invalid_argument("pmpc: horizon_steps must lie in [2, 200]");
+  if (!(o.step > 0.0) || !(o.sample_time > 0.0) || !(o.solve_period >= o.sample_time))
+    throw std::invalid_argument("pmpc: step, sample_time > 0 and solve_period >= sample_time");
+  if (corridor_.left.size() != path_->size() || corridor_.right.size() != path_->size())
+    throw std::invalid_argument("pmpc: the corridor needs one entry per path station");
+  if (!(o.wheelbase > 0.0) || !(o.max_steering > 0.0) || !(o.headroom >= o.nominal_fraction) ||
+      !(o.nominal_fraction > 0.0) || !(o.min_lookahead > 0.0))
+    throw std::invalid_argument("pmpc: invalid wheelbase, steering limit, fractions or lookahead");
+  // The inscribed polygon of (1 − r^p)^(1/p).
+  const double p = limits_.exponent;
+  const auto x_of = [p](double r) { return std::pow(std::max(0.0, 1.0 - std::pow(r, p)), 1 / p); };
+  for (std::size_t j = 0; j + 1 < std::size(kPolygonR); ++j) {
+    const double r0 = kPolygonR[j], r1 = kPolygonR[j + 1];
+    const double m = (x_of(r1) - x_of(r0)) / (r1 - r0);
+    slope_.push_back(m);
+    offset_.push_back(x_of(r0) - m * r0);
+  }
+}
+
+PointMassMpc::~PointMassMpc() = default;
+
+std::unique_ptr<MotionState> PointMassMpc::MakeState() const {
+  return std::make_unique<State>(*this);
+}
+
+double PointMassMpc::CorridorLeft(double s) const noexcept {
+  return InterpolateStations(*path_, corridor_.left, s);
+}
+double PointMassMpc::CorridorRight(double s) const noexcept {
+  return InterpolateStations(*path_, corridor_.right, s);
+}
+
+bool PointMassMpc::Solve(const MotionInput& in, double s, double n, double w, double v,
+                         State* st) const {
+  const auto& o = options_;
+  const int N = o.horizon_steps;
+  const double dt = o.step;
+  const Path& path = *path_;
+  Workspace& ws = *st->ws;
+  Plan& lin = st->scratch;
+  const Plan& prev = st->plan;
+  const double tau = in.t - prev.t0;
+  const bool shift = prev.valid && tau < N * dt;
+
+  // 1. Linearisation trajectory: the previous plan shifted by tau, or the reference.
+  lin.n[0] = n;
+  lin.w[0] = w;
+  lin.v[0] = v;
+  lin.s[0] = s;
+  for (int k = 0; k <= N; ++k) {
+    const auto K = static_cast<std::size_t>(k);
+    if (k > 0) {
+      if (shift) {
+        lin.n[K] = NodeAt(prev.n, tau + k * dt, dt);
+        lin.w[K] = NodeAt(prev.w, tau + k * dt, dt);
+        lin.v[K] = std::max(NodeAt(prev.v, tau + k * dt, dt), o.min_speed);
+      } else {
+        lin.n[K] = 0.0;
+        lin.w[K] = 0.0;
+        lin.v[K] = std::max(path.Sample(lin.s[K]).v, o.min_speed);
+      }
+    }
+    if (k < N) {
+      const double ds = dt * std::max(lin.v[K], o.min_speed);
+      lin.s[K + 1] = lin.s[K] + ds;  // first guess for the cold start; refined below
+    }
+  }
+  for (int k = 0; k < N; ++k) {
+    const auto K = static_cast<std::size_t>(k);
+    lin.s[K + 1] = lin.s[K] + 0.5 * dt * (lin.v[K] + lin.v[K + 1]);
+    lin.kappa[K] = MeanCurvature(path, lin.s[K], lin.s[K + 1]);
+    if (shift) {
+      lin.at[K] = IntervalAt(prev.at, tau + k * dt, dt);
+      lin.an[K] = IntervalAt(prev.an, tau + k * dt, dt);
+    } else {
+      lin.at[K] = (lin.v[K + 1] - lin.v[K]) / dt;
+      lin.an[K] = lin.kappa[K] * lin.v[K] * lin.v[K];
+    }
+  }
+
+  // 2. The QP around it.
+  std::fill(ws.hv.begin(), ws.hv.end(), 0.0);
+  std::fill(ws.lin.begin(), ws.lin.end(), 0.0);
+  std::size_t e = 0;  // Jacobian entry (same order as the structure)
+  const double x0[3] = {n, w, v};
+  for (int i = 0; i < 3; ++i) {
+    ws.zl[static_cast<std::size_t>(ws.X(0, i))] = x0[i];
+    ws.zu[static_cast<std::size_t>(ws.X(0, i))] = x0[i];
+    ws.z0[static_cast<std::size_t>(ws.X(0, i))] = x0[i];
+  }
+  for (int k = 0; k < N; ++k) {
+    const auto K = static_cast<std::size_t>(k);
+    const PointMassModel::StateVec xb(lin.n[K], lin.w[K], lin.v[K]);
+    const PointMassModel::InputVec ub(lin.at[K], lin.an[K]);
+    Eigen::Matrix3d a;
+    Eigen::Matrix<double, 3, 2> b;
+    PointMassModel::Jacobians(xb, ub, lin.kappa[K], dt, &a, &b);
+    const PointMassModel::StateVec rhs =
+        PointMassModel::Step(xb, ub, lin.kappa[K], dt) - a * xb - b * ub;
+    for (int i = 0; i < 3; ++i) {
+      ws.jv[e++] = 1.0;
+      for (int j = 0; j < 3; ++j) ws.jv[e++] = -a(i, j);
+      for (int j = 0; j < 2; ++j) ws.jv[e++] = -b(i, j);
+      ws.gl[static_cast<std::size_t>(3 * k + i)] = rhs[i];
+      ws.gu[static_cast<std::size_t>(3 * k + i)] = rhs[i];
+    }
+  }
+  for (int k = 1; k <= N; ++k) {
+    const auto K = static_cast<std::size_t>(k);
+    double up = CorridorLeft(lin.s[K]) - o.tube_lateral;
+    double lo = -(CorridorRight(lin.s[K]) - o.tube_lateral);
+    if (up < lo) up = lo = 0.5 * (up + lo);
+    const auto row = static_cast<std::size_t>(3 * N + 2 * (k - 1));
+    ws.jv[e++] = 1.0;
+    ws.jv[e++] = -1.0;
+    ws.jv[e++] = 1.0;
+    ws.jv[e++] = 1.0;
+    ws.gl[row] = -kInf;
+    ws.gu[row] = up;
+    ws.gl[row + 1] = lo;
+    ws.gu[row + 1] = kInf;
+    const double tf = k == N ? o.terminal_factor : 1.0;
+    ws.Quad(ws.X(k, 0), o.q_n * tf, 0.0);
+    ws.Quad(ws.X(k, 1), o.q_w * tf, 0.0);
+    const PathPoint ref = path.Sample(lin.s[K]);
+    ws.Quad(ws.X(k, 2), o.q_v * tf, ref.v);
+    ws.zl[static_cast<std::size_t>(ws.X(k, 2))] = o.min_speed;
+    ws.zl[static_cast<std::size_t>(ws.E(k))] = 0.0;
+    ws.Quad(ws.E(k), o.slack_l2, 0.0);
+    ws.lin[static_cast<std::size_t>(ws.E(k))] += o.slack_l1;
+    // Start point: the linearisation trajectory, slack = its corridor violation.
+    ws.z0[static_cast<std::size_t>(ws.X(k, 0))] = lin.n[K];
+    ws.z0[static_cast<std::size_t>(ws.X(k, 1))] = lin.w[K];
+    ws.z0[static_cast<std::size_t>(ws.X(k, 2))] = lin.v[K];
+    ws.z0[static_cast<std::size_t>(ws.E(k))] = std::max({0.0, lin.n[K] - up, lo - lin.n[K]}) + 1e-3;
+  }
+  for (int k = 0; k < N; ++k) {
+    const auto K = static_cast<std::size_t>(k);
+    const double vb = lin.v[K];
+    const double ay = o.nominal_fraction * limits_.AyMax(vb);
+    const double ad = std::max(o.nominal_fraction * limits_.AxDriveMax(vb), 0.05);
+    const double ab = o.nominal_fraction * limits_.AxBrakeMax(vb);
+    const std::size_t S = slope_.size();
+    for (int side = 0; side < 2; ++side)
+      for (std::size_t j = 0; j < S; ++j)
+        for (int sg = 0; sg < 2; ++sg) {
+          ws.jv[e++] = side == 0 ? 1.0 / ad : -1.0 / ab;
+          ws.jv[e++] = -slope_[j] * (sg == 0 ? 1.0 : -1.0) / ay;
+          const auto row = static_cast<std::size_t>(
+              ws.GgRow(k, side * 2 * static_cast<int>(S) + 2 * static_cast<int>(j) + sg));
+          ws.gl[row] = -kInf;
+          ws.gu[row] = offset_[j];
+        }
+    const auto at = static_cast<std::size_t>(ws.U(k, 0)), an = static_cast<std::size_t>(ws.U(k, 1));
+    ws.zl[at] = -1.5 * ab;
+    ws.zu[at] = 1.5 * ad + 1.0;
+    ws.zl[an] = -1.5 * ay;
+    ws.zu[an] = 1.5 * ay;
+    const PathPoint ref = path.Sample(lin.s[K]);
+    const double c_ref = lin.kappa[K] * vb * vb;
+    ws.Quad(ws.U(k, 0), o.r_at, ref.a_x);
+    ws.Quad(ws.U(k, 1), o.r_an, c_ref);
+    // Start inside the polygon: scale the guess into it.
+    double gt = lin.at[K], gn = lin.an[K];
+    const double xr = gt >= 0.0 ? gt / ad : -gt / ab, rr = std::abs(gn) / ay;
+    double worst = 0.0;
+    for (std::size_t j = 0; j < S; ++j) worst = std::max(worst, (xr - slope_[j] * rr) / offset_[j]);
+    if (worst > 0.98) {
+      gt *= 0.98 / worst;
+      gn *= 0.98 / worst;
+    }
+    ws.z0[at] = gt;
+    ws.z0[an] = gn;
+  }
+  // Δu: to the previously applied input at k = 0, then between intervals.
+  ws.Quad(ws.U(0, 0), o.r_dat, st->prev_at);
+  ws.Quad(ws.U(0, 1), o.r_dan, st->prev_an);
+  std::size_t hp = static_cast<std::size_t>(ws.nv);
+  for (int k = 1; k < N; ++k)
+    for (int j = 0; j < 2; ++j) {
+      const double r = j == 0 ? o.r_dat : o.r_dan;
+      ws.hv[static_cast<std::size_t>(ws.U(k, j))] += 2.0 * r;
+      ws.hv[static_cast<std::size_t>(ws.U(k - 1, j))] += 2.0 * r;
+      ws.hv[hp++] = -2.0 * r;
+    }
+
+  // 3. Solve.
+  NlpResult res;
+  {
+    ScopedSolveTimer timer(&st->diagnostics.solve_time);
+    res = ws.solver.Solve(&ws);
+  }
+  ++st->diagnostics.solves;
+  st->diagnostics.iterations += res.iterations;
+  st->diagnostics.last_status = res.status;
+  if (!res.usable) return false;
+
+  // 4. The new plan.
+  Plan& p = st->plan;
+  for (int k = 0; k <= N; ++k) {
+    const auto K = static_cast<std::size_t>(k);
+    p.n[K] = ws.z[static_cast<std::size_t>(ws.X(k, 0))];
+    p.w[K] = ws.z[static_cast<std::size_t>(ws.X(k, 1))];
+    p.v[K] = ws.z[static_cast<std::size_t>(ws.X(k, 2))];
+    if (k < N) {
+      p.at[K] = ws.z[static_cast<std::size_t>(ws.U(k, 0))];
+      p.an[K] = ws.z[static_cast<std::size_t>(ws.U(k, 1))];
+      p.kappa[K] = lin.kappa[K];
+    }
+  }
+  p.s[0] = s;
+  for (int k = 0; k < N; ++k) {
+    const auto K = static_cast<std::size_t>(k);
+    p.s[K + 1] = p.s[K] + 0.5 * dt * (p.v[K] + p.v[K + 1]) * CentripetalScale(p.n[K], p.kappa[K]);
+  }
+  p.t0 = in.t;
+  p.valid = true;
+  st->prev_at = p.at[0];
+  st->prev_an = p.an[0];
+  return true;
+}
+
+MotionOutput PointMassMpc::Step(const MotionInput& in, MotionState* base) const noexcept {
+  auto* st = static_cast<State*>(base);
+  const auto& o = options_;
+  const Path& path = *path_;
+  MotionOutput out;
+  const double v_x = std::isfinite(in.v_x) ? in.v_x : 0.0;
+  const double v_y = std::isfinite(in.v_y) ? in.v_y : 0.0;
+  const PathProjection here = path.Project(in.x, in.y, in.psi, st->s_hint, o.projection_window);
+  st->s_hint = here.s;
+  out.s = here.s;
+  out.lateral_error = here.lateral_error;
+  out.heading_error = here.heading_error;
+  const PathPoint ref = path.Sample(here.s);
+  out.v_target = ref.v;
+
+  const double beta = std::atan2(v_y, std::max(std::abs(v_x), 1.0));
+  const double xi = WrapAngle(here.heading_error + beta);
+  const double v = std::max(std::hypot(v_x, v_y), o.min_speed);
+  const double n = here.lateral_error;
+
+  if (!st->plan.valid || in.t - st->last_solve_t >= o.solve_period - 1e-9) {
+    st->last_solve_t = in.t;
+    bool ok = false;
+    try {
+      ok = Solve(in, here.s, n, v * std::sin(xi), v * std::cos(xi), st);
+    } catch (...) {
+      ok = false;
+    }
+    if (!ok) {
+      ++st->diagnostics.failures;
+      // Keep the previous plan (it is shifted in time by construction) while it lasts.
+      if (st->plan.valid && in.t - st->plan.t0 >= o.horizon_steps * o.step - o.step)
+        st->plan.valid = false;
+    }
+  }
+
+  // Nominal state and input at this time: the plan, or the reference (fallback).
+  double n_nom = 0.0, xi_nom = 0.0, v_nom = ref.v, at_nom = ref.a_x, an_nom = ref.kappa * v * v;
+  if (st->plan.valid) {
+    const Plan& p = st->plan;
+    const double tau = in.t - p.t0;
+    n_nom = NodeAt(p.n, tau, o.step);
+    v_nom = NodeAt(p.v, tau, o.step);
+    xi_nom = std::asin(std::clamp(NodeAt(p.w, tau, o.step) / std::max(v_nom, 1.0), -1.0, 1.0));
+    at_nom = IntervalAt(p.at, tau, o.step);
+    an_nom = IntervalAt(p.an, tau, o.step);
+  } else {
+    ++st->diagnostics.fallback_steps;
+  }
+
+  // Ancillary feedback: return to the nominal within the lookahead distance.
+  const double e_n = n - n_nom, e_xi = WrapAngle(xi - xi_nom);
+  const double look = std::max(o.min_lookahead, o.lookahead_time * v);
+  const double ay_cap = o.headroom * limits_.AyMax(v);
+  const double an_cmd =
+      std::clamp(an_nom - 2.0 * v * v * (e_n + look * e_xi) / (look * look), -ay_cap, ay_cap);
+  double delta = std::atan(o.wheelbase * an_cmd / (v * v)) + o.understeer_gradient * an_cmd;
+  if (!std::isfinite(delta)) delta = 0.0;
+  out.steering_request = std::clamp(delta, -o.max_steering, o.max_steering);
+  double ax = at_nom + o.speed_gain * (v_nom - v);
+  ax = std::clamp(ax, -o.headroom * limits_.AxBrakeMax(v),
+                  std::max(o.headroom * limits_.AxDriveMax(v), 0.5));
+  out.ax_request = std::isfinite(ax) ? ax : 0.0;
+  out.ay_request = std::isfinite(an_nom) ? an_nom : 0.0;
+  return out;
+}
+
+}  // namespace scw::controller::motion
