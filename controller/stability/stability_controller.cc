@@ -186,7 +186,9 @@ StabilityOutput StabilityController::Step(const Input& in, State* s) const noexc
 
   out.steering = cs.steering;
   out.brake_bar = sc.pressure;
-  out.throttle = sc.throttle;
+  // The request is essential only as finite: clamp like the pass-through, so an absurd request
+  // (1e12) never reaches the engine as more than full throttle.
+  out.throttle = std::clamp(sc.throttle, 0.0, 1.0);
   out.esc_active = esc.active;
   out.cs_active = cs.active;
   out.slip_control_active = sc.active;

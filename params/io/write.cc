@@ -48,8 +48,19 @@ std::string QuoteString(const std::string& s) {
       case '\t':
         out += "\\t";
         break;
+      case '\r':
+        out += "\\r";
+        break;
       default:
-        out += c;
+        // Other control characters would not survive a YAML reader (raw ones are refused or
+        // folded): escape them.
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+          char buf[8];
+          std::snprintf(buf, sizeof(buf), "\\x%02x", static_cast<unsigned>(c & 0xff));
+          out += buf;
+        } else {
+          out += c;
+        }
     }
   }
   return out + "\"";

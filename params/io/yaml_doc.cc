@@ -10,6 +10,8 @@
 
 namespace scw::params {
 
+YamlNode::YamlNode() = default;
+
 const char* ScalarTypeName(ScalarType t) {
   switch (t) {
     case ScalarType::kBool:

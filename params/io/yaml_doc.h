@@ -23,6 +23,11 @@ struct YamlNode {
   int line = 0;                 ///< 1-based source line
   std::vector<YamlNode> items;  ///< sequence elements
   std::vector<std::pair<std::string, YamlNode>> entries;  ///< map entries (duplicates kept)
+
+  // Defined out of line: an implicit (inline) default constructor makes clang instantiate
+  // std::pair<std::string, YamlNode> while YamlNode is still incomplete (libstdc++ 12), which
+  // breaks the clang builds (fuzzing, test/fuzz).
+  YamlNode();
 };
 
 /// Type a plain (unquoted) scalar gets under the ROS 2 (rcl) rules; quoted scalars are strings.

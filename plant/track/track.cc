@@ -81,8 +81,11 @@ void EvalSpline(const Spline1& sp, std::size_t i, std::size_t ip, double h, doub
 
 std::vector<double> PeriodicGaussian(const std::vector<double>& v, double sigma_idx) {
   const std::size_t m = v.size();
-  const int radius = static_cast<int>(std::ceil(3.0 * sigma_idx));
-  if (sigma_idx <= 0.0 || radius < 1) return v;
+  if (!(sigma_idx > 0.0)) return v;
+  // Points far closer together than the smoothing (a track of micrometres) would ask for a kernel
+  // wider than the loop, beyond int range: wrapping around the whole loop once is enough.
+  const int radius = static_cast<int>(std::min(std::ceil(3.0 * sigma_idx), static_cast<double>(m)));
+  if (radius < 1) return v;
   std::vector<double> w(2 * radius + 1);
   double sum = 0.0;
   for (int k = -radius; k <= radius; ++k)
@@ -233,6 +236,17 @@ Track Track::FromPoints(const std::vector<double>& x_in, const std::vector<doubl
   std::vector<double> cum(m + 1, 0.0);
   for (std::size_t i = 0; i < m; ++i) cum[i + 1] = cum[i] + arc(i, h[i]);
   const double length = cum[m];
+  // A stray point or coordinates in the wrong unit make a centre line of thousands of km, which
+  // would be resampled into length/step nodes (gigabytes): refuse it and name the largest gap.
+  constexpr double kMaxLength = 1e5;  // [m]; the longest circuits are about 25 km
+  if (!(length <= kMaxLength) || !(length / opt.step <= 1e7)) {
+    const std::size_t far = static_cast<std::size_t>(
+        std::max_element(gaps.begin(), gaps.begin() + static_cast<long>(m)) - gaps.begin());
+    throw ConfigError(source, "point " + std::to_string((far + 1) % m),
+                      "the centre line would be " + Num(length) + " m long (at most " +
+                          Num(kMaxLength) + " m); the largest step, " + Num(gaps[far]) +
+                          " m, ends here (a stray point, or coordinates not in metres?)");
+  }
   const std::size_t n =
       std::max<std::size_t>(8, static_cast<std::size_t>(std::llround(length / opt.step)));
   const double ds = length / static_cast<double>(n);

@@ -1,6 +1,7 @@
 #include "tuning/optim/space.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <map>
 #include <variant>
@@ -74,6 +75,18 @@ double RefValue(const FieldRef& f, int index) {
   if (f.scalar) return *f.scalar;
   if (index >= 0) return (*f.array)[static_cast<std::size_t>(index)];
   return *std::min_element(f.array->begin(), f.array->end());
+}
+
+// A scalar for a flow map written by ToYaml: plain when it reads back as the same text (letters,
+// digits, _ . - + = /, not starting with an indicator, not a null word), else double-quoted (e.g.
+// key[1]).
+std::string Scalar(const std::string& s) {
+  bool plain = !s.empty() && (std::isalnum(static_cast<unsigned char>(s[0])) || s[0] == '_');
+  for (unsigned char c : s)
+    plain = plain && (std::isalnum(c) || c == '_' || c == '.' || c == '-' || c == '+' || c == '=' ||
+                      c == '/');
+  plain = plain && s != "null" && s != "Null" && s != "NULL";  // YAML reads those as null
+  return plain ? s : params::QuoteString(s);
 }
 
 }  // namespace
@@ -205,11 +218,12 @@ std::vector<double> ParameterSpace::Encode(const StabilityParams& p_in) const {
 std::string ParameterSpace::ToYaml() const {
   std::string out = "name: " + params::QuoteString(name_) + "\nparameters:\n";
   for (const auto& e : entries_) {
-    out += "  - {key: " + e.Label();
+    out += "  - {key: " + Scalar(e.Label());
     if (e.transform != Transform::kDirect)
       out += std::string(", transform: ") + TransformName(e.transform);
     if (!e.of.empty())
-      out += ", of: " + (e.of_index >= 0 ? e.of + "[" + std::to_string(e.of_index) + "]" : e.of);
+      out +=
+          ", of: " + Scalar(e.of_index >= 0 ? e.of + "[" + std::to_string(e.of_index) + "]" : e.of);
     out += ", lo: " + params::FormatDouble(e.lo) + ", hi: " + params::FormatDouble(e.hi);
     out += std::string(", scale: ") + (e.scale == Scale::kLog ? "log" : "linear") + "}\n";
   }

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -79,7 +80,10 @@ class Run {
       log_file_ = o.log_path == o.resume_path ? o.log_path + ".resume.tmp" : o.log_path;
       log_.open(log_file_, std::ios::trunc);
       if (!log_) throw std::runtime_error("cannot write the evaluation log " + log_file_);
-      log_ << JoinCsv(header_) << '\n' << std::flush;
+      const std::string head = JoinCsv(header_) + '\n';
+      log_ << head << std::flush;
+      if (!log_) throw std::runtime_error("cannot write the evaluation log " + log_file_);
+      log_bytes_ = head.size();
     }
     start_ = std::chrono::steady_clock::now();
     result_.best_u.assign(static_cast<std::size_t>(n), 0.5);
@@ -205,11 +209,18 @@ class Run {
       row.insert(row.end(), ucells.begin(), ucells.end());
       ev.columns.resize(o_.log_extra_header.size());
       row.insert(row.end(), ev.columns.begin(), ev.columns.end());
-      log_ << JoinCsv(row) << '\n' << std::flush;
+      const std::string line = JoinCsv(row) + '\n';
+      log_ << line << std::flush;
       if (!log_) {
+        // Disk full or similar: cut the log back to its last whole row, so that it stays a valid
+        // CSV that --resume can continue from.
+        log_.close();
+        std::error_code ec;
+        std::filesystem::resize_file(log_file_, log_bytes_, ec);
         error_ = "writing the evaluation log " + log_file_ + " failed";
         return Halt("log_error");
       }
+      log_bytes_ += line.size();
     }
     if (o_.on_progress)
       o_.on_progress(Progress{result_.evals, o_.max_evals, result_.best_cost, elapsed, phase_});
@@ -228,6 +239,7 @@ class Run {
   std::vector<std::string> header_;
   std::ifstream resume_;
   std::ofstream log_;
+  std::uintmax_t log_bytes_ = 0;  ///< size of the log's whole rows written so far
   std::string log_file_, log_target_;
   std::chrono::steady_clock::time_point start_;
   TuneResult result_;

@@ -1,0 +1,164 @@
+// Ctrl-C during `scw tune`, end to end with the built program: SIGINT once the evaluation log has
+// rows → the process exits by itself (0: an interrupted run is a result), the log is a valid CSV
+// of whole rows, the best-so-far params files exist and pass `scw params check`; then
+// `--resume DIR/evaluations.csv` with the same options completes in a fresh folder and its log
+// starts with exactly the interrupted run's rows.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "params/io/yaml_doc.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+// Starts `SCW_BIN args...` with stdout/stderr into `capture`; returns the pid.
+pid_t Start(const std::vector<std::string>& args, const std::string& capture) {
+  std::vector<std::string> argv_s = {SCW_BIN};
+  argv_s.insert(argv_s.end(), args.begin(), args.end());
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int fd = ::open(capture.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      ::dup2(fd, 1);
+      ::dup2(fd, 2);
+    }
+    std::vector<char*> argv;
+    for (auto& a : argv_s) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+// Waits up to `timeout` for the process; returns its wait status, or -1 (then it is killed).
+int Wait(pid_t pid, std::chrono::seconds timeout) {
+  const auto end = Clock::now() + timeout;
+  int status = 0;
+  while (Clock::now() < end) {
+    const pid_t r = ::waitpid(pid, &status, WNOHANG);
+    if (r == pid) return status;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, &status, 0);
+  return -1;
+}
+
+int RunScw(const std::vector<std::string>& args, const std::string& capture) {
+  const int status = Wait(Start(args, capture), std::chrono::seconds(600));
+  return status >= 0 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::vector<std::string> Lines(const std::string& path) {
+  std::vector<std::string> out;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) out.push_back(line);
+  return out;
+}
+
+std::size_t CountLines(const std::string& path) {
+  std::ifstream in(path);
+  return static_cast<std::size_t>(
+      std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n'));
+}
+
+std::size_t Cells(const std::string& line) {
+  return static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1;
+}
+
+std::string Slurp(const std::string& path) {
+  try {
+    return scw::params::ReadTextFile(path);
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+TEST(TuneInterruptTest, CtrlCKeepsLogAndBestAndResumeContinues) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("scw_tune_interrupt_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string set = (dir / "set.yaml").string();
+  std::ofstream(set) << "name: tiny\n"
+                        "training:\n"
+                        "  - {name: one_lap, weight: 1.0, set: [laps=1, gg_scale=1.1]}\n";
+  // Enough budget that the run is still going when the signal arrives.
+  const std::vector<std::string> common = {
+      "tune",       "--scenarios", set,      "--max-evals", "40",         "--threads", "1",
+      "--progress", "never",       "--seed", "3",           "--max-time", "0"};
+  const fs::path run1 = dir / "run1", run2 = dir / "run2";
+  const std::string log1 = (run1 / "evaluations.csv").string();
+  const std::string log2 = (run2 / "evaluations.csv").string();
+
+  auto args1 = common;
+  args1.insert(args1.end(), {"--out", run1.string()});
+  const pid_t pid = Start(args1, (dir / "run1.out").string());
+  ASSERT_GT(pid, 0);
+  // SIGINT as soon as the log holds two evaluations.
+  const auto deadline = Clock::now() + std::chrono::seconds(300);
+  while (Clock::now() < deadline && CountLines(log1) < 3 && ::waitpid(pid, nullptr, WNOHANG) == 0)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  ASSERT_EQ(::kill(pid, SIGINT), 0) << "scw tune ended before it could be interrupted:\n"
+                                    << Slurp((dir / "run1.out").string());
+  const int status = Wait(pid, std::chrono::seconds(300));
+  ASSERT_NE(status, -1) << "scw tune did not exit after SIGINT";
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 0) << Slurp((dir / "run1.out").string());
+
+  // The log: header + whole rows, fewer than the budget.
+  const std::string text1 = Slurp(log1);
+  ASSERT_FALSE(text1.empty());
+  EXPECT_EQ(text1.back(), '\n');
+  const auto rows1 = Lines(log1);
+  ASSERT_GE(rows1.size(), 3u);
+  EXPECT_LT(rows1.size(), 41u);
+  for (std::size_t i = 1; i < rows1.size(); ++i) {
+    EXPECT_EQ(Cells(rows1[i]), Cells(rows1[0])) << "row " << i << ": " << rows1[i];
+    EXPECT_EQ(rows1[i].rfind(std::to_string(i - 1) + ",", 0), 0u) << rows1[i];
+  }
+  EXPECT_NE(Slurp((run1 / "manifest.yaml").string()).find("stop_reason: interrupted"),
+            std::string::npos);
+
+  // The best-so-far params files pass the ROS 2 check.
+  const std::string full = (run1 / "stability_tuned.yaml").string();
+  const std::string over = (run1 / "stability_overrides.yaml").string();
+  ASSERT_TRUE(fs::exists(full));
+  ASSERT_TRUE(fs::exists(over));
+  EXPECT_EQ(RunScw({"params", "check", full}, (dir / "check1.out").string()), 0)
+      << Slurp((dir / "check1.out").string());
+  EXPECT_EQ(RunScw({"params", "check", over, "--overrides"}, (dir / "check2.out").string()), 0)
+      << Slurp((dir / "check2.out").string());
+
+  // Resume with the same options into a fresh folder: completes, starts with the same rows.
+  auto args2 = common;
+  args2.insert(args2.end(), {"--out", run2.string(), "--resume", log1});
+  ASSERT_EQ(RunScw(args2, (dir / "run2.out").string()), 0) << Slurp((dir / "run2.out").string());
+  const auto rows2 = Lines(log2);
+  ASSERT_GT(rows2.size(), rows1.size());
+  for (std::size_t i = 0; i < rows1.size(); ++i) EXPECT_EQ(rows2[i], rows1[i]) << "row " << i;
+  const std::string manifest2 = Slurp((run2 / "manifest.yaml").string());
+  EXPECT_NE(manifest2.find("replayed_evaluations: " + std::to_string(rows1.size() - 1)),
+            std::string::npos)
+      << manifest2;
+  EXPECT_EQ(manifest2.find("stop_reason: interrupted"), std::string::npos) << manifest2;
+
+  fs::remove_all(dir);
+}
+
+}  // namespace
