@@ -49,6 +49,18 @@ struct MotionState {
   double s_hint = -1.0;  ///< last matched s (local projection search)
 };
 
+/// Matches the vehicle on the path (local search from the state's hint), keeps the hint and fills
+/// the tracking diagnostics (s, lateral and heading error) of `out`. Shared by every controller.
+inline PathProjection MatchOnPath(const Path& path, const MotionInput& in, double window,
+                                  MotionState* st, MotionOutput* out) noexcept {
+  const PathProjection here = path.Project(in.x, in.y, in.psi, st->s_hint, window);
+  st->s_hint = here.s;
+  out->s = here.s;
+  out->lateral_error = here.lateral_error;
+  out->heading_error = here.heading_error;
+  return here;
+}
+
 class MotionController {
  public:
   virtual ~MotionController() = default;

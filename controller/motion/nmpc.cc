@@ -739,11 +739,7 @@ MotionOutput SingleTrackMpc::Step(const MotionInput& in, MotionState* base) cons
   const double v_x = std::isfinite(in.v_x) ? in.v_x : 0.0;
   const double v_y = std::isfinite(in.v_y) ? in.v_y : 0.0;
   const double r = std::isfinite(in.yaw_rate) ? in.yaw_rate : 0.0;
-  const PathProjection here = path.Project(in.x, in.y, in.psi, st->s_hint, o.projection_window);
-  st->s_hint = here.s;
-  out.s = here.s;
-  out.lateral_error = here.lateral_error;
-  out.heading_error = here.heading_error;
+  const PathProjection here = MatchOnPath(path, in, o.projection_window, st, &out);
   const PathPoint ref = path.Sample(here.s);
   out.v_target = ref.v;
 

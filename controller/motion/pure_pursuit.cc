@@ -26,12 +26,7 @@ MotionOutput PurePursuit::Step(const MotionInput& in, MotionState* base) const n
   const double v_x = std::isfinite(in.v_x) ? in.v_x : 0.0;
 
   // Path matching of the CoG, and of the longitudinal preview point.
-  const PathProjection here =
-      path.Project(in.x, in.y, in.psi, st->s_hint, options_.projection_window);
-  st->s_hint = here.s;
-  out.s = here.s;
-  out.lateral_error = here.lateral_error;
-  out.heading_error = here.heading_error;
+  const PathProjection here = MatchOnPath(path, in, options_.projection_window, st, &out);
   const double preview = std::max(v_x, 3.0) * p_.lookahead_time_long_ff_s;
   const PathProjection ahead =
       path.Project(in.x + preview * std::cos(in.psi), in.y + preview * std::sin(in.psi), in.psi,
