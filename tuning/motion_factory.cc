@@ -18,7 +18,14 @@ cm::GgTable PlannerLimits(const ResolvedScenario& sc) {
   const double f = sc.spec.gg_scale * sc.spec.limit_fraction;
   cm::GgTable g;
   g.speed = sc.ggv.speed;
-  g.exponent = sc.ggv.exponent;
+  // The MPCs use one exponent for drive and brake: the most conservative of the planner's over
+  // the speeds the car can reach (above its top speed the drive column is 0 and its exponent
+  // meaningless).
+  g.exponent = 10.0;
+  for (std::size_t i = 0; i < sc.ggv.speed.size(); ++i) {
+    if (sc.ggv.ax_drive_max[i] > 0.5) g.exponent = std::min(g.exponent, sc.ggv.drive_exponent[i]);
+    g.exponent = std::min(g.exponent, sc.ggv.brake_exponent[i]);
+  }
   g.ay_max.clear();
   g.ax_drive_max.clear();
   g.ax_brake_max.clear();

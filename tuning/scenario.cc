@@ -12,7 +12,7 @@
 #include "params/schema/track_params.h"
 #include "plant/track/track_csv.h"
 #include "plant/track/yas_north.h"
-#include "plant/vehicle/ggv.h"
+#include "tuning/plant_envelope.h"
 #include "tuning/trajectory/racing_line.h"
 #include "tuning/trajectory/velocity_profile.h"
 
@@ -61,31 +61,12 @@ class Memo {
   std::map<std::string, std::shared_ptr<const T>> items_;
 };
 
-/// The plant's steady-state limits as the velocity planner's g-g-v table.
-plant::GgvLimits ComputePlantGgv(const params::VehicleParams& v);
-plant::GgvLimits PlantGgv(const params::VehicleParams& v) {
-  static Memo<plant::GgvLimits> memo;
-  return *memo.Get(params::ToPlainYaml(v), [&] { return ComputePlantGgv(v); });
-}
-
-plant::GgvLimits ComputePlantGgv(const params::VehicleParams& v) {
-  std::vector<double> speeds;
-  for (double s = 10.0; s <= 90.0; s += 10.0) speeds.push_back(s);
-  const auto points = plant::ComputeGgv(v, speeds);
-  plant::GgvLimits g;
-  g.speed.clear();
-  g.ay_max.clear();
-  g.ax_drive_max.clear();
-  g.ax_brake_max.clear();
-  for (const auto& p : points) {
-    g.speed.push_back(p.speed);
-    g.ay_max.push_back(std::max(p.lateral_max, 1.0));
-    g.ax_drive_max.push_back(std::max(p.traction_max, 0.0));
-    g.ax_brake_max.push_back(std::max(p.braking_max, 1.0));
-  }
-  g.exponent = 1.5;
-  g.Validate("vehicle g-g-v");
-  return g;
+/// The planner's g-g-v table: the plant's own combined envelope (tuning/plant_envelope.h), per
+/// vehicle and brake bias, shared within the process.
+controller::planning::GgvTable PlantGgv(const params::VehicleParams& v, double brake_bias_front) {
+  static Memo<controller::planning::GgvTable> memo;
+  return *memo.Get(params::ToPlainYaml(v) + "|" + params::FormatDouble(brake_bias_front),
+                   [&] { return PlantEnvelope(v, brake_bias_front); });
 }
 
 std::shared_ptr<const controller::motion::Path> ToPath(const ReferenceTrajectory& r) {
@@ -223,7 +204,9 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
   const plant::Track& line = *lines.Get(line_key, compute_line);
   VelocityProfileOptions vo;
   vo.gg_scale = spec.gg_scale * spec.limit_fraction;
-  const plant::GgvLimits ggv = PlantGgv(spec.plan_with_nominal_grip ? nominal : sc.vehicle);
+  const controller::planning::GgvTable ggv =
+      PlantGgv(spec.plan_with_nominal_grip ? nominal : sc.vehicle,
+               spec.motion.longitudinal.brake_bias_front);
   const ReferenceTrajectory ref = ComputeVelocityProfile(line, ggv, vo);
   sc.ggv = ggv;
   sc.path = ToPath(ref);

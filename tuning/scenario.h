@@ -22,11 +22,11 @@
 
 #include "controller/motion/longitudinal.h"
 #include "controller/motion/path.h"
+#include "controller/planning/ggv.h"
 #include "params/schema/scenario_params.h"
 #include "params/schema/stability_params.h"
 #include "params/schema/tracking_params.h"
 #include "params/schema/vehicle_params.h"
-#include "plant/track/ggv.h"
 #include "plant/track/track.h"
 
 namespace scw::tuning {
@@ -45,7 +45,7 @@ struct ResolvedScenario {
   controller::motion::LongitudinalModel longitudinal_model;
   /// The plant's steady-state g-g-v table the reference was planned with (unscaled; the planner
   /// used it × limit_fraction × GG). The MPC motion controllers constrain their plans with it.
-  plant::GgvLimits ggv;
+  controller::planning::GgvTable ggv;
 };
 
 /// Loads a scenario file (plain YAML, strict) and applies `overrides` ("key=value").

@@ -130,7 +130,7 @@ struct ScenarioParams {
   std::string stability;
   MotionScenario motion{};
   double gg_scale = 1.0;
-  double limit_fraction = 0.6;
+  double limit_fraction = 0.7;
   bool plan_with_nominal_grip = false;
   GripParams grip{};
   int laps = 3;
@@ -167,10 +167,11 @@ struct ScenarioParams {
              .unit = "-",
              .lo = 0.1,
              .hi = 1.5,
-             .doc = "Fraction of the plant's steady-state g-g-v limits the velocity planner uses "
-                    "at GG = 1: the paper starts from conservative targets and scales them up by "
-                    "GG until an abort (with 0.6 the paper's GG range 1.0-1.5 spans 60-90 % of the "
-                    "plant's limits).",
+             .doc = "Fraction of the plant's combined g-g-v envelope (`scw vehicle envelope`) "
+                    "the velocity planner uses at GG = 1: the paper starts from conservative "
+                    "targets and scales them up by GG until an abort. With 0.7 (a mapping fixed "
+                    "before the studies were run) GG 1.0 is 70 % of the car's real limits and "
+                    "GG 1.43 is 100 %, so the studied range GG 1.0-1.8 crosses the limits.",
              .optional = true});
     v.Field(s.plan_with_nominal_grip,
             {.key = "plan_with_nominal_grip",

@@ -201,7 +201,7 @@ struct GearboxParams {
 
 /// Rear differential: a locked spool or a limited-slip differential.
 struct DifferentialParams {
-  std::string type = "spool";
+  std::string type = "lsd";
   double lsd_preload = 50.0;
   double lsd_lock_drive = 0.3;
   double lsd_lock_coast = 0.15;
@@ -210,9 +210,11 @@ struct DifferentialParams {
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
     v.Field(s.type, {.key = "type",
-                     .doc = "'spool': both rear wheels turn at the same speed (locked, as on the "
-                            "EAV per the stability-control spec). 'lsd': open differential plus "
-                            "a locking torque (below).",
+                     .doc = "'spool': both rear wheels turn at the same speed (locked; the TUM "
+                            "AV-21 simulation model). 'lsd': open differential plus a locking "
+                            "torque (below). EAV24: lsd, the SF23-based car's limited-slip "
+                            "differential (plant spec §4.6/§7, TUM A2RL stack summary); preload "
+                            "and locking ratios below are assumptions.",
                      .choices = "spool|lsd"});
     v.Field(s.lsd_preload, {.key = "lsd_preload",
                             .unit = "N*m",

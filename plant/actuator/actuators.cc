@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace scw::plant {
 namespace {
@@ -53,6 +54,20 @@ const PerWheel<double>& BrakeActuator::Step(const PerWheel<double>& request,
   for (std::size_t i = 0; i < 4; ++i)
     s->pressure[i] = std::clamp(lag_.Apply(s->pressure[i], delayed[i]), 0.0, max_pressure_);
   return s->pressure;
+}
+
+double BrakeStepResponseTime(const params::BrakeParams& p, double h, double step_bar,
+                             double fraction) noexcept {
+  const BrakeActuator act(p, h);
+  BrakeActuatorState s = act.MakeState();
+  const PerWheel<double> req{step_bar, step_bar, step_bar, step_bar};
+  const double target = fraction * std::min(step_bar, p.max_pressure);
+  for (int k = 0; k * h < 2.0; ++k) {
+    const PerWheel<double>& out = act.Step(req, &s);
+    // The pressure returned by step k acts during [k h, (k + 1) h]: reached at its end.
+    if (out[0] >= target) return (k + 1) * h;
+  }
+  return std::numeric_limits<double>::infinity();
 }
 
 }  // namespace scw::plant

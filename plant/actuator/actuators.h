@@ -67,4 +67,10 @@ class BrakeActuator {
   LagRateLimit lag_;
 };
 
+/// Time [s] from a step request of `step_bar` on every wheel (from 0 bar) until the pressure at the
+/// wheel first reaches `fraction` of the step (63 % = the usual "response time"); the delay, the
+/// lag and the rate limit all count. Returns +inf if it is not reached within 2 s.
+double BrakeStepResponseTime(const params::BrakeParams& p, double h, double step_bar = 80.0,
+                             double fraction = 0.632) noexcept;
+
 }  // namespace scw::plant

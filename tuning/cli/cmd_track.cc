@@ -96,7 +96,7 @@ int Info(const TrackOptions& o) {
 
 int Line(const TrackOptions& o) {
   const plant::Track t = LoadTrack(o.track);
-  const plant::GgvLimits ggv =
+  const controller::planning::GgvTable ggv =
       o.ggv.empty() ? tuning::RepresentativeGgv() : tuning::LoadGgvCsv(o.ggv, o.ggv_exponent);
   tuning::RacingLine rl = [&] {
     if (!o.raceline.empty()) return tuning::LoadRacingLine(o.raceline, t);

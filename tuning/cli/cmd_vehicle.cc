@@ -8,14 +8,21 @@
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "params/schema/vehicle_params.h"
+#include "plant/actuator/actuators.h"
+#include "plant/tire/magic_formula.h"
 #include "plant/vehicle/ggv.h"
+#include "plant/vehicle/quasi_steady.h"
 #include "tuning/cli/command.h"
+#include "tuning/plant_envelope.h"
+#include "tuning/scenario.h"
 
 namespace scw::cli {
 namespace {
 
 struct VehicleOptions {
   std::string vehicle;
+  std::string track;
+  double brake_bias_front = 0.58;
   std::vector<double> speeds = {10, 20, 30, 40, 50, 60, 70, 80};
   bool csv = false;
   std::string out;
@@ -61,6 +68,128 @@ int Gg(const VehicleOptions& o) {
   return kExitOk;
 }
 
+int Balance(const VehicleOptions& o) {
+  const params::VehicleParams p = LoadVehicle(o.vehicle);
+  for (double v : o.speeds)
+    if (!(v > 0.5 && v < 200.0)) {
+      std::cerr << "error: --speeds: " << v << " m/s is outside (0.5, 200)\n";
+      return kExitBadInput;
+    }
+  const plant::QuasiSteadyModel qs(p);
+  const auto& tf = p.tires.front;
+  const auto& tr = p.tires.rear;
+  const auto mf = plant::PeakFriction(tf.fnomin, 1.0, 1.0, tf);
+  const auto mr = plant::PeakFriction(tr.fnomin, 1.0, 1.0, tr);
+  if (o.csv) {
+    std::cout << "speed_mps,understeer_gradient_mrad_per_mps2,lateral_max_mps2,drive_max_mps2,"
+                 "brake_max_mps2\n";
+    for (double v : o.speeds)
+      std::cout << params::FormatDouble(v) << ','
+                << params::FormatDouble(1e3 * qs.UndersteerGradient(v)) << ','
+                << params::FormatDouble(qs.MaxLateral(v)) << ','
+                << params::FormatDouble(qs.MaxDrive(v, 0.0)) << ','
+                << params::FormatDouble(qs.MaxBrake(v, 0.0)) << '\n';
+    return kExitOk;
+  }
+  char line[200];
+  std::cout << "quasi-steady balance and limits of the plant '" << p.name << "'"
+            << (o.vehicle.empty() ? " (built-in defaults)" : " (" + o.vehicle + ")") << "\n";
+  std::snprintf(line, sizeof line,
+                "tyre friction at nominal load: front mu_x %.3f mu_y %.3f (ratio %.3f), rear "
+                "mu_x %.3f mu_y %.3f (ratio %.3f)\n\n",
+                mf.mu_x, mf.mu_y, mf.mu_x / mf.mu_y, mr.mu_x, mr.mu_y, mr.mu_x / mr.mu_y);
+  std::cout << line;
+  std::snprintf(line, sizeof line,
+                "brake actuator: 63 %% of an 80 bar step after %.0f ms (dead time %.0f ms, lag "
+                "%.0f ms, rate limit %.0f bar/s)\n\n",
+                1e3 * plant::BrakeStepResponseTime(p.brakes, p.simulation.time_step),
+                1e3 * p.brakes.delay, 1e3 * p.brakes.time_constant, p.brakes.rate_limit);
+  std::cout << line
+            << "  speed [m/s]   understeer gradient [mrad/(m/s^2)]   lateral   drive   brake "
+               "[m/s^2]\n";
+  for (double v : o.speeds) {
+    std::snprintf(line, sizeof line, "  %10.1f   %33.2f   %7.2f   %5.2f   %5.2f\n", v,
+                  1e3 * qs.UndersteerGradient(v), qs.MaxLateral(v), qs.MaxDrive(v, 0.0),
+                  qs.MaxBrake(v, 0.0));
+    std::cout << line;
+  }
+  std::cout << "\n  understeer gradient: d(steer)/d(a_y) - l/v^2 at small a_y (> 0 understeers);\n"
+               "  limits: quasi-steady double track with the car's brake bias and differential\n";
+  return kExitOk;
+}
+
+int Envelope(const VehicleOptions& o) {
+  const params::VehicleParams p = LoadVehicle(o.vehicle);
+  const auto rows = tuning::SampleEnvelope(p, o.brake_bias_front, o.speeds);
+  const auto fit = tuning::FitEnvelope(rows);
+  if (o.csv) {
+    std::cout
+        << "speed_mps,ay_max_mps2,level,drive_mps2,brake_mps2,drive_fit_mps2,brake_fit_mps2\n";
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      for (std::size_t j = 0; j < tuning::kEnvelopeLevels.size(); ++j) {
+        const double ay = tuning::kEnvelopeLevels[j] * rows[i].ay_max;
+        const double v = rows[i].speed;
+        std::cout << params::FormatDouble(v) << ',' << params::FormatDouble(rows[i].ay_max) << ','
+                  << params::FormatDouble(tuning::kEnvelopeLevels[j]) << ','
+                  << params::FormatDouble(rows[i].drive[j]) << ','
+                  << params::FormatDouble(rows[i].brake[j]) << ','
+                  << params::FormatDouble(fit.AxDriveMax(v) * fit.DriveFactor(ay, fit.AyMax(v), v))
+                  << ','
+                  << params::FormatDouble(fit.AxBrakeMax(v) * fit.BrakeFactor(ay, fit.AyMax(v), v))
+                  << '\n';
+      }
+    return kExitOk;
+  }
+  std::cout << "combined g-g-v envelope of the plant '" << p.name << "'"
+            << (o.vehicle.empty() ? " (built-in defaults)" : " (" + o.vehicle + ")")
+            << ", brake bias front " << o.brake_bias_front << "\n"
+            << "quasi-steady double track; drive is net of drag, braking includes it [m/s^2];\n"
+            << "columns: the largest drive / brake acceleration at a_y = level x ay_max, and the\n"
+            << "planner's fitted law (peak, exponent p), which lies inside the samples\n\n";
+  char line[256];
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const double v = rows[i].speed;
+    std::snprintf(line, sizeof line,
+                  "v %5.1f m/s  ay_max %5.2f   drive fit %5.2f p %.2f   brake fit %5.2f p %.2f\n",
+                  v, rows[i].ay_max, fit.AxDriveMax(v), fit.DriveExponent(v), fit.AxBrakeMax(v),
+                  fit.BrakeExponent(v));
+    std::cout << line << "   level  ";
+    for (double l : tuning::kEnvelopeLevels) {
+      std::snprintf(line, sizeof line, "%6.2f", l);
+      std::cout << line;
+    }
+    std::cout << "\n   drive  ";
+    for (double d : rows[i].drive) {
+      std::snprintf(line, sizeof line, "%6.2f", d);
+      std::cout << line;
+    }
+    std::cout << "\n   brake  ";
+    for (double d : rows[i].brake) {
+      std::snprintf(line, sizeof line, "%6.2f", d);
+      std::cout << line;
+    }
+    std::cout << "\n";
+  }
+  return kExitOk;
+}
+
+int Lap(const VehicleOptions& o) {
+  std::vector<std::string> sets;
+  if (!o.vehicle.empty()) sets.push_back("vehicle=" + o.vehicle);
+  if (!o.track.empty()) sets.push_back("track=" + o.track);
+  const params::ScenarioParams spec = tuning::DefaultScenario(sets);
+  const tuning::ResolvedScenario sc = tuning::Resolve(spec);
+  char line[200];
+  std::snprintf(line, sizeof line,
+                "minimum-time lap at the plant's full combined limits: %.2f s\n"
+                "(%s, optimal line with %.1f m margin, the plant's own g-g-v envelope; "
+                "scenarios plan at GG x limit_fraction %.2f of it)\n",
+                sc.limit_lap_time, o.track.empty() ? "Yas Marina North" : o.track.c_str(),
+                spec.motion.raceline_margin, spec.limit_fraction);
+  std::cout << line;
+  return kExitOk;
+}
+
 void AddVehicle(CLI::App& app) {
   auto* cmd = app.add_subcommand("vehicle", "Vehicle parameter sets of the plant");
   cmd->require_subcommand(1, 1);
@@ -79,6 +208,44 @@ void AddVehicle(CLI::App& app) {
   gg->add_flag("--csv", o->csv, "CSV output (speed_mps, lateral/braking/traction in m/s^2)");
   gg->callback([o] { SetExitCode(Gg(*o)); });
 
+  auto* bal = cmd->add_subcommand(
+      "balance",
+      "Print the quasi-steady balance (understeer gradient) and the combined-slip limits of the "
+      "plant per speed, and the tyres' friction at nominal load");
+  bal->add_option("--vehicle", o->vehicle,
+                  "Vehicle file (params/vehicles/*.yaml); default: the built-in EAV24 set")
+      ->check(CLI::ExistingFile);
+  bal->add_option("--speeds", o->speeds, "Speeds [m/s] (default 10 20 ... 80)")
+      ->delimiter(',')
+      ->expected(1, -1);
+  bal->add_flag("--csv", o->csv, "CSV output");
+  bal->callback([o] { SetExitCode(Balance(*o)); });
+
+  auto* env = cmd->add_subcommand(
+      "envelope",
+      "Print the plant's combined g-g-v envelope (drive and brake at each lateral level, from "
+      "quasi-steady evaluations of the plant) and the planner's law fitted inside it");
+  env->add_option("--vehicle", o->vehicle,
+                  "Vehicle file (params/vehicles/*.yaml); default: the built-in EAV24 set")
+      ->check(CLI::ExistingFile);
+  env->add_option("--speeds", o->speeds, "Speeds [m/s] (default 10 20 ... 80)")
+      ->delimiter(',')
+      ->expected(1, -1);
+  env->add_option("--brake-bias", o->brake_bias_front, "Front share of the braking force")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  env->add_flag("--csv", o->csv, "CSV output");
+  env->callback([o] { SetExitCode(Envelope(*o)); });
+
+  auto* lap = cmd->add_subcommand(
+      "lap", "Print the minimum-time lap at the plant's full combined limits (default track)");
+  lap->add_option("--vehicle", o->vehicle,
+                  "Vehicle file (params/vehicles/*.yaml); default: the built-in EAV24 set")
+      ->check(CLI::ExistingFile);
+  lap->add_option("--track", o->track, "Track file (.yaml or .csv); default: Yas Marina North")
+      ->check(CLI::ExistingFile);
+  lap->callback([o] { SetExitCode(Lap(*o)); });
+
   auto* init =
       cmd->add_subcommand("init", "Write the built-in vehicle set (EAV24/25 class) as plain YAML");
   init->add_option("-o,--output", o->out, "Output file (e.g. params/vehicles/eav24.yaml)")
@@ -90,9 +257,10 @@ void AddVehicle(CLI::App& app) {
             params::VehicleParams{},
             "EAV24/25-class car (A2RL, Dallara SF23 based): the plant's built-in default set.\n"
             "Public estimates, no validated set exists; every field's source or assumption is in\n"
-            "params/schema/vehicle_params.h. Tyre friction scalings calibrated so the plant "
-            "reaches\n"
-            "29.5 m/s^2 lateral and 29.2 m/s^2 braking at 70 m/s (the paper's real-car maxima).\n"
+            "params/schema/ (vehicle_params.h and the files it includes). Calibrated to public\n"
+            "data: tyre friction to the public EAV g-g-v fit with mu_x >= mu_y (scw vehicle gg),\n"
+            "front cornering stiffness for a positive understeer gradient (scw vehicle balance),\n"
+            "brake delay for a 150 ms total response, LSD.\n"
             "Regenerate: scw vehicle init -o params/vehicles/eav24.yaml"));
     std::cerr << "wrote " << o->out << '\n';
     SetExitCode(kExitOk);

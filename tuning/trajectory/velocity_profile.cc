@@ -10,16 +10,16 @@ namespace scw::tuning {
 namespace {
 
 struct Limits {
-  const plant::GgvLimits& g;
+  const controller::planning::GgvTable& g;
   double scale;
   double AyLimit(double v, double mu) const { return scale * mu * g.AyMax(v); }
   // Largest forward acceleration at speed v on curvature k.
   double Drive(double v, double k, double mu) const {
-    return scale * g.AxDriveMax(v) * g.Combine(v * v * std::abs(k), AyLimit(v, mu));
+    return scale * g.AxDriveMax(v) * g.DriveFactor(v * v * std::abs(k), AyLimit(v, mu), v);
   }
   // Largest deceleration (positive).
   double Brake(double v, double k, double mu) const {
-    return scale * mu * g.AxBrakeMax(v) * g.Combine(v * v * std::abs(k), AyLimit(v, mu));
+    return scale * mu * g.AxBrakeMax(v) * g.BrakeFactor(v * v * std::abs(k), AyLimit(v, mu), v);
   }
 };
 
@@ -87,7 +87,8 @@ TrajectorySample ReferenceTrajectory::At(double sq) const noexcept {
   return r;
 }
 
-ReferenceTrajectory ComputeVelocityProfile(const plant::Track& path, const plant::GgvLimits& limits,
+ReferenceTrajectory ComputeVelocityProfile(const plant::Track& path,
+                                           const controller::planning::GgvTable& limits,
                                            const VelocityProfileOptions& o) {
   limits.Validate("g-g-v limits");
   if (!(o.gg_scale > 0.0) || !(o.v_max > o.v_min) || !(o.v_min > 0.0))
@@ -156,25 +157,25 @@ ReferenceTrajectory ComputeVelocityProfile(const plant::Track& path, const plant
   return r;
 }
 
-plant::GgvLimits RepresentativeGgv() {
-  plant::GgvLimits g;
+controller::planning::GgvTable RepresentativeGgv() {
+  controller::planning::GgvTable g;
   g.speed = {0.0, 10.0, 30.0, 50.0, 70.0, 90.0};
   g.ay_max = {20.0, 20.0, 22.0, 25.0, 28.0, 30.0};
   g.ax_drive_max = {8.0, 8.0, 7.5, 6.0, 4.0, 2.0};
   g.ax_brake_max = {15.0, 15.0, 17.0, 21.0, 26.0, 31.0};
-  g.exponent = 1.6;
+  g.SetExponent(1.6);
   return g;
 }
 
-plant::GgvLimits LoadGgvCsv(const std::string& path, double exponent) {
+controller::planning::GgvTable LoadGgvCsv(const std::string& path, double exponent) {
   const plant::CsvTable t =
       plant::ReadCsvTable(path, {"v_mps", "ay_max_mps2", "ax_drive_max_mps2", "ax_brake_max_mps2"});
-  plant::GgvLimits g;
+  controller::planning::GgvTable g;
   g.speed = *t.Column("v_mps");
   g.ay_max = *t.Column("ay_max_mps2");
   g.ax_drive_max = *t.Column("ax_drive_max_mps2");
   g.ax_brake_max = *t.Column("ax_brake_max_mps2");
-  g.exponent = exponent;
+  g.SetExponent(exponent);
   g.Validate(path);
   return g;
 }

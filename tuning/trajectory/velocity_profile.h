@@ -17,14 +17,14 @@
 // Outputs per node: a_x,i = (v_{i+1}² − v_i²)/(2 ds) (the acceleration of the segment that starts
 // at node i; the last node repeats the first on a closed path), a_y,i = v_i² κ_i, t by
 // Δt = 2 ds/(v_i + v_{i+1}). Lap time = t at the end of the last segment.
-// Drag: GgvLimits' drive limit is net of drag and its braking limit includes it
-// (plant/track/ggv.h), so no extra drag term appears here.
+// Drag: controller::planning::GgvTable' drive limit is net of drag and its braking limit includes
+// it (plant/track/ggv.h), so no extra drag term appears here.
 #pragma once
 
 #include <string>
 #include <vector>
 
-#include "plant/track/ggv.h"
+#include "controller/planning/ggv.h"
 #include "plant/track/track.h"
 
 namespace scw::tuning {
@@ -57,16 +57,17 @@ struct ReferenceTrajectory {
 };
 
 /// Velocity profile on the nodes of `path`. Throws ConfigError if `limits` are invalid.
-ReferenceTrajectory ComputeVelocityProfile(const plant::Track& path, const plant::GgvLimits& limits,
+ReferenceTrajectory ComputeVelocityProfile(const plant::Track& path,
+                                           const controller::planning::GgvTable& limits,
                                            const VelocityProfileOptions& options = {});
 
 /// A representative g-g-v table of the default car (AV-21/EAV class, spec §4.2/§4.4): lateral
 /// limit growing with downforce from 20 to 30 m/s², power-limited drive, braking 15 → 31 m/s²,
 /// p = 1.6. Used by `scw track line` when no table is given and by the tests.
-plant::GgvLimits RepresentativeGgv();
+controller::planning::GgvTable RepresentativeGgv();
 
 /// Reads a g-g-v table CSV with columns v_mps, ay_max_mps2, ax_drive_max_mps2, ax_brake_max_mps2
 /// (header line required); `exponent` sets p. Throws ConfigError naming file, line and column.
-plant::GgvLimits LoadGgvCsv(const std::string& path, double exponent);
+controller::planning::GgvTable LoadGgvCsv(const std::string& path, double exponent);
 
 }  // namespace scw::tuning

@@ -53,16 +53,20 @@ TEST(ClosedLoopTest, RunsAreDeterministic) {
 }
 
 TEST(ClosedLoopTest, EscAndCountersteerLimitSideslipWithReducedRearGrip) {
+  // The paper's study-2 setting: rear lateral grip -20 % in the simulated car only (the planner
+  // plans with the nominal grip), GG 1.2 = 84 % of the nominal limits.
   params::ScenarioParams spec =
-      DefaultScenario({"grip.rear_mu_y=0.8", "gg_scale=1.4", "abort.lock_slip_pct=100", "laps=2"});
+      DefaultScenario({"grip.rear_mu_y=0.8", "plan_with_nominal_grip=true", "gg_scale=1.2",
+                       "abort.lock_slip_pct=100", "laps=2"});
   const ResolvedScenario base = Resolve(spec);
   const RunMetrics none = RunClosedLoop(With(base, false, false, true, true), base.stability);
   const RunMetrics both = RunClosedLoop(With(base, true, true, true, true), base.stability);
   // The paper's observation: without lateral stability control the car spins first.
   EXPECT_EQ(none.status, RunStatus::kSideslip);
-  EXPECT_LT(both.max_abs_sideslip, 0.5 * none.max_abs_sideslip)
+  EXPECT_GT(both.Progress(), none.Progress())
       << "none: " << RunStatusName(none.status) << ", esc+cs: " << RunStatusName(both.status);
-  EXPECT_GT(both.cs_count + both.esc_count, 0);
+  EXPECT_GT(both.cs_count, 0);
+  EXPECT_GT(both.esc_count, 0);
 }
 
 TEST(ClosedLoopTest, SlipControlPreventsWheelLockOnLowGrip) {
@@ -115,7 +119,8 @@ namespace {
 
 TEST(ClosedLoopTest, ControllerLogReplaysTheSimulationExactly) {
   params::ScenarioParams spec =
-      DefaultScenario({"laps=1", "grip.rear_mu_y=0.8", "gg_scale=1.4", "abort.lock_slip_pct=100"});
+      DefaultScenario({"laps=1", "grip.rear_mu_y=0.8", "plan_with_nominal_grip=true",
+                       "gg_scale=1.1", "abort.lock_slip_pct=100"});
   const ResolvedScenario sc = Resolve(spec);
   const std::string path =
       (std::filesystem::temp_directory_path() / "scw_closed_loop_controller_log.csv").string();

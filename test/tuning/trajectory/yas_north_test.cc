@@ -68,7 +68,7 @@ TEST(YasNorth, FollowsThePublicCentreLine) {
     EXPECT_NEAR(r_def / r_pub, 1.0, 0.15) << c.name;
   }
 
-  const GgvLimits ggv = tuning::RepresentativeGgv();
+  const controller::planning::GgvTable ggv = tuning::RepresentativeGgv();
   const double t_pub = tuning::ComputeVelocityProfile(pub, ggv).lap_time;
   const double t_def = tuning::ComputeVelocityProfile(def, ggv).lap_time;
   std::cout << "centre-line lap time: built-in " << t_def << " s, public " << t_pub << " s\n";
