@@ -66,6 +66,8 @@ std::unique_ptr<controller::motion::MotionController> MakeMotionController(
   if (name == "pure_pursuit") {
     controller::motion::PurePursuitOptions ppo;
     ppo.max_curvature_lookahead = sc.spec.motion.max_curvature_lookahead;
+    ppo.esc_target =
+        sc.spec.motion.esc_target == "total" ? cm::EscTarget::kTotal : cm::EscTarget::kFeedback;
     return std::make_unique<controller::motion::PurePursuit>(sc.tracking, sc.path, ppo);
   }
   // The MPCs model the car the planner planned for: the scenario's grip unless the reference was

@@ -58,7 +58,9 @@ MotionOutput PurePursuit::Step(const MotionInput& in, MotionState* base) const n
   double delta = delta_ff + delta_fb + p_.P_VDC_SteeringOvalComp_rad;
   if (!std::isfinite(delta)) delta = 0.0;
   out.steering_request = std::clamp(delta, p_.vehicle.min_angle, p_.vehicle.max_angle);
-  out.ay_request = kappa_pp * v_x * v_x;
+  const double kappa_req =
+      options_.esc_target == EscTarget::kTotal ? std::tan(delta_ff + delta_fb) / l : kappa_pp;
+  out.ay_request = kappa_req * v_x * v_x;
   if (!std::isfinite(out.ay_request)) out.ay_request = 0.0;
   if (!std::isfinite(out.ax_request)) out.ax_request = 0.0;
   return out;

@@ -23,8 +23,18 @@
 
 namespace scw::controller::motion {
 
+/// What pure pursuit publishes as the lateral-acceleration request (the ESC's yaw reference).
+enum class EscTarget {
+  /// κ_PP v² with κ_PP the filtered feedback curvature only: the car's node (spec §6.1 step 12).
+  /// In corners it is about half the real a_y (the feed-forward steering is not in it).
+  kFeedback,
+  /// tan(δ_ff + δ_fb) / l · v²: the total commanded curvature, feed-forward included.
+  kTotal,
+};
+
 struct PurePursuitOptions {
   double max_curvature_lookahead = 20.0;  ///< [m] cap of g_κ/|κ|
+  EscTarget esc_target = EscTarget::kFeedback;
   double projection_window =
       20.0;  ///< [m] local search window of the path matching (the car moves < 1 m per step)
 };

@@ -17,6 +17,7 @@ struct MotionScenario {
   std::string controller = "pure_pursuit";
   std::string params;  ///< "" = built-in
   double max_curvature_lookahead = 20.0;
+  std::string esc_target = "feedback";
   std::string raceline = "optimal";
   double raceline_margin = 2.0;
   LongitudinalParams longitudinal{};
@@ -39,6 +40,15 @@ struct MotionScenario {
              .doc = "Cap of the pure-pursuit curvature lookahead term (the car has none: 4000 m "
                     "on straights).",
              .optional = true});
+    v.Field(s.esc_target,
+            {.key = "esc_target",
+             .doc = "Lateral-acceleration request pure pursuit publishes (the ESC's yaw "
+                    "reference): feedback = the car's node, feedback curvature x v^2 only (about "
+                    "half the real a_y in corners, so ESC's yaw-rate condition holds nearly all "
+                    "the time); total = the total commanded curvature tan(delta_ff + delta_fb)/l "
+                    "x v^2. The MPCs always publish their planned a_y.",
+             .optional = true,
+             .choices = "feedback|total"});
     v.Field(s.raceline,
             {.key = "raceline",
              .doc = "Reference line: optimal (minimum curvature within the track bounds), "

@@ -62,6 +62,31 @@ TEST(PurePursuitTest, FollowsACircleAndConvergesFromAnOffset) {
   EXPECT_LT(std::abs(out.lateral_error), 0.2);
 }
 
+// The default (the car's node) publishes the feedback curvature only: about half of v²/R on a
+// circle with the shipped 50 % feed-forward; the `total` option publishes the whole commanded
+// curvature, ≈ v²/R.
+TEST(PurePursuitTest, EscTargetFeedbackIsAboutHalfAndTotalIsTheWholeLateralAcceleration) {
+  params::TrackingParams p;
+  const double r = 120.0, v = 30.0;
+  double ay[2] = {0.0, 0.0};
+  for (int mode = 0; mode < 2; ++mode) {
+    PurePursuitOptions o;
+    o.esc_target = mode == 0 ? EscTarget::kFeedback : EscTarget::kTotal;
+    PurePursuit pp(p, Circle(r, v), o);
+    auto st = pp.MakeState();
+    Kinematic car{r, 0.0, M_PI / 2, v};
+    MotionOutput out;
+    for (int k = 0; k < 3000; ++k) {
+      MotionInput in{k * 0.01, car.x, car.y, car.psi, car.v, 0, 0, 0, 0, 0};
+      out = pp.Step(in, st.get());
+      car.Step(out.steering_request, out.ax_request, p.vehicle.wheelbase_m, 0.01);
+    }
+    ay[mode] = out.ay_request;
+  }
+  EXPECT_LT(ay[0], 0.7 * v * v / r);
+  EXPECT_NEAR(ay[1], v * v / r, 0.03 * v * v / r);
+}
+
 TEST(PurePursuitTest, SteersTowardsThePathAndRespectsLimits) {
   params::TrackingParams p;
   PurePursuit pp(p, Circle(1000.0, 40.0));
