@@ -122,12 +122,22 @@ GgvTable PlantEnvelope(const params::VehicleParams& v, double brake_bias_front) 
     auto at = [&](double k) { return col[static_cast<std::size_t>(std::lround(k / 10.0)) - 1]; };
     return std::min(at(lo), at(hi));
   };
-  // The pure drive limit steps down at every upshift: the value at each 2 m/s node is the
-  // smallest over its neighbourhood (0.5 m/s samples), so the interpolation never exceeds it.
+  // The pure drive limit steps down at every upshift: the value at each 2 m/s node is at most the
+  // smallest engine-limited acceleration over its neighbourhood (0.5 m/s samples of the engine's
+  // full-load force less drag and rolling resistance), so the interpolation never exceeds it.
+  const auto& veh = ideal;
+  auto engine_accel = [&](double x) {
+    const double down = 0.5 * veh.aero.air_density *
+                        (veh.aero.downforce_area_front + veh.aero.downforce_area_rear) * x * x;
+    const double resist =
+        0.5 * veh.aero.air_density * veh.aero.drag_area * x * x +
+        veh.wheels.rolling_resistance * (veh.chassis.mass * veh.chassis.gravity + down);
+    return (qs.MaxEngineForce(x) - resist) / veh.chassis.mass;
+  };
   auto pure_drive_min = [&](double sp) {
     double d = qs.MaxDrive(sp, 0.0);
     for (double x = sp - 2.0; x <= sp + 2.0 + 1e-9; x += 0.5)
-      if (x >= 5.0) d = std::min(d, qs.MaxDrive(x, 0.0));
+      if (x >= 5.0) d = std::min(d, std::max(0.0, engine_accel(x)));
     return d;
   };
   for (double sp = 10.0; sp <= 90.0 + 1e-9; sp += 2.0) {
