@@ -125,4 +125,55 @@ std::string ComparisonCsv(const std::string& group, const BatchEvaluator& ev,
   return out;
 }
 
+namespace {
+std::string Count(int n, const char* what) {
+  return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
+}
+}  // namespace
+
+std::string TunedFileHeader(const TuneProvenance& p, bool overrides) {
+  std::string out = "Tuned by scw tune " + p.tool_version + " (git " + p.git_revision + ") on " +
+                    p.date_utc + "\n";
+  out += "run folder: " + p.run_folder + "\n";
+  out += "base: " + p.base + "\n";
+  out += "search: " + p.algorithm + ", seed " + std::to_string(p.seed) + ", " +
+         Count(p.evaluations, "evaluation") + " (stop: " + p.stop_reason + "); space " + p.space +
+         ", " + Count(p.dimensions, "dimension") + "\n";
+  for (const auto& g : p.grown) out += "  range grown to include the base: " + g + "\n";
+  out += "cost (lower is better): base -> tuned\n";
+  out += "  training (" + Count(p.training_scenarios, "scenario") +
+         "): " + Fixed(p.training_before, 3) + " -> " + Fixed(p.training_after, 3) + "\n";
+  if (p.held_out_scenarios > 0)
+    out += "  held-out (" + Count(p.held_out_scenarios, "scenario") +
+           ", not used for tuning): " + Fixed(p.held_out_before, 3) + " -> " +
+           Fixed(p.held_out_after, 3) + "\n";
+  if (p.changed.empty()) {
+    out += "changed keys: none (the tuned set equals the base)\n";
+  } else {
+    out += "changed keys (" + std::to_string(p.changed.size()) + "):";
+    std::string line;
+    for (std::size_t i = 0; i < p.changed.size(); ++i) {
+      const std::string item = " " + p.changed[i] + (i + 1 < p.changed.size() ? "," : "");
+      if (!line.empty() && line.size() + item.size() > 90) {
+        out += line + "\n ";
+        line.clear();
+      }
+      line += item;
+    }
+    out += line + "\n";
+  }
+  out +=
+      "Tuned values are rounded to their schema resolution (within one step of the base: the base "
+      "value);\nevery other key is the base value.\n";
+  if (overrides)
+    out +=
+        "Overrides only: load AFTER the base file (later params files win), e.g.\n"
+        "  --ros-args --params-file base.yaml --params-file stability_overrides.yaml";
+  else
+    out +=
+        "Complete params file: load it INSTEAD of the base file, e.g.\n"
+        "  --ros-args --params-file stability_tuned.yaml";
+  return out;
+}
+
 }  // namespace scw::tuning

@@ -15,7 +15,8 @@ std::string EscapeCell(std::string_view s);
 const char* ScaleName(Scale s);
 }  // namespace detail
 
-/// One row per field: key, type, unit, default, bounds, tuning scale, required, description.
+/// One row per field: key, type, unit, default, bounds, tuning scale (with the resolution of tuned
+/// values, "log, step 0.01"), required, description.
 template <class P>
 std::string MarkdownTable(const P& defaults = P{}) {
   std::string out =
@@ -34,9 +35,11 @@ std::string MarkdownTable(const P& defaults = P{}) {
       bounds = detail::BoundsText(m.lo, m.hi);
     out += "| `" + path + "` | " + type + " | " + detail::EscapeCell(m.unit) + " | `" +
            detail::EscapeCell(detail::RenderValue(value)) + "` | " + bounds + " | " +
-           detail::ScaleName(m.scale) + " | " +
-           (m.optional ? (m.workspace_only ? "no (workspace only)" : "no") : "yes") + " | " +
-           detail::EscapeCell(m.doc) + " |\n";
+           detail::ScaleName(m.scale) +
+           (m.scale != Scale::kFixed && m.resolution > 0 ? ", step " + FormatNumber(m.resolution)
+                                                         : std::string()) +
+           " | " + (m.optional ? (m.workspace_only ? "no (workspace only)" : "no") : "yes") +
+           " | " + detail::EscapeCell(m.doc) + " |\n";
   });
   return out;
 }

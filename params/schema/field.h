@@ -101,6 +101,11 @@ struct Meta {
   double hi = std::numeric_limits<double>::infinity();   ///< inclusive upper bound (each element)
   std::string_view doc = "";
   Scale scale = Scale::kFixed;
+  /// Tunable fields (scale not kFixed): the smallest change that matters on the car, in `unit`
+  /// (e.g. 0.001 rad, 0.01 bar, 0.1 % slip); 0 = none. A tuned value is exported as a multiple of
+  /// it (RoundToResolution), and a tuned value within one step of the base value as the base value
+  /// itself, so the overrides file lists only real changes (tuning/optim/space.h).
+  double resolution = 0.0;
   bool optional = false;          ///< may be absent from a file; the in-class default is then kept
   int min_size = 1;               ///< arrays: minimum number of elements
   bool ascending = false;         ///< arrays: strictly ascending elements required
@@ -164,6 +169,29 @@ inline std::string FormatNumber(double x) {
   char buf[64];
   auto res = std::to_chars(buf, buf + sizeof(buf), x);
   return std::string(buf, res.ptr);
+}
+
+/// The value `steps` × r of a resolution grid, computed so that its shortest text is the decimal
+/// one: for r = 1/k (0.1, 0.001, 0.05 …) as steps / k, a single correctly rounded division
+/// (3 × 0.1 = 0.30000000000000004, 3 / 10 = 0.3); otherwise (r = 1, 10, 2.5 …) as steps × r, exact
+/// for whole numbers of steps.
+inline double ResolutionGridValue(double steps, double r) {
+  const double k = std::round(1.0 / r);
+  const double v = r < 1.0 && k >= 2.0 && std::abs(k * r - 1.0) < 1e-12 ? steps / k : steps * r;
+  return v + 0.0;  // no -0.0
+}
+
+/// x / r for the grid of ResolutionGridValue (x · k for r = 1/k: one rounding instead of two).
+inline double ResolutionSteps(double x, double r) {
+  const double k = std::round(1.0 / r);
+  return r < 1.0 && k >= 2.0 && std::abs(k * r - 1.0) < 1e-12 ? x * k : x / r;
+}
+
+/// The multiple of `r` nearest to `x` (halves away from zero); `x` itself when r <= 0 or x is not
+/// finite. RoundToResolution(0.6000000000000002, 0.001) == 0.6.
+inline double RoundToResolution(double x, double r) {
+  if (!(r > 0.0) || !std::isfinite(x)) return x;
+  return ResolutionGridValue(std::round(ResolutionSteps(x, r)), r);
 }
 
 namespace detail {

@@ -66,20 +66,23 @@ struct ShiftPressureReduction {
              .lo = 0.0,
              .hi = 1.0,
              .doc = "Multiplier on the rear brake pressures inside the gear-shift window.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.01});
     v.Field(s.duration_pressure_reduction, {.key = "duration_pressure_reduction",
                                             .unit = "s",
                                             .lo = 0.0,
                                             .hi = 2.0,
                                             .doc = "Length of the rear pressure-reduction window.",
-                                            .scale = Scale::kLinear});
+                                            .scale = Scale::kLinear,
+                                            .resolution = 0.01});
     v.Field(s.duration_gearshift_initiation,
             {.key = "duration_gearshift_initiation",
              .unit = "s",
              .lo = 0.0,
              .hi = 2.0,
              .doc = "Delay from a gear-request change to the start of the window.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.01});
   }
 };
 
@@ -107,13 +110,15 @@ struct AbsAxleParams {
              .hi = 1.0,
              .doc = "Pressure ratio ε set at activation (pressure drops at once to about "
                     "0.9·ε·p_latched) and cap on re-entry to Reduce.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.01});
     v.Field(s.increase_initial_pressure_ratio, {.key = "increase_initial_pressure_ratio",
                                                 .unit = "-",
                                                 .lo = 0.0,
                                                 .hi = 1.0,
                                                 .doc = "Minimum ε on entering Increase.",
-                                                .scale = Scale::kLinear});
+                                                .scale = Scale::kLinear,
+                                                .resolution = 0.01});
     v.Field(s.reduce_step,
             {.key = "reduce_step",
              .unit = "1/step",
@@ -121,13 +126,15 @@ struct AbsAxleParams {
              .hi = 1.0,
              .doc = "ε decrement per control step in Reduce, multiplied by the normalised slip "
                     "error e ∈ [0.1, 1].",
-             .scale = Scale::kLog});
+             .scale = Scale::kLog,
+             .resolution = 0.001});
     v.Field(s.increase_step, {.key = "increase_step",
                               .unit = "1/step",
                               .lo = 0.0,
                               .hi = 1.0,
                               .doc = "ε increment per control step in Increase while ε < 1.",
-                              .scale = Scale::kLog});
+                              .scale = Scale::kLog,
+                              .resolution = 0.001});
     v.Field(s.increase_step_target_increase,
             {.key = "increase_step_target_increase",
              .unit = "1/step",
@@ -135,7 +142,8 @@ struct AbsAxleParams {
              .hi = 1.0,
              .doc = "ε increment per step above 1 (target increase: lets the output follow a "
                     "rising request while latched; the output never exceeds the request).",
-             .scale = Scale::kLog});
+             .scale = Scale::kLog,
+             .resolution = 0.001});
     v.Field(s.slip_threshold_hold_reduce,
             {.key = "slip_threshold_hold_reduce",
              .unit = "%",
@@ -143,34 +151,39 @@ struct AbsAxleParams {
              .hi = 0.0,
              .doc = "λ_hr: activation threshold, Hold→Reduce and Increase→Reduce threshold and "
                     "reference of the slip error. Scaled by the slip-angle factor r.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.1});
     v.Field(s.slip_threshold_reduce_hold, {.key = "slip_threshold_reduce_hold",
                                            .unit = "%",
                                            .lo = -100.0,
                                            .hi = 0.0,
                                            .doc = "λ_rh: Reduce→Hold when slip recovers above it.",
-                                           .scale = Scale::kLinear});
+                                           .scale = Scale::kLinear,
+                                           .resolution = 0.1});
     v.Field(s.slip_threshold_hold_increase,
             {.key = "slip_threshold_hold_increase",
              .unit = "%",
              .lo = -100.0,
              .hi = 0.0,
              .doc = "λ_hi: Hold/Reduce→Increase when slip is above it and rising.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.1});
     v.Field(s.slip_threshold_increase_hold,
             {.key = "slip_threshold_increase_hold",
              .unit = "%",
              .lo = -100.0,
              .hi = 0.0,
              .doc = "λ_ih: Increase→Hold when slip falls below it (and below safe).",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.1});
     v.Field(s.slip_threshold_safe,
             {.key = "slip_threshold_safe",
              .unit = "%",
              .lo = -100.0,
              .hi = 0.0,
              .doc = "λ_safe: slip considered safe; above it Increase may raise ε beyond 1.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.1});
     v.Field(s.fx_safety_threshold_factor,
             {.key = "fx_safety_threshold_factor",
              .unit = "-",
@@ -178,7 +191,8 @@ struct AbsAxleParams {
              .hi = 1.0,
              .doc = "Safety limiter: minimum fraction of the requested braking force ABS keeps "
                     "(moving averages over moving_average_fx_window_length steps).",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.01});
   }
   static void CrossCheck(const AbsAxleParams& p, Problems& pr) {
     if (!(p.slip_threshold_hold_increase <= p.slip_threshold_increase_hold))
@@ -226,7 +240,8 @@ struct AbsParams {
                                         .lo = 0.0,
                                         .hi = 50.0,
                                         .doc = "ABS allowed only for v_x above this speed.",
-                                        .scale = Scale::kLinear});
+                                        .scale = Scale::kLinear,
+                                        .resolution = 0.1});
     v.Field(s.min_long_force,
             {.key = "min_long_force",
              .unit = "N",
@@ -234,14 +249,16 @@ struct AbsParams {
              .hi = 0.0,
              .doc = "Braking-request gate F_min: ABS arms when the requested force long_fx < "
                     "F_min − 100 N and disarms above F_min (ESC-triggered ABS bypasses it).",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 10.0});
     v.Field(s.activation_time_after_gearshift,
             {.key = "activation_time_after_gearshift",
              .unit = "s",
              .lo = 0.0,
              .hi = 5.0,
              .doc = "Rear-wheel ABS is blocked for this time after an engaged-gear change.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.01});
     v.Field(s.slip_vertical_load_weighted,
             {.key = "slip_vertical_load_weighted",
              .doc = "Use the per-axle vertical-load-weighted slip instead of wheel slips."});
@@ -255,7 +272,8 @@ struct AbsParams {
                                .lo = 1e-6,
                                .hi = 0.5,
                                .doc = "|slip angle| at which the threshold scaling saturates.",
-                               .scale = Scale::kLinear});
+                               .scale = Scale::kLinear,
+                               .resolution = 0.001});
     v.Field(s.slip_threshold_reduction_factor,
             {.key = "slip_threshold_reduction_factor",
              .unit = "-",
@@ -263,7 +281,8 @@ struct AbsParams {
              .hi = 1.0,
              .doc = "Maximum relative reduction of all slip thresholds at slip_angle_max "
                     "(r = 1 − clamp(|α|/α_max, 0, 1)·factor).",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.01});
     v.Field(s.moving_average_fx_window_length,
             {.key = "moving_average_fx_window_length",
              .unit = "samples",
@@ -297,39 +316,45 @@ struct TcAxleParams {
              .hi = 1.0,
              .doc = "Retained fraction ε of the requested drive force at activation (lower ε → "
                     "more brake pressure on the driven wheels).",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.01});
     v.Field(s.reduce_step, {.key = "reduce_step",
                             .unit = "1/step",
                             .lo = 0.0,
                             .hi = 1.0,
                             .doc = "ε decrement per step in Reduce (× normalised slip error).",
-                            .scale = Scale::kLog});
+                            .scale = Scale::kLog,
+                            .resolution = 0.001});
     v.Field(s.increase_step, {.key = "increase_step",
                               .unit = "1/step",
                               .lo = 0.0,
                               .hi = 1.0,
                               .doc = "ε increment per step in Increase.",
-                              .scale = Scale::kLog});
+                              .scale = Scale::kLog,
+                              .resolution = 0.001});
     v.Field(s.slip_threshold_reduce_hold,
             {.key = "slip_threshold_reduce_hold",
              .unit = "%",
              .lo = 0.0,
              .hi = 100.0,
              .doc = "λ_rh: Reduce→Hold when filtered slip falls below it.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.1});
     v.Field(s.slip_threshold_hold_increase,
             {.key = "slip_threshold_hold_increase",
              .unit = "%",
              .lo = 0.0,
              .hi = 100.0,
              .doc = "λ_hi: Hold/Reduce→Increase when filtered slip is at or below it and falling.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.1});
     v.Field(s.slip_threshold_increase_hold, {.key = "slip_threshold_increase_hold",
                                              .unit = "%",
                                              .lo = 0.0,
                                              .hi = 100.0,
                                              .doc = "λ_ih: Increase→Hold threshold.",
-                                             .scale = Scale::kLinear});
+                                             .scale = Scale::kLinear,
+                                             .resolution = 0.1});
     v.Field(s.slip_threshold_hold_reduce,
             {.key = "slip_threshold_hold_reduce",
              .unit = "%",
@@ -337,13 +362,15 @@ struct TcAxleParams {
              .hi = 100.0,
              .doc = "λ_hr: activation threshold and Hold→Reduce threshold; also restarts the "
                     "deactivation timer.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.1});
     v.Field(s.slip_threshold_safe, {.key = "slip_threshold_safe",
                                     .unit = "%",
                                     .lo = 0.0,
                                     .hi = 100.0,
                                     .doc = "λ_safe: Increase→Hold needs the slip above it.",
-                                    .scale = Scale::kLinear});
+                                    .scale = Scale::kLinear,
+                                    .resolution = 0.1});
   }
   /// Ordering rules; reported with `prefix` ("rear." / "front.").
   static void CheckOrdering(const TcAxleParams& p, const std::string& prefix, Problems& pr) {
@@ -398,14 +425,16 @@ struct TcParams {
                                         .lo = 0.0,
                                         .hi = 50.0,
                                         .doc = "TC allowed only for v_x above this speed.",
-                                        .scale = Scale::kLinear});
+                                        .scale = Scale::kLinear,
+                                        .resolution = 0.1});
     v.Field(s.activation_time_after_gearshift,
             {.key = "activation_time_after_gearshift",
              .unit = "s",
              .lo = 0.0,
              .hi = 5.0,
              .doc = "Rear-wheel TC is blocked for this time after an engaged-gear change.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.01});
     v.Field(s.deactivation_duration,
             {.key = "deactivation_duration",
              .unit = "s",
@@ -413,7 +442,8 @@ struct TcParams {
              .hi = 10.0,
              .doc = "TC deactivates this long after the filtered slip last reached the "
                     "activation threshold (simulation time).",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.01});
     v.Field(s.use_virtual_slips, {.key = "use_virtual_slips",
                                   .doc = "Use engine-speed based (virtual) rear wheel slips."});
     v.Field(s.use_error_in_increase,
@@ -428,27 +458,31 @@ struct TcParams {
              .lo = 0.0,
              .hi = 1.0,
              .doc = "Discrete low-pass POLE on the TC slip (0.8 ↔ τ ≈ 45 ms at 100 Hz).",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.001});
     v.Field(s.max_slip_throttle_cut,
             {.key = "max_slip_throttle_cut",
              .unit = "%",
              .lo = 0.0,
              .hi = 100.0,
              .doc = "Throttle forced to 0 while the largest TC-input slip exceeds this value.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.1});
     v.Field(s.slip_threshold_reduction_factor,
             {.key = "slip_threshold_reduction_factor",
              .unit = "-",
              .lo = 0.0,
              .hi = 1.0,
              .doc = "Maximum relative reduction of all TC slip thresholds at slip_angle_max.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.01});
     v.Field(s.slip_angle_max, {.key = "slip_angle_max",
                                .unit = "rad",
                                .lo = 1e-6,
                                .hi = 0.5,
                                .doc = "|slip angle| at which the TC threshold scaling saturates.",
-                               .scale = Scale::kLinear});
+                               .scale = Scale::kLinear,
+                               .resolution = 0.001});
     v.Nested("rear", s.rear);
     v.Nested("front", s.front, /*optional=*/true);
   }
@@ -475,7 +509,8 @@ struct SlipControlParams {
              .hi = 1.0,
              .doc = "Discrete low-pass POLE on the wheel slip angles used for threshold scaling "
                     "(0.7 ↔ τ ≈ 28 ms at 100 Hz).",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.001});
     v.Nested("shift_pressure_reduction", s.shift_pressure_reduction);
     v.Nested("ABS", s.ABS);
     v.Nested("TC", s.TC);
@@ -521,51 +556,59 @@ struct EscParams {
              .hi = 1.0,
              .doc = "Discrete low-pass POLE (not a time) on the yaw-rate error (0.92 ↔ τ ≈ "
                     "120 ms at 100 Hz).",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.001});
     v.Field(s.kp_psi_dot, {.key = "kp_psi_dot",
                            .unit = "1/s",
                            .lo = 0.0,
                            .hi = 1000.0,
                            .doc = "Yaw-rate P gain (× I_z gives N·m per rad/s).",
-                           .scale = Scale::kLog});
+                           .scale = Scale::kLog,
+                           .resolution = 0.01});
     v.Field(s.ki_psi_dot, {.key = "ki_psi_dot",
                            .unit = "1/s^2",
                            .lo = 0.0,
                            .hi = 1000.0,
                            .doc = "Yaw-rate I gain (conditional integration, reset while "
                                   "inactive).",
-                           .scale = Scale::kLog});
+                           .scale = Scale::kLog,
+                           .resolution = 0.001});
     v.Field(s.kd_psi_dot, {.key = "kd_psi_dot",
                            .unit = "-",
                            .lo = 0.0,
                            .hi = 100.0,
                            .doc = "Yaw-rate D gain (difference quotient, no extra filter).",
-                           .scale = Scale::kLog});
+                           .scale = Scale::kLog,
+                           .resolution = 0.001});
     v.Field(s.tS_beta, {.key = "tS_beta",
                         .unit = "- (pole)",
                         .lo = 0.0,
                         .hi = 1.0,
                         .doc = "Discrete low-pass POLE (not a time) on the sideslip error (0.9 "
                                "↔ τ ≈ 95 ms at 100 Hz).",
-                        .scale = Scale::kLinear});
+                        .scale = Scale::kLinear,
+                        .resolution = 0.001});
     v.Field(s.kp_beta, {.key = "kp_beta",
                         .unit = "1/s^2",
                         .lo = 0.0,
                         .hi = 1000.0,
                         .doc = "Sideslip P gain.",
-                        .scale = Scale::kLog});
+                        .scale = Scale::kLog,
+                        .resolution = 0.01});
     v.Field(s.ki_beta, {.key = "ki_beta",
                         .unit = "1/s^3",
                         .lo = 0.0,
                         .hi = 1000.0,
                         .doc = "Sideslip I gain.",
-                        .scale = Scale::kLog});
+                        .scale = Scale::kLog,
+                        .resolution = 0.01});
     v.Field(s.kd_beta, {.key = "kd_beta",
                         .unit = "1/s",
                         .lo = 0.0,
                         .hi = 100.0,
                         .doc = "Sideslip D gain.",
-                        .scale = Scale::kLog});
+                        .scale = Scale::kLog,
+                        .resolution = 0.001});
     v.Field(s.max_integrator_yaw_moment,
             {.key = "max_integrator_yaw_moment",
              .unit = "rad/s^2",
@@ -575,7 +618,8 @@ struct EscParams {
                     "(yaw acceleration) before multiplication by I_z — despite the name not a "
                     "moment: 1325 rad/s² × 1000 kg·m² ≈ 1.3 MN·m, i.e. effectively no "
                     "anti-windup.",
-             .scale = Scale::kLog});
+             .scale = Scale::kLog,
+             .resolution = 1.0});
     v.Field(s.threshold_velocities,
             {.key = "threshold_velocities",
              .unit = "m/s",
@@ -583,6 +627,7 @@ struct EscParams {
              .hi = 150.0,
              .doc = "Speed breakpoints of the activation thresholds (ascending; thresholds are "
                     "linearly EXTRAPOLATED outside, as on the car).",
+             .resolution = 0.1,
              .min_size = 2,
              .ascending = true});
     v.Field(s.beta_threshold_activate, {.key = "beta_threshold_activate",
@@ -591,6 +636,7 @@ struct EscParams {
                                         .hi = 1.0,
                                         .doc = "|β| activation threshold at each breakpoint.",
                                         .scale = Scale::kLinear,
+                                        .resolution = 0.001,
                                         .min_size = 2});
     v.Field(s.beta_threshold_deactivate,
             {.key = "beta_threshold_deactivate",
@@ -598,7 +644,8 @@ struct EscParams {
              .lo = 0.0,
              .hi = 1.0,
              .doc = "|β| deactivation threshold (all three deactivation conditions must hold).",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.001});
     v.Field(s.psi_dot_error_threshold_activate,
             {.key = "psi_dot_error_threshold_activate",
              .unit = "rad/s",
@@ -606,6 +653,7 @@ struct EscParams {
              .hi = 2.0,
              .doc = "|filtered yaw-rate error| activation threshold at each breakpoint.",
              .scale = Scale::kLinear,
+             .resolution = 0.001,
              .min_size = 2});
     v.Field(s.psi_dot_error_threshold_deactivate,
             {.key = "psi_dot_error_threshold_deactivate",
@@ -613,7 +661,8 @@ struct EscParams {
              .lo = 0.0,
              .hi = 2.0,
              .doc = "|filtered yaw-rate error| deactivation threshold.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.001});
     v.Field(s.beta_error_threshold_activate,
             {.key = "beta_error_threshold_activate",
              .unit = "rad",
@@ -621,6 +670,7 @@ struct EscParams {
              .hi = 1.0,
              .doc = "|filtered sideslip error| activation threshold at each breakpoint.",
              .scale = Scale::kLinear,
+             .resolution = 0.001,
              .min_size = 2});
     v.Field(s.beta_error_threshold_deactivate,
             {.key = "beta_error_threshold_deactivate",
@@ -628,14 +678,16 @@ struct EscParams {
              .lo = 0.0,
              .hi = 1.0,
              .doc = "|filtered sideslip error| deactivation threshold.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.001});
     v.Field(s.min_activation_velocity,
             {.key = "min_activation_velocity",
              .unit = "m/s",
              .lo = 0.0,
              .hi = 100.0,
              .doc = "Speed gate: activation needs v > this, v < this deactivates.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.1});
   }
   static void CrossCheck(const EscParams& p, Problems& pr) {
     const auto n = p.threshold_velocities.size();
@@ -669,19 +721,22 @@ struct CountersteerParams {
              .hi = 10.0,
              .doc = "TIME CONSTANT (here really a time) of the low-pass on the load-weighted "
                     "axle slip angles (0.15 s ↔ pole 0.9355 at 100 Hz).",
-             .scale = Scale::kLog});
+             .scale = Scale::kLog,
+             .resolution = 0.001});
     v.Field(s.enable_sideslip, {.key = "enable_sideslip",
                                 .unit = "rad",
                                 .lo = 0.0,
                                 .hi = 0.5,
                                 .doc = "Minimum |filtered rear axle slip angle| for a correction.",
-                                .scale = Scale::kLinear});
+                                .scale = Scale::kLinear,
+                                .resolution = 0.0001});
     v.Field(s.steering_factor, {.key = "steering_factor",
                                 .unit = "-",
                                 .lo = 0.0,
                                 .hi = 5.0,
                                 .doc = "Gain k in δ_out = δ_req − k·(ᾱ_r − ᾱ_f).",
-                                .scale = Scale::kLinear});
+                                .scale = Scale::kLinear,
+                                .resolution = 0.01});
   }
 };
 
@@ -1022,7 +1077,8 @@ struct StabilityParams {
              .hi = 30.0,
              .doc = "v_min of the low-speed slip fade: slips are 0 below v_min − 2 and fully "
                     "weighted from v_min.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.1});
     v.Field(s.P_VDC_brake_bias_front,
             {.key = "P_VDC_brake_bias_front",
              .unit = "-",
@@ -1041,6 +1097,7 @@ struct StabilityParams {
              .hi = 5e6,
              .doc = "Front axle cornering stiffness of the ESC single-track reference model.",
              .scale = Scale::kLog,
+             .resolution = 100.0,
              .optional = true});
     v.Field(s.tire_stiffness_rear,
             {.key = "tire_stiffness_rear",
@@ -1049,6 +1106,7 @@ struct StabilityParams {
              .hi = 5e6,
              .doc = "Rear axle cornering stiffness of the ESC single-track reference model.",
              .scale = Scale::kLog,
+             .resolution = 100.0,
              .optional = true});
     v.Nested("vehicle", s.vehicle, true);
     v.Nested("tires", s.tires, true);

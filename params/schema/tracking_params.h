@@ -64,39 +64,45 @@ struct TrackingParams {
              .lo = 0.0,
              .hi = 2.0,
              .doc = "Preview time of the longitudinal matching point (target speed and a_x).",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.01});
     v.Field(s.velocity_p_gain, {.key = "velocity_p_gain",
                                 .unit = "1/s",
                                 .lo = 0.0,
                                 .hi = 50.0,
                                 .doc = "a_x correction per m/s of filtered speed error.",
-                                .scale = Scale::kLinear});
+                                .scale = Scale::kLinear,
+                                .resolution = 0.01});
     v.Field(s.vel_error_filter_time_constant,
             {.key = "vel_error_filter_time_constant",
              .unit = "s",
              .lo = 1e-6,
              .hi = 10.0,
              .doc = "Time constant of the Tustin first-order lag on the speed error.",
-             .scale = Scale::kLog});
+             .scale = Scale::kLog,
+             .resolution = 0.001});
     v.Field(s.lookahead_time_lat_ff_s, {.key = "lookahead_time_lat_ff_s",
                                         .unit = "s",
                                         .lo = 0.0,
                                         .hi = 2.0,
                                         .doc = "Preview time of the curvature feed-forward.",
-                                        .scale = Scale::kLinear});
+                                        .scale = Scale::kLinear,
+                                        .resolution = 0.01});
     v.Field(s.lookahead_time_lat_s,
             {.key = "lookahead_time_lat_s",
              .unit = "s",
              .lo = 0.0,
              .hi = 5.0,
              .doc = "Speed-proportional part of the pure-pursuit lookahead distance.",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.01});
     v.Field(s.min_lookahead_distance_lat_m, {.key = "min_lookahead_distance_lat_m",
                                              .unit = "m",
                                              .lo = 0.0,
                                              .hi = 100.0,
                                              .doc = "Constant part of the lookahead distance.",
-                                             .scale = Scale::kLinear});
+                                             .scale = Scale::kLinear,
+                                             .resolution = 0.01});
     v.Field(s.curvature_lookahead_gain,
             {.key = "curvature_lookahead_gain",
              .unit = "-",
@@ -104,7 +110,8 @@ struct TrackingParams {
              .hi = 1.0,
              .doc = "Extra lookahead = gain × turn radius (grows without bound on straights on "
                     "the car; the workspace caps it, see the motion-controller options).",
-             .scale = Scale::kLinear});
+             .scale = Scale::kLinear,
+             .resolution = 0.000001});
     v.Field(s.curvature_filter_Ts,
             {.key = "curvature_filter_Ts",
              .unit = "s",
@@ -112,13 +119,15 @@ struct TrackingParams {
              .hi = 10.0,
              .doc = "TIME CONSTANT of the low-pass on the pure-pursuit curvature (0.005 s ↔ "
                     "pole 0.135 at 100 Hz).",
-             .scale = Scale::kLog});
+             .scale = Scale::kLog,
+             .resolution = 0.001});
     v.Field(s.enable_lat_feedforward_perc, {.key = "enable_lat_feedforward_perc",
                                             .unit = "-",
                                             .lo = 0.0,
                                             .hi = 1.0,
                                             .doc = "Weight of the curvature feed-forward steering.",
-                                            .scale = Scale::kLinear});
+                                            .scale = Scale::kLinear,
+                                            .resolution = 0.01});
     v.Field(s.P_VDC_SteeringOvalComp_rad, {.key = "P_VDC_SteeringOvalComp_rad",
                                            .unit = "rad",
                                            .lo = -0.2,

@@ -35,6 +35,7 @@ extern "C" void OnSigint(int) { g_stop = true; }
 
 struct TuneOptions {
   std::string space, scenarios, base, algorithm = "crs2+sbplx", out, resume, node;
+  std::string base_outside = "grow";
   int max_evals = 180;
   double max_time = 170.0;
   int threads = 0;
@@ -83,6 +84,15 @@ tuning::ScenarioSet LoadSet(const std::string& path) {
   return path.empty() ? tuning::ScenarioSet::Default() : tuning::ScenarioSet::FromFile(path);
 }
 
+std::string UtcNow() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof(buf), "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
 void CheckExport(const std::string& text, bool complete, const std::string& path) {
   params::CheckOptions co;
   co.node_key = params::kStabilityNodeKey;
@@ -101,14 +111,26 @@ int RunTune(const TuneOptions& o) {
     std::cout << set.ToYaml();
     return kExitOk;
   }
-  const tuning::ParameterSpace space = o.space.empty() ? tuning::ParameterSpace::Default()
-                                                       : tuning::ParameterSpace::FromFile(o.space);
+  const tuning::ParameterSpace loaded = o.space.empty() ? tuning::ParameterSpace::Default()
+                                                        : tuning::ParameterSpace::FromFile(o.space);
   std::set<std::string> present;
   const params::StabilityParams base = LoadBase(o.base, &present);
+  // The base must be exactly representable (evaluation 0 = the base set, keys the tuner leaves
+  // alone stay the base values): grow ranges that do not contain it, or refuse.
+  std::vector<std::string> grown;
+  const tuning::ParameterSpace space =
+      loaded.WithBase(base,
+                      o.base_outside == "refuse" ? tuning::BaseOutsideSpace::kRefuse
+                                                 : tuning::BaseOutsideSpace::kGrow,
+                      &grown);
+  const auto u0 = space.Encode(base);
+  if (!params::DifferingKeys(space.Decode(u0, base, nullptr), base).empty())
+    throw std::runtime_error("internal error: the start point does not decode to the base set");
   const std::string dir = FreshRunFolder(o.out);
   std::cerr << "scw tune: " << space.size() << " parameters, " << set.training.size()
             << " training and " << set.held_out.size() << " held-out scenarios; output in " << dir
             << "\n";
+  for (const auto& g : grown) std::cerr << "  note: " << g << "\n";
 
   const auto training =
       tuning::BatchEvaluator::FromEntries(set.training, set.base_dir, set.cost, o.threads);
@@ -172,7 +194,6 @@ int RunTune(const TuneOptions& o) {
     };
   g_stop = false;
   auto previous = std::signal(SIGINT, OnSigint);
-  const auto u0 = space.Encode(base);
   tuning::TuneResult r;
   try {
     r = tuning::Tune(u0, objective, to);
@@ -187,23 +208,27 @@ int RunTune(const TuneOptions& o) {
             << " at evaluation " << r.best_eval << "\n";
 
   // Result: baseline (the starting set itself) vs tuned, on training and held-out scenarios.
+  // The decoded set is already quantised to the schema resolutions: it is exactly what is exported.
   Problems pr;
   const params::StabilityParams tuned = space.Decode(r.best_u, base, &pr);
   if (!pr.empty())
     throw std::runtime_error("internal error: the best point decodes to an invalid set");
+  const std::set<std::string> changed = params::DifferingKeys(tuned, base);
   const std::vector<std::string> labels = {"baseline", "tuned"};
-  const auto train_res = training.Evaluate(std::vector<params::StabilityParams>{base, tuned});
+  const std::vector<params::StabilityParams> both = {base, tuned};
+  const auto train_res = training.Evaluate(both);
   std::string md =
       "# scw tune: comparison\n\nbaseline = " +
       (o.base.empty() ? std::string("the car's shipped parameters (built-in)") : o.base) +
       "; tuned = best of " + std::to_string(r.evals) + " evaluations (" + o.algorithm + ", seed " +
-      std::to_string(o.seed) + ")\n\n";
+      std::to_string(o.seed) + "), " + std::to_string(changed.size()) + " key(s) changed\n\n";
   md += tuning::ComparisonMarkdown("Training scenarios", training, labels, train_res);
   std::string csv = tuning::ComparisonCsv("training", training, labels, train_res, true);
+  std::vector<tuning::SetEvaluation> held_res;
   if (!set.held_out.empty()) {
     const auto held =
         tuning::BatchEvaluator::FromEntries(set.held_out, set.base_dir, set.cost, o.threads);
-    const auto held_res = held.Evaluate(std::vector<params::StabilityParams>{base, tuned});
+    held_res = held.Evaluate(both);
     md += tuning::ComparisonMarkdown("Held-out scenarios (not used for tuning)", held, labels,
                                      held_res);
     csv += tuning::ComparisonCsv("held_out", held, labels, held_res, false);
@@ -212,18 +237,38 @@ int RunTune(const TuneOptions& o) {
               : "Held-out: the tuned set does NOT improve the cost (possible over-fitting to the "
                 "training scenarios); review before using it on the car.\n";
   }
-  // Outputs (each atomically).
+  // Outputs (each atomically), with a provenance header.
   const std::string full = (fs::path(dir) / "stability_tuned.yaml").string();
   const std::string over = (fs::path(dir) / "stability_overrides.yaml").string();
-  const std::string header = "Tuned by scw tune (" + o.algorithm + ", seed " +
-                             std::to_string(o.seed) + ", " + std::to_string(r.evals) +
-                             " evaluations)";
-  const std::string full_text =
-      params::ToRosYaml(tuned, params::kStabilityNodeKey, present, header);
-  const std::string over_text = params::ToRosOverrides(
-      tuned, base, params::kStabilityNodeKey,
-      header + "; overrides of " + (o.base.empty() ? std::string("the shipped file") : o.base) +
-          ", load after it");
+  tuning::TuneProvenance prov;
+  prov.tool_version = SCW_VERSION;
+  prov.git_revision = SCW_GIT_REVISION;
+  prov.run_folder = dir;
+  prov.date_utc = UtcNow();
+  prov.base = o.base.empty() ? std::string("built-in (the car's shipped parameters)") : o.base;
+  prov.algorithm = o.algorithm;
+  prov.seed = o.seed;
+  prov.evaluations = r.evals;
+  prov.stop_reason = r.stop_reason;
+  prov.space = o.space.empty() ? std::string("built-in default") : o.space;
+  prov.dimensions = space.size();
+  for (const auto& m : loaded.BaseMismatches(base))
+    prov.grown.push_back(m.label + ": [" + params::FormatNumber(m.lo) + ", " +
+                         params::FormatNumber(m.hi) + "] -> [" + params::FormatNumber(m.grown_lo) +
+                         ", " + params::FormatNumber(m.grown_hi) + "]");
+  prov.training_scenarios = static_cast<int>(set.training.size());
+  prov.training_before = train_res[0].total;
+  prov.training_after = train_res[1].total;
+  if (!held_res.empty()) {
+    prov.held_out_scenarios = static_cast<int>(set.held_out.size());
+    prov.held_out_before = held_res[0].total;
+    prov.held_out_after = held_res[1].total;
+  }
+  prov.changed.assign(changed.begin(), changed.end());
+  const std::string full_text = params::ToRosYaml(tuned, params::kStabilityNodeKey, present,
+                                                  tuning::TunedFileHeader(prov, false));
+  const std::string over_text = params::ToRosOverrides(tuned, base, params::kStabilityNodeKey,
+                                                       tuning::TunedFileHeader(prov, true));
   CheckExport(full_text, true, full);
   CheckExport(over_text, false, over);
   params::WriteFileAtomic(full, full_text);
@@ -236,6 +281,7 @@ int RunTune(const TuneOptions& o) {
   std::ostringstream man;
   man << "scw_version: " << SCW_VERSION << "\n"
       << "git_revision: " << SCW_GIT_REVISION << "\n"
+      << "date_utc: " << prov.date_utc << "\n"
       << "nlopt_version: " << nlopt::version_major() << "." << nlopt::version_minor() << "."
       << nlopt::version_bugfix() << "\n"
       << "command_line: " << params::QuoteString(cmdline) << "\n"
@@ -243,6 +289,8 @@ int RunTune(const TuneOptions& o) {
       << "base_hash: " << Hex(Fnv1a(params::ToRosYaml(base, params::kStabilityNodeKey))) << "\n"
       << "space: " << params::QuoteString(o.space.empty() ? "built-in default" : o.space) << "\n"
       << "space_hash: " << Hex(Fnv1a(space.ToYaml())) << "\n"
+      << "base_outside_space: " << o.base_outside << "\n"
+      << "grown_ranges: " << grown.size() << "\n"
       << "scenarios: "
       << params::QuoteString(o.scenarios.empty() ? "built-in default" : o.scenarios) << "\n"
       << "scenarios_hash: " << Hex(Fnv1a(set.ToYaml())) << "\n"
@@ -254,11 +302,17 @@ int RunTune(const TuneOptions& o) {
       << "evaluations: " << r.evals << "\n"
       << "replayed_evaluations: " << r.replayed << "\n"
       << "stop_reason: " << r.stop_reason << "\n"
+      << "start_cost: " << params::FormatDouble(r.start_cost) << "\n"
       << "best_cost: " << params::FormatDouble(r.best_cost) << "\n"
       << "best_evaluation: " << r.best_eval << "\n"
       << "baseline_cost: " << params::FormatDouble(train_res[0].total) << "\n"
-      << "tuned_cost: " << params::FormatDouble(train_res[1].total) << "\n"
-      << "tuned_hash: " << Hex(Fnv1a(full_text)) << "\n"
+      << "tuned_cost: " << params::FormatDouble(train_res[1].total) << "\n";
+  if (!held_res.empty())
+    man << "held_out_baseline_cost: " << params::FormatDouble(held_res[0].total) << "\n"
+        << "held_out_tuned_cost: " << params::FormatDouble(held_res[1].total) << "\n";
+  man << "changed_keys: " << changed.size() << "\n"
+      << "tuned_hash: " << Hex(Fnv1a(params::ToRosYaml(tuned, params::kStabilityNodeKey, present)))
+      << "\n"
       << "wall_time_s: "
       << params::FormatDouble(
              std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count())
@@ -307,6 +361,10 @@ void AddTune(CLI::App& app) {
   cmd->add_option("--space", o->space, "Search space file (params/spaces/*.yaml)");
   cmd->add_option("--scenarios", o->scenarios, "Scenario set file (params/scenarios/*.yaml)");
   cmd->add_option("--base", o->base, "Starting stability params file (car's ROS 2 layout)");
+  cmd->add_option("--base-outside", o->base_outside,
+                  "A base value outside a space range: grow the range to include it (default), "
+                  "or refuse (exit 2, naming the key)")
+      ->check(CLI::IsMember({"grow", "refuse"}));
   cmd->add_option("--algorithm", o->algorithm,
                   "NLopt algorithm: crs2, isres, esch, direct_l, sbplx, neldermead, bobyqa, "
                   "cobyla, or A+B (global A, then local B)");

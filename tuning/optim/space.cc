@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <map>
 #include <variant>
 
@@ -75,6 +77,68 @@ double RefValue(const FieldRef& f, int index) {
   if (f.scalar) return *f.scalar;
   if (index >= 0) return (*f.array)[static_cast<std::size_t>(index)];
   return *std::min_element(f.array->begin(), f.array->end());
+}
+
+// The transform argument x that reproduces the target value of `e` in the set behind `fields`
+// (references taken from the same set). NaN: no x can (a ratio of a zero reference).
+double ArgumentOf(const SpaceEntry& e, std::map<std::string, FieldRef>& fields) {
+  const FieldRef& f = fields.at(e.key);
+  if (e.transform == Transform::kScaleArray) return 1.0;  // the base array itself
+  const double v = RefValue(f, e.index);
+  switch (e.transform) {
+    case Transform::kDirect:
+      return v;
+    case Transform::kOffset:
+      return v - RefValue(fields.at(e.of), e.of_index);
+    case Transform::kRatio: {
+      const double r = RefValue(fields.at(e.of), e.of_index);
+      if (r != 0) return v / r;
+      return v == 0 ? std::clamp(1.0, e.lo, e.hi) : std::numeric_limits<double>::quiet_NaN();
+    }
+    case Transform::kScaleArray:
+      break;
+  }
+  return 1.0;
+}
+
+bool InSchema(double v, const Meta& m) { return v >= m.lo && v <= m.hi; }
+
+// The value written for a tuned `raw` value whose base value is `base`: the base value when within
+// one resolution step, else the nearest multiple of the resolution, else the other neighbouring
+// multiple — the first that `ok` accepts (the entry's range and the schema bounds); `raw` when none
+// is (never for sensible resolutions) or the field has no resolution.
+template <class Ok>
+double Quantize(double raw, double base, double res, const Ok& ok) {
+  if (!(res > 0) || !std::isfinite(raw)) return raw;
+  if (std::abs(raw - base) < res && ok(base)) return base;
+  const double steps = params::ResolutionSteps(raw, res);
+  const double n = std::round(steps);
+  const double nearest = params::ResolutionGridValue(n, res);
+  if (ok(nearest)) return nearest;
+  const double other = params::ResolutionGridValue(n + (steps >= n ? 1.0 : -1.0), res);
+  if (ok(other)) return other;
+  return raw;
+}
+
+// x rounded away from the inside of a range to 3 significant digits (up: towards +inf).
+double Outward(double x, bool up) {
+  if (x == 0 || !std::isfinite(x)) return x;
+  const int e = static_cast<int>(std::floor(std::log10(std::abs(x)))) - 2;
+  double v = x;
+  if (e < 0) {
+    const double k = std::pow(10.0, -e);
+    v = (up ? std::ceil(x * k) : std::floor(x * k)) / k;
+  } else {
+    const double k = std::pow(10.0, e);
+    v = (up ? std::ceil(x / k) : std::floor(x / k)) * k;
+  }
+  return (up ? v >= x : v <= x) ? v : x;
+}
+
+std::string Short(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.4g", x);
+  return buf;
 }
 
 // A scalar for a flow map written by ToYaml: plain when it reads back as the same text (letters,
@@ -159,28 +223,58 @@ StabilityParams ParameterSpace::Decode(const std::vector<double>& u, const Stabi
   auto base_fields = Fields(base_copy);
   for (std::size_t i = 0; i < entries_.size(); ++i) {
     const SpaceEntry& e = entries_[i];
-    const double x = ToX(e, i < u.size() ? u[i] : 0.5);
+    const double ui = i < u.size() ? u[i] : 0.5;
     FieldRef& f = fields.at(e.key);
-    double* target = f.scalar;
-    if (f.array && e.index >= 0) target = &(*f.array)[static_cast<std::size_t>(e.index)];
-    switch (e.transform) {
-      case Transform::kDirect:
-        *target = x;
-        break;
-      case Transform::kOffset:
-        *target = RefValue(fields.at(e.of), e.of_index) + x;
-        break;
-      case Transform::kRatio:
-        *target = RefValue(fields.at(e.of), e.of_index) * x;
-        break;
-      case Transform::kScaleArray: {
-        // Scale the BASE array so the factor keeps its meaning whatever was decoded before.
-        const auto& src = *base_fields.at(e.key).array;
-        for (std::size_t j = 0; j < f.array->size() && j < src.size(); ++j)
-          (*f.array)[j] = src[j] * x;
-        break;
-      }
+    const FieldRef& bf = base_fields.at(e.key);
+    const bool relative = e.transform == Transform::kOffset || e.transform == Transform::kRatio;
+    const double ref = relative ? RefValue(fields.at(e.of), e.of_index) : 0.0;
+
+    // At the base's own coordinate with the reference unchanged: the base value, bit for bit.
+    const double xb = ArgumentOf(e, base_fields);
+    if (std::isfinite(xb) && xb >= e.lo && xb <= e.hi && ui == ToU(e, xb) &&
+        (!relative || ref == RefValue(base_fields.at(e.of), e.of_index))) {
+      if (e.transform == Transform::kScaleArray)
+        *f.array = *bf.array;
+      else if (f.array)
+        (*f.array)[static_cast<std::size_t>(e.index)] =
+            (*bf.array)[static_cast<std::size_t>(e.index)];
+      else
+        *f.scalar = *bf.scalar;
+      continue;
     }
+
+    const double x = ToX(e, ui);
+    const double res = f.meta.resolution;
+    if (e.transform == Transform::kScaleArray) {
+      // Scale the BASE array so the factor keeps its meaning whatever was decoded before.
+      const auto& src = *bf.array;
+      for (std::size_t j = 0; j < f.array->size() && j < src.size(); ++j)
+        (*f.array)[j] =
+            Quantize(src[j] * x, src[j], res, [&](double v) { return InSchema(v, f.meta); });
+      continue;
+    }
+    double* target = f.scalar;
+    double b = bf.scalar ? *bf.scalar : 0.0;
+    if (f.array) {
+      target = &(*f.array)[static_cast<std::size_t>(e.index)];
+      b = (*bf.array)[static_cast<std::size_t>(e.index)];
+    }
+    // The quantised value must keep the transform's argument within the range (orderings and
+    // hysteresis stay valid) and the value within the schema bounds.
+    auto ok = [&](double v) {
+      if (!InSchema(v, f.meta)) return false;
+      double a = v;
+      if (e.transform == Transform::kOffset) a = v - ref;
+      if (e.transform == Transform::kRatio) {
+        if (ref == 0) return true;
+        a = v / ref;
+      }
+      return a >= e.lo && a <= e.hi;
+    };
+    double raw = x;
+    if (e.transform == Transform::kOffset) raw = ref + x;
+    if (e.transform == Transform::kRatio) raw = ref * x;
+    *target = Quantize(raw, b, res, ok);
   }
   if (problems) *problems = params::Validate(p);
   return p;
@@ -197,22 +291,97 @@ std::vector<double> ParameterSpace::Encode(const StabilityParams& p_in) const {
   StabilityParams p = p_in;
   auto fields = Fields(p);
   std::vector<double> u(entries_.size(), 0.5);
+  for (std::size_t i = 0; i < entries_.size(); ++i)
+    u[i] = ToU(entries_[i], ArgumentOf(entries_[i], fields));
+  return u;
+}
+
+std::vector<BaseMismatch> ParameterSpace::BaseMismatches(const StabilityParams& base) const {
+  StabilityParams p = base;
+  auto fields = Fields(p);
+  std::vector<BaseMismatch> out;
   for (std::size_t i = 0; i < entries_.size(); ++i) {
     const SpaceEntry& e = entries_[i];
+    const double xb = ArgumentOf(e, fields);
+    const bool log_bad = e.scale == Scale::kLog && !(xb > 0);
+    if (std::isfinite(xb) && !log_bad && xb >= e.lo && xb <= e.hi) continue;
+    BaseMismatch m;
+    m.index = static_cast<int>(i);
+    m.label = e.Label();
+    m.x_base = xb;
+    m.lo = e.lo;
+    m.hi = e.hi;
+    const std::string range =
+        "[" + params::FormatNumber(e.lo) + ", " + params::FormatNumber(e.hi) + "]";
     const FieldRef& f = fields.at(e.key);
-    const double v = f.array && e.index >= 0 ? (*f.array)[static_cast<std::size_t>(e.index)]
-                     : f.scalar              ? *f.scalar
-                                             : 1.0;
-    double x = v;
-    if (e.transform == Transform::kOffset) x = v - RefValue(fields.at(e.of), e.of_index);
-    if (e.transform == Transform::kRatio) {
-      const double r = RefValue(fields.at(e.of), e.of_index);
-      x = r != 0 ? v / r : 1.0;
+    const std::string value = e.transform == Transform::kScaleArray
+                                  ? params::FormatDoubleList(*f.array)
+                                  : params::FormatNumber(RefValue(f, e.index));
+    std::string of = e.of_index >= 0 ? e.of + "[" + std::to_string(e.of_index) + "]" : e.of;
+    if (!e.of.empty() && e.of_index < 0 && fields.at(e.of).array) of = "min(" + of + ")";
+    switch (e.transform) {
+      case Transform::kDirect:
+        m.message = "the base value " + value + " lies outside the range " + range;
+        break;
+      case Transform::kOffset:
+        m.message = "the base value " + value + " is " + of + " + " + Short(xb) +
+                    ", outside the offset range " + range;
+        break;
+      case Transform::kRatio:
+        m.message = std::isfinite(xb)
+                        ? "the base value " + value + " is " + Short(xb) + " × " + of +
+                              ", outside the ratio range " + range
+                        : "the base value " + value + " is not a multiple of " + of + " = 0";
+        break;
+      case Transform::kScaleArray:
+        m.message = "the base array itself (factor 1) lies outside the scale range " + range;
+        break;
     }
-    if (e.transform == Transform::kScaleArray) x = 1.0;
-    u[i] = ToU(e, x);
+    if (!std::isfinite(xb) || log_bad) {
+      m.representable = false;
+      if (log_bad && std::isfinite(xb)) m.message += " (the log scale needs a positive argument)";
+      m.grown_lo = e.lo;
+      m.grown_hi = e.hi;
+    } else {
+      m.grown_lo = std::min(e.lo, Outward(xb, false));
+      m.grown_hi = std::max(e.hi, Outward(xb, true));
+      if (e.transform == Transform::kDirect) {  // stay within the schema bounds
+        m.grown_lo = std::max(m.grown_lo, f.meta.lo);
+        m.grown_hi = std::min(m.grown_hi, f.meta.hi);
+      }
+    }
+    out.push_back(m);
   }
-  return u;
+  return out;
+}
+
+ParameterSpace ParameterSpace::WithBase(const StabilityParams& base, BaseOutsideSpace policy,
+                                        std::vector<std::string>* notes) const {
+  const auto mismatches = BaseMismatches(base);
+  Problems pr;
+  for (const auto& m : mismatches) {
+    if (!m.representable)
+      pr.Add(m.label, m.message +
+                          "; no range can represent it: remove the entry from the space or change "
+                          "the base value");
+    else if (policy == BaseOutsideSpace::kRefuse)
+      pr.Add(m.label, m.message + "; widen the range to [" + params::FormatNumber(m.grown_lo) +
+                          ", " + params::FormatNumber(m.grown_hi) +
+                          "] in the space file (or let scw tune grow it: --base-outside grow)");
+  }
+  if (!pr.empty()) throw ConfigError(name_, pr.items());
+  if (mismatches.empty()) return *this;
+  std::vector<SpaceEntry> entries = entries_;
+  for (const auto& m : mismatches) {
+    SpaceEntry& e = entries[static_cast<std::size_t>(m.index)];
+    e.lo = m.grown_lo;
+    e.hi = m.grown_hi;
+    if (notes)
+      notes->push_back(m.label + ": " + m.message + "; range grown to [" +
+                       params::FormatNumber(m.grown_lo) + ", " + params::FormatNumber(m.grown_hi) +
+                       "] so that the base set is exactly representable");
+  }
+  return ParameterSpace(name_, std::move(entries));
 }
 
 std::string ParameterSpace::ToYaml() const {

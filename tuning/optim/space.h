@@ -12,6 +12,25 @@
 // valid; a decoded set that still violates a schema rule is reported as infeasible (the cost then
 // gives a finite penalty), never thrown through the optimiser.
 //
+// The tuner never changes what it did not tune (these files go onto the car):
+//   * Keys no entry names are copied from the base, bit for bit.
+//   * The base is exactly representable: for a space fitted to it (WithBase), Encode(base) decodes
+//     back to the base bit for bit. A dimension whose u equals the base's own coordinate, and whose
+//     reference (`of`) still has its base value, takes the base value itself rather than the
+//     transform's floating-point round trip (0.6 → 0.6000000000000002, or x·ref ≠ base for a
+//     ratio).
+//   * Where a base value lies outside an entry's range (the shipped ESC.beta_threshold_deactivate
+//   is
+//     2.01 × min(ESC.beta_threshold_activate), outside the ratio range [0.3, 1]), WithBase grows
+//     the range to include it (default: scw tune) or refuses naming the key (kRefuse). Without
+//     that, the value would be clamped into the range and silently changed by every tune.
+//   * Every decoded value is quantised to its field's schema resolution (Meta::resolution): a value
+//     within one step of its base value is the base value, anything else a multiple of the
+//     resolution (shortest decimal text), chosen so that the entry's range — and with it the
+//     ordering or hysteresis its transform guarantees — and the schema bounds still hold. What the
+//     tuner evaluates is therefore exactly what it exports, and the overrides file lists only real
+//     changes.
+//
 // Space file (plain YAML):
 //   name: default
 //   parameters:
@@ -29,6 +48,23 @@
 namespace scw::tuning {
 
 enum class Transform { kDirect, kOffset, kRatio, kScaleArray };
+
+/// What WithBase does with a base value outside an entry's range.
+enum class BaseOutsideSpace {
+  kGrow,    ///< widen the range to include it (rounded outward to 3 significant digits)
+  kRefuse,  ///< throw ConfigError naming the key
+};
+
+/// One entry whose range does not contain the base's transform argument.
+struct BaseMismatch {
+  int index = -1;                     ///< entry index
+  std::string label;                  ///< SpaceEntry::Label()
+  double x_base = 0;                  ///< the base's argument (NaN: cannot be represented at all)
+  double lo = 0, hi = 0;              ///< the entry's range
+  double grown_lo = 0, grown_hi = 0;  ///< the range WithBase(kGrow) uses
+  bool representable = true;          ///< false: no range can hold it (see message)
+  std::string message;                ///< one sentence naming the key, the value and the range
+};
 
 struct SpaceEntry {
   std::string key;  ///< dotted key of a double or double[] parameter
@@ -56,14 +92,27 @@ class ParameterSpace {
   int size() const { return static_cast<int>(entries_.size()); }
   const std::vector<SpaceEntry>& entries() const { return entries_; }
 
-  /// Maps u ∈ [0,1]^n (clamped) to a parameter set, starting from `base`. `problems` receives the
-  /// schema violations of the result (empty: feasible).
+  /// Maps u ∈ [0,1]^n (clamped) to a parameter set, starting from `base`: keys outside the space
+  /// keep the base values, tuned values are quantised to their schema resolution (see above).
+  /// `problems` receives the schema violations of the result (empty: feasible).
   params::StabilityParams Decode(const std::vector<double>& u, const params::StabilityParams& base,
                                  Problems* problems) const;
   /// x_i of each dimension for u (the transform arguments, for logs).
   std::vector<double> Arguments(const std::vector<double>& u) const;
-  /// The point of the cube that reproduces `p` as closely as the bounds allow (start point).
+  /// The point of the cube that reproduces `p` as closely as the bounds allow (start point). When
+  /// every argument of `p` lies within its range (BaseMismatches(p) is empty),
+  /// Decode(Encode(p), p) == p bit for bit.
   std::vector<double> Encode(const params::StabilityParams& p) const;
+
+  /// The entries whose range does not contain the argument of `base` (empty: the base is exactly
+  /// representable). Used by `scw space show` to warn.
+  std::vector<BaseMismatch> BaseMismatches(const params::StabilityParams& base) const;
+  /// This space with each range grown to contain the base's argument (kGrow; `notes` receives one
+  /// line per grown entry), or this space unchanged when nothing lies outside. Throws ConfigError
+  /// naming the key(s) for kRefuse with a mismatch, and always for a base value no range can
+  /// represent (a log-scaled argument ≤ 0, a ratio of a zero reference).
+  ParameterSpace WithBase(const params::StabilityParams& base, BaseOutsideSpace policy,
+                          std::vector<std::string>* notes = nullptr) const;
   /// YAML text of this space (round-trips through FromYamlText).
   std::string ToYaml() const;
 

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -111,7 +113,11 @@ class Run {
     opt.set_lower_bounds(std::vector<double>(static_cast<std::size_t>(n_), 0.0));
     opt.set_upper_bounds(std::vector<double>(static_cast<std::size_t>(n_), 1.0));
     opt.set_min_objective(&Run::Trampoline, this);
-    opt.set_maxeval(budget);
+    // The budget counts real evaluations (memo hits are free), so it is enforced here (Evaluate);
+    // NLopt's own limit is only a safety net against an optimiser that keeps asking for known
+    // points.
+    phase_end_ = std::min(o_.max_evals, result_.evals + budget);
+    opt.set_maxeval(4 * budget + 100);
     opt.set_xtol_abs(o_.xtol_abs);
     if (!a.global) opt.set_initial_step(o_.initial_step);
     if (a.alg == nlopt::GN_CRS2_LM || a.alg == nlopt::GN_ISRES)
@@ -137,6 +143,13 @@ class Run {
     }
   }
 
+  /// Evaluation 0: the start point itself, whatever the algorithm.
+  void EvaluateStart(std::vector<double> x) {
+    phase_ = "start";
+    for (auto& v : x) v = std::clamp(std::isfinite(v) ? v : 0.5, 0.0, 1.0);
+    Evaluate(x);
+  }
+
   bool Stopped() const {
     return !reason_.empty() && reason_ != "max_evals" && reason_ != "converged";
   }
@@ -151,10 +164,14 @@ class Run {
 
   double Evaluate(const std::vector<double>& u) {
     if (o_.stop && o_.stop->load()) return Halt("interrupted");
-    if (result_.evals >= o_.max_evals) return Halt("max_evals");
+    if (result_.evals >= std::min(o_.max_evals, phase_end_)) return Halt("max_evals");
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     if (o_.max_time_s > 0 && elapsed >= o_.max_time_s) return Halt("max_time");
+
+    // A point asked for again (Subplex re-evaluates its start, CRS2 its x0): the objective is
+    // deterministic, so its cost is reused — no new evaluation, no log row.
+    if (auto hit = memo_.find(u); hit != memo_.end()) return hit->second;
 
     std::vector<std::string> ucells;
     for (double v : u) ucells.push_back(params::FormatDouble(v));
@@ -197,7 +214,9 @@ class Run {
       for (auto& c : ev.status)
         if (c == ',' || c == '\n') c = ';';
     }
+    memo_.emplace(u, ev.cost);
     const int index = result_.evals++;
+    if (index == 0) result_.start_cost = ev.cost;
     if (ev.cost < result_.best_cost) {
       result_.best_cost = ev.cost;
       result_.best_u = u;
@@ -245,6 +264,8 @@ class Run {
   TuneResult result_;
   std::string phase_, reason_, error_;
   nlopt::opt* opt_ = nullptr;
+  int phase_end_ = std::numeric_limits<int>::max();  ///< evaluation count that ends the phase
+  std::map<std::vector<double>, double> memo_;       ///< cost of every point evaluated so far
 };
 
 }  // namespace
@@ -264,11 +285,12 @@ TuneResult Tune(const std::vector<double>& u0, const Objective& f, const TunerOp
       plus == std::string::npos ? nullptr : &FindAlgorithm(o.algorithm.substr(plus + 1));
   const int n = static_cast<int>(u0.size());
   Run run(f, o, n);
+  run.EvaluateStart(u0);
   const int budget1 = second
                           ? std::max(1, static_cast<int>(std::lround(o.global_share * o.max_evals)))
                           : o.max_evals;
   run.RunPhase(first, budget1, u0, o.seed);
-  if (second && !run.Stopped()) {
+  if (second && !run.Stopped() && run.evals() < o.max_evals) {
     run.reason().clear();
     run.RunPhase(*second, o.max_evals - run.evals(), run.result().best_u, o.seed + 1);
   }

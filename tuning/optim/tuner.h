@@ -5,6 +5,11 @@
 //   the best point. Default: "crs2+sbplx".
 // * The objective never throws into NLopt and never returns NaN/inf: exceptions and non-finite
 //   values become a finite penalty and are logged with their reason.
+// * Evaluation 0 is always the start point u0 itself (phase "start"), whatever the algorithm, so
+//   the log's first row is the starting (base) set and the best is never worse than it.
+// * A point the optimiser asks for again (Subplex re-evaluates its start point, CRS2 its x0) reuses
+//   the logged cost: the objective must be deterministic; the point is neither re-evaluated nor
+//   logged again.
 // * Our own best-so-far record (NLopt's COBYLA may return its last point, not its best).
 // * Seeded: nlopt::srand(seed) right before every optimize() (its RNG is thread-local).
 //   Same inputs + seed + evaluation budget → identical evaluation sequence and result.
@@ -65,6 +70,7 @@ struct TuneResult {
   std::vector<double> best_u;
   double best_cost = std::numeric_limits<double>::infinity();
   int best_eval = -1;
+  double start_cost = std::numeric_limits<double>::quiet_NaN();  ///< cost of u0 (evaluation 0)
   int evals = 0;
   int replayed = 0;         ///< evaluations taken from the resume log
   std::string stop_reason;  ///< "max_evals", "max_time", "converged", "interrupted", …

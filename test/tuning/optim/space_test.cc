@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <map>
+#include <set>
 
 #include "params/io/write.h"
 #include "params/io/yaml_doc.h"
@@ -11,6 +15,41 @@ namespace scw::tuning {
 namespace {
 
 using params::StabilityParams;
+
+// Calls fn(key, text of a, text of b) for every field; the shortest round-trip text of a double
+// is unique to its bits (also for -0.0), so equal texts mean bit-identical values.
+template <class Fn>
+void ForEachPair(const StabilityParams& a, const StabilityParams& b, Fn fn) {
+  std::vector<std::pair<std::string, std::string>> ta, tb;
+  params::ForEachField(a, [&](const std::string& k, const auto& v, const params::Meta&) {
+    ta.emplace_back(k, params::detail::RenderValue(v));
+  });
+  params::ForEachField(b, [&](const std::string& k, const auto& v, const params::Meta&) {
+    tb.emplace_back(k, params::detail::RenderValue(v));
+  });
+  ASSERT_EQ(ta.size(), tb.size());
+  for (std::size_t i = 0; i < ta.size(); ++i) fn(ta[i].first, ta[i].second, tb[i].second);
+}
+
+void ExpectBitIdentical(const StabilityParams& a, const StabilityParams& b) {
+  ForEachPair(a, b, [](const std::string& key, const std::string& x, const std::string& y) {
+    EXPECT_EQ(x, y) << key;
+  });
+  // And the raw bits of every double, to be explicit.
+  std::vector<double> da, db;
+  auto collect = [](std::vector<double>& out) {
+    return [&out](const std::string&, const auto& v, const params::Meta&) {
+      using T = std::decay_t<decltype(v)>;
+      if constexpr (std::is_same_v<T, double>) out.push_back(v);
+      if constexpr (std::is_same_v<T, std::vector<double>>)
+        out.insert(out.end(), v.begin(), v.end());
+    };
+  };
+  params::ForEachField(a, collect(da));
+  params::ForEachField(b, collect(db));
+  ASSERT_EQ(da.size(), db.size());
+  EXPECT_EQ(std::memcmp(da.data(), db.data(), da.size() * sizeof(double)), 0);
+}
 
 TEST(SpaceTest, DefaultSpaceFileEqualsBuiltIn) {
   const std::string path = std::string(SCW_SOURCE_DIR) + "/params/spaces/default.yaml";
@@ -36,21 +75,186 @@ TEST(SpaceTest, EveryCornerOfTheCubeDecodesToAValidSet) {
 }
 
 TEST(SpaceTest, EncodeDecodeReproducesTheShippedSet) {
-  const auto space = ParameterSpace::Default();
   const StabilityParams base;
-  const auto u = space.Encode(base);
+  // The shipped β pair has an inverted hysteresis above 25 m/s (deactivation 0.035 vs activation
+  // 0.0174): 2.01 × the activation minimum, outside the default ratio range [0.3, 1].
+  const auto mismatches = ParameterSpace::Default().BaseMismatches(base);
+  ASSERT_EQ(mismatches.size(), 1u);
+  EXPECT_EQ(mismatches[0].label, "ESC.beta_threshold_deactivate");
+  EXPECT_NEAR(mismatches[0].x_base, 0.035 / 0.0174, 1e-12);
+  // Grown to include it, the space reproduces the shipped set bit for bit.
+  std::vector<std::string> notes;
+  const auto space = ParameterSpace::Default().WithBase(base, BaseOutsideSpace::kGrow, &notes);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("ESC.beta_threshold_deactivate"), std::string::npos) << notes[0];
+  EXPECT_TRUE(space.BaseMismatches(base).empty());
   Problems pr;
-  const auto back = space.Decode(u, base, &pr);
+  const auto back = space.Decode(space.Encode(base), base, &pr);
   EXPECT_TRUE(pr.empty());
-  EXPECT_NEAR(back.ESC.kp_psi_dot, base.ESC.kp_psi_dot, 1e-9);
-  EXPECT_NEAR(back.ESC.beta_threshold_activate[1], base.ESC.beta_threshold_activate[1], 1e-12);
-  EXPECT_NEAR(back.SlipControl.ABS.rear.slip_threshold_hold_increase,
-              base.SlipControl.ABS.rear.slip_threshold_hold_increase, 1e-9);
-  EXPECT_NEAR(back.SlipControl.TC.rear.slip_threshold_safe,
-              base.SlipControl.TC.rear.slip_threshold_safe, 1e-9);
-  // Deactivation thresholds are fractions of the activation minimum; the shipped β pair has an
-  // inverted hysteresis above 25 m/s (0.035 vs 0.0174), which the ratio bound 1.0 cannot express.
-  EXPECT_LE(back.ESC.beta_threshold_deactivate, base.ESC.beta_threshold_deactivate);
+  ExpectBitIdentical(back, base);
+}
+
+TEST(SpaceTest, EvaluationZeroDecodesToTheBaseBitForBitForAwkwardBases) {
+  // Values whose transform round trip is not exact in floating point (a ratio x = v / ref decoded
+  // as x · ref, log-scaled gains, offsets of non-representable decimals), and values outside the
+  // default ranges (grown).
+  std::vector<StabilityParams> bases(4);
+  bases[1].ESC.kd_psi_dot = 0.6;
+  bases[1].ESC.kp_psi_dot = 7.123456789;
+  bases[1].ESC.beta_error_threshold_deactivate = 0.0123456789;
+  bases[1].ESC.psi_dot_error_threshold_deactivate = 0.0301;
+  bases[1].SlipControl.TC.rear.slip_threshold_reduce_hold = 8.3;
+  bases[1].SlipControl.ABS.front.slip_threshold_safe = -7.7;
+  bases[2].ESC.kp_psi_dot = 55.5;                                    // above the range [1, 40]
+  bases[2].ESC.kp_beta = 2.2;                                        // below the range [3, 100]
+  bases[2].countersteer_system.steering_factor = 1.73;               // above [0.3, 1.5]
+  bases[2].SlipControl.TC.rear.slip_threshold_hold_increase = 30.1;  // offset 18.1 > 15
+  bases[3].ESC.beta_threshold_activate = {0.0333333333, 0.0211111111};
+  bases[3].ESC.beta_threshold_deactivate = 0.0299999999;
+  bases[3].countersteer_system.enable_sideslip = 0.0011;  // below the log range [0.002, 0.05]
+  for (std::size_t k = 0; k < bases.size(); ++k) {
+    SCOPED_TRACE("base " + std::to_string(k));
+    ASSERT_TRUE(params::Validate(bases[k]).empty());
+    const auto space = ParameterSpace::Default().WithBase(bases[k], BaseOutsideSpace::kGrow);
+    const auto u0 = space.Encode(bases[k]);
+    for (double u : u0) EXPECT_TRUE(u >= 0.0 && u <= 1.0);
+    Problems pr;
+    ExpectBitIdentical(space.Decode(u0, bases[k], &pr), bases[k]);
+    EXPECT_TRUE(pr.empty());
+  }
+}
+
+TEST(SpaceTest, BaseOutsideARangeIsRefusedNamingTheKey) {
+  StabilityParams base;
+  base.ESC.kp_psi_dot = 55.5;
+  try {
+    ParameterSpace::Default().WithBase(base, BaseOutsideSpace::kRefuse);
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("ESC.kp_psi_dot: the base value 55.5 lies outside the range [1, 40]"),
+              std::string::npos)
+        << what;
+    EXPECT_NE(what.find("ESC.beta_threshold_deactivate"), std::string::npos) << what;
+    EXPECT_NE(what.find("widen the range to [0.3, 2.02]"), std::string::npos) << what;
+  }
+  // A base inside every range is accepted unchanged by kRefuse.
+  base = StabilityParams{};
+  base.ESC.beta_threshold_deactivate = 0.0174;
+  const auto space = ParameterSpace::Default().WithBase(base, BaseOutsideSpace::kRefuse);
+  EXPECT_EQ(space.ToYaml(), ParameterSpace::Default().ToYaml());
+}
+
+TEST(SpaceTest, BaseNoRangeCanRepresentIsRefusedEvenWhenGrowing) {
+  // A ratio of a zero reference, and a log-scaled argument of 0.
+  StabilityParams base;
+  base.ESC.psi_dot_error_threshold_activate = {0.0, 0.0};
+  base.ESC.ki_beta = 0.0;
+  ASSERT_TRUE(params::Validate(base).empty());
+  try {
+    ParameterSpace::Default().WithBase(base, BaseOutsideSpace::kGrow);
+    ADD_FAILURE() << "accepted";
+  } catch (const ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("ESC.psi_dot_error_threshold_deactivate"), std::string::npos) << what;
+    EXPECT_NE(what.find("ESC.ki_beta"), std::string::npos) << what;
+    EXPECT_NE(what.find("log scale needs a positive argument"), std::string::npos) << what;
+  }
+}
+
+TEST(SpaceTest, KeysOutsideTheSpaceKeepTheBaseValuesBitForBit) {
+  StabilityParams base;
+  base.tS = 0.0123456789;
+  base.ESC.max_brake_pressure = 80.123456789;
+  base.tire_stiffness_front = 123456.789;
+  base.SlipControl.ABS.front.reduce_step = 0.0381234567;
+  base.SlipControl.TC.slip_filter_pole = 0.81234567;
+  base.brake_bias_shift.values = {-0.1011111, -0.0475555, 0.0};
+  const auto space = ParameterSpace::Default().WithBase(base, BaseOutsideSpace::kGrow);
+  std::set<std::string> tuned_keys;
+  for (const auto& e : space.entries()) tuned_keys.insert(e.key);
+  for (double level : {0.0, 0.23, 0.5, 0.77, 1.0}) {
+    const std::vector<double> u(static_cast<std::size_t>(space.size()), level);
+    const auto p = space.Decode(u, base, nullptr);
+    ForEachPair(p, base, [&](const std::string& key, const std::string& a, const std::string& b) {
+      if (!tuned_keys.count(key)) {
+        EXPECT_EQ(a, b) << key << " at u = " << level;
+      }
+    });
+  }
+}
+
+TEST(SpaceTest, TunedValuesAreRoundedToTheirResolution) {
+  const auto space = ParameterSpace::Default().WithBase(StabilityParams{}, BaseOutsideSpace::kGrow);
+  const StabilityParams base;
+  std::map<std::string, double> resolution;
+  params::ForEachField(base, [&](const std::string& key, const auto&, const params::Meta& m) {
+    resolution[key] = m.resolution;
+  });
+  int changed = 0;
+  for (int k = 0; k < 40; ++k) {
+    std::vector<double> u(static_cast<std::size_t>(space.size()));
+    for (std::size_t i = 0; i < u.size(); ++i)
+      u[i] = static_cast<double>((k * 17 + i * 29) % 97) / 96.0;
+    const auto p = space.Decode(u, base, nullptr);
+    auto check = [&](const std::string& key, double v, double b) {
+      if (v == b) return;
+      ++changed;
+      const double r = resolution.at(key);
+      ASSERT_GT(r, 0.0) << key;
+      EXPECT_EQ(v, params::RoundToResolution(v, r)) << key << " = " << v;
+      EXPECT_GE(std::abs(v - b), r * (1 - 1e-9)) << key << ": a change below one step";
+      EXPECT_LE(params::FormatNumber(v).size(), 9u) << key << " = " << params::FormatNumber(v);
+    };
+    params::ForEachField(p, [&](const std::string& key, const auto& value, const params::Meta&) {
+      using T = std::decay_t<decltype(value)>;
+      if constexpr (std::is_same_v<T, double>) {
+        double b = 0;
+        params::ForEachField(base, [&](const std::string& k2, const auto& v2, const params::Meta&) {
+          if constexpr (std::is_same_v<std::decay_t<decltype(v2)>, double>)
+            if (k2 == key) b = v2;
+        });
+        check(key, value, b);
+      }
+    });
+  }
+  EXPECT_GT(changed, 100);
+}
+
+TEST(SpaceTest, AValueWithinOneStepOfTheBaseIsTheBase) {
+  // kd_psi_dot: base 0.6, resolution 0.001, log scale on [0.05, 3].
+  const ParameterSpace s(
+      "t", {{"ESC.kd_psi_dot", -1, 0.05, 3.0, params::Scale::kLog, Transform::kDirect, "", -1}});
+  const StabilityParams base;
+  auto at = [&](double x) {
+    const double u = std::log(x / 0.05) / std::log(3.0 / 0.05);
+    return s.Decode({u}, base, nullptr).ESC.kd_psi_dot;
+  };
+  EXPECT_EQ(at(0.6000000000000002), 0.6);
+  EXPECT_EQ(at(0.6004), 0.6);
+  EXPECT_EQ(at(0.5991), 0.6);
+  EXPECT_EQ(at(0.6011), 0.601);
+  EXPECT_EQ(at(0.6016), 0.602);
+  EXPECT_EQ(at(0.71234), 0.712);
+  EXPECT_EQ(params::FormatDouble(at(0.71234)), "0.712");
+}
+
+TEST(SpaceTest, RoundingKeepsTheOrderingsOfOffsetsAndRatios) {
+  // A base off the 0.1 % grid: rounding the dependent thresholds to the grid must not cross their
+  // references (ABS: hold_increase <= increase_hold <= reduce_hold <= hold_reduce <= safe < 0).
+  StabilityParams base;
+  base.SlipControl.ABS.front.slip_threshold_hold_reduce = -10.03;
+  base.SlipControl.ABS.front.slip_threshold_safe = -7.01;
+  const auto space = ParameterSpace::Default().WithBase(base, BaseOutsideSpace::kGrow);
+  for (int k = 0; k < 200; ++k) {
+    std::vector<double> u = space.Encode(base);
+    for (std::size_t i = 0; i < u.size(); ++i)
+      if ((k + i) % 3 == 0) u[i] = static_cast<double>((k * 31 + i * 7) % 101) / 100.0;
+    Problems pr;
+    space.Decode(u, base, &pr);
+    EXPECT_TRUE(pr.empty()) << k << ": "
+                            << (pr.empty() ? "" : pr.items()[0].path + " " + pr.items()[0].message);
+  }
 }
 
 TEST(SpaceTest, LogScaleAndTransforms) {
@@ -62,9 +266,10 @@ TEST(SpaceTest, LogScaleAndTransforms) {
        "ESC.beta_threshold_activate", -1}};
   const ParameterSpace s("t", e);
   const auto p = s.Decode({0.5, 1.0, 0.0}, StabilityParams{}, nullptr);
-  EXPECT_NEAR(p.ESC.kp_psi_dot, 10.0, 1e-12);
+  EXPECT_EQ(p.ESC.kp_psi_dot, 10.0);
   EXPECT_EQ(p.ESC.threshold_velocities[1], 80.0);
-  EXPECT_NEAR(p.ESC.beta_threshold_deactivate, 0.5 * 0.0174, 1e-15);
+  // 0.5 × 0.0174 = 0.0087, rounded to the resolution 0.001 rad.
+  EXPECT_EQ(p.ESC.beta_threshold_deactivate, 0.009);
 }
 
 TEST(SpaceTest, BadSpacesAreRejectedWithPathAndRule) {

@@ -5,8 +5,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 
+#include "params/io/write.h"
 #include "params/io/yaml_doc.h"
 
 namespace scw::tuning {
@@ -126,6 +128,61 @@ TEST(TunerTest, ResumeWithDifferentSeedIsRefused) {
   o.resume_path = o.log_path;
   o.log_path = TempPath("scw_tuner_seed2.csv");
   EXPECT_THROW(Tune({0.5, 0.5, 0.5, 0.5}, Bowl, o), std::runtime_error);
+}
+
+std::vector<std::vector<std::string>> LogRows(const std::string& path) {
+  std::vector<std::vector<std::string>> rows;
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::string cell;
+    std::istringstream cs(line);
+    while (std::getline(cs, cell, ',')) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+TEST(TunerTest, EvaluationZeroIsTheStartPointForEveryAlgorithm) {
+  const std::vector<double> u0 = {0.125, 0.8, 0.4, 0.6};
+  for (const std::string alg :
+       {"crs2+sbplx", "direct_l", "isres", "esch", "sbplx", "neldermead", "bobyqa", "cobyla"}) {
+    SCOPED_TRACE(alg);
+    TunerOptions o;
+    o.algorithm = alg;
+    o.max_evals = 60;
+    o.log_path = TempPath("scw_tuner_start_" + alg + ".csv");
+    const auto r = Tune(u0, Bowl, o);
+    const auto rows = LogRows(o.log_path);
+    ASSERT_EQ(static_cast<int>(rows.size()), r.evals);
+    ASSERT_GE(rows.size(), 1u);
+    EXPECT_EQ(rows[0][0], "0");
+    EXPECT_EQ(rows[0][1], "start");
+    int at_start = 0;
+    for (const auto& row : rows) {
+      bool same = true;
+      for (std::size_t i = 0; i < u0.size(); ++i)
+        same = same && row[5 + i] == params::FormatDouble(u0[i]);
+      at_start += same;
+    }
+    // Asked for again (Subplex, CRS2 evaluate their start point): reused, not logged twice.
+    EXPECT_EQ(at_start, 1);
+    EXPECT_EQ(r.start_cost, Bowl(u0).cost);
+    EXPECT_LE(r.best_cost, r.start_cost);
+  }
+}
+
+TEST(TunerTest, OneEvaluationKeepsTheStartPoint) {
+  TunerOptions o;
+  o.max_evals = 1;
+  const std::vector<double> u0 = {0.9, 0.1, 0.9, 0.9};
+  const auto r = Tune(u0, Bowl, o);
+  EXPECT_EQ(r.evals, 1);
+  EXPECT_EQ(r.best_eval, 0);
+  EXPECT_EQ(r.best_u, u0);
+  EXPECT_EQ(r.stop_reason, "max_evals");
 }
 
 TEST(TunerTest, UnknownAlgorithmIsRejected) {

@@ -1,0 +1,140 @@
+// `scw tune` end to end with the built program (issue 15): a 1-evaluation tune from the shipped
+// file exports exactly the base set and an empty overrides file, both with the provenance header
+// and both passing `scw params check`; evaluation 0 is the base set; --base-outside refuse names
+// the key the shipped file has outside the default space; `scw space show` warns about it.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+
+#include "params/io/load.h"
+#include "params/io/write.h"
+#include "params/io/yaml_doc.h"
+#include "params/schema/stability_params.h"
+
+namespace scw {
+namespace {
+
+namespace fs = std::filesystem;
+using params::StabilityParams;
+
+int RunScw(const std::string& args, const std::string& capture) {
+  const std::string cmd = std::string(SCW_BIN) + " " + args + " > " + capture + " 2>&1";
+  const int rc = std::system(cmd.c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+std::string Slurp(const std::string& path) {
+  try {
+    return params::ReadTextFile(path);
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+StabilityParams LoadText(const std::string& text, const std::string& name) {
+  return params::LoadRosText<StabilityParams>(text, name, params::kStabilityNodeKey);
+}
+
+class TuneCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("scw_tune_cli_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    set_ = (dir_ / "set.yaml").string();
+    std::ofstream(set_) << "name: tiny\n"
+                           "training:\n"
+                           "  - {name: one_lap, weight: 1.0, set: [laps=1, gg_scale=1.1]}\n";
+    shipped_ = std::string(SCW_SOURCE_DIR) + "/params/stability/default.yaml";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+
+  fs::path dir_;
+  std::string set_, shipped_;
+};
+
+TEST_F(TuneCliTest, OneEvaluationExportsTheBaseSetWithProvenanceAndPassesTheChecker) {
+  const std::string run = Path("run");
+  ASSERT_EQ(RunScw("tune --scenarios " + set_ + " --base " + shipped_ +
+                       " --max-evals 1 --threads 1 --progress never --max-time 0 --out " + run,
+                   Path("tune.out")),
+            0)
+      << Slurp(Path("tune.out"));
+  EXPECT_NE(Slurp(Path("tune.out")).find("note: ESC.beta_threshold_deactivate"), std::string::npos)
+      << Slurp(Path("tune.out"));
+
+  const std::string full = Slurp(run + "/stability_tuned.yaml");
+  const std::string over = Slurp(run + "/stability_overrides.yaml");
+  const std::string shipped = Slurp(shipped_);
+  // Exactly the base set: every value bit for bit (equal shortest round-trip texts).
+  EXPECT_TRUE(params::DifferingKeys(LoadText(full, "full"), LoadText(shipped, "shipped")).empty());
+  // ... and an overrides file that changes nothing.
+  Problems pr;
+  const auto doc = params::Flatten(params::ParseYaml(over, "over"), params::Layout::kRos2,
+                                   params::kStabilityNodeKey, &pr);
+  EXPECT_TRUE(pr.empty());
+  EXPECT_TRUE(doc.entries.empty()) << over;
+  EXPECT_NE(over.find("ros__parameters: {}"), std::string::npos) << over;
+
+  // Provenance header in both files.
+  for (const std::string& text : {full, over}) {
+    EXPECT_EQ(text.rfind("# Tuned by scw tune ", 0), 0u) << text;
+    for (const std::string& item :
+         {std::string("(git "), "# run folder: " + run, "# base: " + shipped_,
+          std::string("# search: crs2+sbplx"), std::string("#   training (1 scenario): "),
+          std::string("# changed keys: none")})
+      EXPECT_NE(text.find(item), std::string::npos) << item << "\n" << text;
+  }
+  // The project's ROS 2 checker accepts both.
+  EXPECT_EQ(RunScw("params check " + run + "/stability_tuned.yaml", Path("c1.out")), 0)
+      << Slurp(Path("c1.out"));
+  EXPECT_EQ(RunScw("params check " + run + "/stability_overrides.yaml --overrides", Path("c2.out")),
+            0)
+      << Slurp(Path("c2.out"));
+
+  // Evaluation 0 is the base set; training costs before and after are equal.
+  const std::string log = Slurp(run + "/evaluations.csv");
+  const auto row0 = log.find('\n') + 1;
+  EXPECT_EQ(log.compare(row0, 8, "0,start,"), 0) << log;
+  const std::string manifest = Slurp(run + "/manifest.yaml");
+  EXPECT_NE(manifest.find("changed_keys: 0\n"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("grown_ranges: 1\n"), std::string::npos) << manifest;
+  const auto cost = [&](const std::string& key) {
+    const auto at = manifest.find("\n" + key + ": ");
+    return at == std::string::npos
+               ? std::string("?")
+               : manifest.substr(at + key.size() + 3,
+                                 manifest.find('\n', at + 1) - at - key.size() - 3);
+  };
+  EXPECT_EQ(cost("baseline_cost"), cost("tuned_cost")) << manifest;
+  EXPECT_EQ(cost("baseline_cost"), cost("start_cost")) << manifest;
+}
+
+TEST_F(TuneCliTest, RefuseNamesTheKeyOutsideTheSpaceAndSpaceShowWarns) {
+  const std::string run = Path("refused");
+  EXPECT_EQ(RunScw("tune --scenarios " + set_ + " --base " + shipped_ +
+                       " --base-outside refuse --max-evals 1 --progress never --out " + run,
+                   Path("refuse.out")),
+            2);
+  const std::string out = Slurp(Path("refuse.out"));
+  EXPECT_NE(out.find("ESC.beta_threshold_deactivate: the base value 0.035 is 2.011 × "
+                     "min(ESC.beta_threshold_activate), outside the ratio range [0.3, 1]"),
+            std::string::npos)
+      << out;
+  EXPECT_FALSE(fs::exists(run)) << "a refused run must not leave a run folder";
+
+  EXPECT_EQ(RunScw("space show", Path("show.out")), 0);
+  const std::string show = Slurp(Path("show.out"));
+  EXPECT_NE(show.find("warning: ESC.beta_threshold_deactivate"), std::string::npos) << show;
+  EXPECT_NE(show.find("grows the range to [0.3, 2.02]"), std::string::npos) << show;
+}
+
+}  // namespace
+}  // namespace scw
