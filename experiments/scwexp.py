@@ -188,6 +188,19 @@ def sweep_cmd(scw, args, sets, vary, configs, out_csv, extra=()):
     return cmd + list(extra)
 
 
+def mpc_sweep_cmd(scw, args, sets, vary, configs, out_csv, processes=None, extra=()):
+    """sweep_cmd for the Ipopt-based motion controllers (pmpc, nmpc): the runs go to worker
+    processes (`scw sweep --processes N`), since their Ipopt calls are serialised within one
+    process and threads do not help. The table is the same as with sweep_cmd. processes: the
+    number of workers (default: --threads, 0 meaning all cores)."""
+    if processes is None:
+        processes = getattr(args, "threads", 0) or os.cpu_count() or 1
+    cmd = sweep_cmd(scw, args, sets, vary, configs, out_csv, extra)
+    i = cmd.index("--threads")
+    cmd[i:i + 2] = ["--processes", str(max(1, int(processes)))]
+    return cmd
+
+
 def add_common_args(parser, gg="1.0:0.05:1.8", laps=3):
     parser.add_argument("--gg", default=gg,
                         help=f"GG values: start:step:stop or a comma list (default {gg})")

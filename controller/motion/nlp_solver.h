@@ -8,7 +8,21 @@
 // options fixed at construction; Solve never throws and never reads the wall clock for a decision
 // (iteration limits only, so results do not depend on the machine's speed).
 //
-// Allocation: Ipopt allocates its iterates and MUMPS's factor storage inside every Solve; the
+// Linear algebra: each Ipopt iteration factorises the KKT matrix of the Newton step. Debian's
+// Ipopt has MUMPS only, which costs ~1 ms per factorisation and ~0.4 ms per solve even for the
+// point-mass QP (KKT order ~740): 95 % of a PMPC solve. Convex problems can instead use
+// LinearSolver::kQuasiDefiniteLdl, a sparse LDLᵀ without pivoting on a regularised,
+// quasi-definite neighbour of the KKT matrix (AMD ordering; Ipopt's iterative refinement
+// corrects for the regularisation), plugged into Ipopt's MA27 slot through HSLLoader.h
+// (LSL_setMA27); with it (and the warm start) a PMPC solve takes ~1 ms instead of ~15 ms.
+// Non-convex problems (the NMPC) keep MUMPS: without pivoting their negative curvature would
+// be masked rather than reported through the inertia.
+//
+// Warm start: with `warm_start`, a problem that offers multipliers (SparseNlp::StartMultipliers)
+// starts from them and from its primal start with small bound pushes and mu_init =
+// warm_start_mu_init (Ipopt's warm_start_init_point); otherwise Ipopt's cold start.
+//
+// Allocation: Ipopt allocates its iterates and the factor storage inside every Solve; the
 // problem's own data live in the caller's preallocated workspace.
 #pragma once
 
@@ -40,6 +54,14 @@ class SparseNlp {
                              double* values) = 0;
   /// Called once with the last iterate (also when not converged).
   virtual void Solution(const double* z) = 0;
+  /// Optional warm start of the multipliers (NlpSolverOptions::warm_start): bound multipliers
+  /// z_l, z_u ≥ 0 (n each) and constraint multipliers lambda (m). False: cold start.
+  virtual bool StartMultipliers(double* /*z_l*/, double* /*z_u*/, double* /*lambda*/) const {
+    return false;
+  }
+  /// Optional: the multipliers of the last iterate, called right after Solution.
+  virtual void SolutionMultipliers(const double* /*z_l*/, const double* /*z_u*/,
+                                   const double* /*lambda*/) {}
 };
 
 struct NlpSolverOptions {
@@ -55,6 +77,15 @@ struct NlpSolverOptions {
   /// (max over rows and bounds, in the problem's units) is below this.
   double usable_violation = 1e-3;
   int print_level = 0;
+  enum class LinearSolver {
+    kMumps,             ///< Ipopt's MUMPS (pivoting; any problem)
+    kQuasiDefiniteLdl,  ///< static-pivoting LDLᵀ; convex problems only (see the file comment)
+  };
+  LinearSolver linear_solver = LinearSolver::kMumps;
+  int min_refinement_steps = 1;         ///< Ipopt `min_refinement_steps` (Ipopt's default 1)
+  bool warm_start = false;              ///< use SparseNlp::StartMultipliers when offered
+  double warm_start_mu_init = 1e-4;     ///< Ipopt `mu_init` of a warm start
+  double warm_start_bound_push = 1e-6;  ///< Ipopt `warm_start_{,mult_}bound_{push,frac}`
 };
 
 struct NlpResult {

@@ -48,11 +48,15 @@ struct PointMassMpc::Workspace final : SparseNlp {
   Workspace(const PmpcOptions& o, int segments)
       : N(o.horizon_steps), S(segments), solver([&] {
           NlpSolverOptions so;
-          so.quadratic = true;
+          so.quadratic = true;  // constant Jacobian and Hessian
+          so.linear_solver = o.mumps ? NlpSolverOptions::LinearSolver::kMumps
+                                     : NlpSolverOptions::LinearSolver::kQuasiDefiniteLdl;
           so.max_iter = o.max_iter;
           so.tol = o.tol;
           so.mu_strategy = "monotone";
           so.mu_init = 1e-1;
+          so.min_refinement_steps = 0;  // Ipopt still refines when the residual asks for it
+          so.warm_start = o.warm_start;
           return so;
         }()) {
     nv = 3 * (N + 1) + 2 * N + N;
@@ -96,6 +100,8 @@ struct PointMassMpc::Workspace final : SparseNlp {
         hc.push_back(U(k - 1, j));
       }
     hv.assign(hr.size(), 0.0);
+    for (auto* v : {&zl_mult, &zu_mult, &new_zl_mult, &new_zu_mult}) v->assign(nv, 0.0);
+    for (auto* v : {&g_mult, &new_g_mult}) v->assign(m, 0.0);
   }
 
   int X(int k, int i) const { return 3 * k + i; }
@@ -159,10 +165,52 @@ struct PointMassMpc::Workspace final : SparseNlp {
   }
   void Solution(const double* x) override { std::copy(x, x + nv, z.begin()); }
 
+  // Warm start: the multipliers of the plan in use, shifted in time like the primal start
+  // (stage k of the new problem takes stage k + mult_shift of the old one, interpolated linearly
+  // and held at the ends). Kept only from usable solves (see PointMassMpc::Solve).
+  bool StartMultipliers(double* z_l, double* z_u, double* lambda) const override {
+    if (!(mult_shift >= 0.0)) return false;
+    // value(k) of a stage-indexed quantity with stages k0..k1 at index idx(k).
+    const auto shifted = [this](const std::vector<double>& from, double* to, int k0, int k1,
+                                const auto& idx) {
+      for (int k = k0; k <= k1; ++k) {
+        const double x =
+            std::clamp(k + mult_shift, static_cast<double>(k0), static_cast<double>(k1));
+        const int i = std::min(static_cast<int>(x), k1 - (k1 > k0 ? 1 : 0));
+        const double w = k1 > k0 ? x - i : 0.0;
+        const double a = from[static_cast<std::size_t>(idx(i))];
+        const double b = from[static_cast<std::size_t>(idx(std::min(i + 1, k1)))];
+        to[idx(k)] = a + w * (b - a);
+      }
+    };
+    for (int pass = 0; pass < 2; ++pass) {
+      const std::vector<double>& from = pass == 0 ? zl_mult : zu_mult;
+      double* to = pass == 0 ? z_l : z_u;
+      for (int i = 0; i < 3; ++i) shifted(from, to, 0, N, [&](int k) { return X(k, i); });
+      for (int j = 0; j < 2; ++j) shifted(from, to, 0, N - 1, [&](int k) { return U(k, j); });
+      shifted(from, to, 1, N, [&](int k) { return E(k); });
+    }
+    for (int i = 0; i < 3; ++i) shifted(g_mult, lambda, 0, N - 1, [&](int k) { return 3 * k + i; });
+    for (int r = 0; r < 2; ++r)
+      shifted(g_mult, lambda, 1, N, [&](int k) { return 3 * N + 2 * (k - 1) + r; });
+    for (int r = 0; r < 4 * S; ++r)
+      shifted(g_mult, lambda, 0, N - 1, [&](int k) { return GgRow(k, r); });
+    return true;
+  }
+  void SolutionMultipliers(const double* z_l, const double* z_u, const double* lambda) override {
+    std::copy(z_l, z_l + nv, new_zl_mult.begin());
+    std::copy(z_u, z_u + nv, new_zu_mult.begin());
+    std::copy(lambda, lambda + m, new_g_mult.begin());
+  }
+
   int N, S, nv = 0, m = 0;
   std::vector<double> zl, zu, gl, gu, z0, z, lin;
   std::vector<int> jr, jc, hr, hc;
   std::vector<double> jv, hv;
+  // Multipliers of the plan in use and of the last solve; shift of the next warm start in steps
+  // (< 0: cold start).
+  std::vector<double> zl_mult, zu_mult, g_mult, new_zl_mult, new_zu_mult, new_g_mult;
+  double mult_shift = -1.0;
   NlpSolver solver;
 };
 
@@ -411,7 +459,8 @@ bool PointMassMpc::Solve(const MotionInput& in, double s, double n, double w, do
       ws.hv[hp++] = -2.0 * r;
     }
 
-  // 3. Solve.
+  // 3. Solve (warm-started from the multipliers of the plan in use when it is shifted).
+  ws.mult_shift = shift ? tau / dt : -1.0;
   NlpResult res;
   {
     ScopedSolveTimer timer(&st->diagnostics.solve_time);
@@ -444,6 +493,9 @@ bool PointMassMpc::Solve(const MotionInput& in, double s, double n, double w, do
   p.valid = true;
   st->prev_at = p.at[0];
   st->prev_an = p.an[0];
+  ws.zl_mult.swap(ws.new_zl_mult);
+  ws.zu_mult.swap(ws.new_zu_mult);
+  ws.g_mult.swap(ws.new_g_mult);
   return true;
 }
 

@@ -18,7 +18,7 @@ struct SweepOptions {
   std::string scenario, stability, out, trace_dir;
   std::vector<std::string> overrides, vary, configs, trace_at;
   bool stop_at_first_abort = false, list_controllers = false;
-  int threads = 0;
+  int threads = 0, processes = 0, worker_fd = 0;
 };
 
 std::string Fixed(double x, int digits) {
@@ -53,6 +53,7 @@ int RunSweepCommand(const SweepOptions& o) {
       }
     if (!problems.empty()) throw ConfigError("scw sweep", problems);
   }
+  if (o.worker_fd > 0) return tuning::RunSweepWorker(d, 0, o.worker_fd);
   tuning::SweepTraceOptions to;
   to.dir = o.trace_dir;
   to.at = o.trace_at;
@@ -60,7 +61,11 @@ int RunSweepCommand(const SweepOptions& o) {
     throw ConfigError("scw sweep", "--trace-at", "needs --trace-dir DIR (where to write)");
 
   const auto t0 = std::chrono::steady_clock::now();
-  const tuning::SweepResult r = tuning::RunSweep(d, o.threads, to);
+  tuning::SweepExecution exec;
+  exec.threads = o.threads;
+  exec.processes = o.processes;
+  exec.worker_command = {"/proc/self/exe", "sweep"};
+  const tuning::SweepResult r = tuning::RunSweep(d, exec, to);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!o.out.empty()) tuning::WriteSweepCsv(o.out, r);
 
@@ -103,6 +108,8 @@ void AddSweep(CLI::App& app) {
       "    --config none:subsystems.esc=false,subsystems.cs=false \\\n"
       "    --config esc:subsystems.cs=false --config cs:subsystems.esc=false --config esc+cs \\\n"
       "    -o lateral.csv --trace-dir traces --trace-at gg_scale=1.4\n"
+      "MPC controllers (pmpc, nmpc): use --processes 2 (their Ipopt calls do not run in\n"
+      "parallel threads); the table is the same for any --threads/--processes.\n"
       "Exit codes: 0 every run evaluated and the outputs written (aborted runs are results),\n"
       "1 a run or a write failed, 2 bad arguments or files.");
   cmd->add_option("--scenario", o->scenario,
@@ -132,6 +139,14 @@ void AddSweep(CLI::App& app) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")
       ->check(CLI::Range(0, 1024));
+  cmd->add_option("--processes", o->processes,
+                  "Run the jobs in N worker processes (copies of this scw) instead of threads: "
+                  "use for pmpc/nmpc, whose Ipopt calls are serialised within a process; same "
+                  "table as with threads (0: threads)")
+      ->check(CLI::Range(0, 256));
+  cmd->add_option("--worker-fd", o->worker_fd, "(internal) run as a worker of --processes")
+      ->group("")
+      ->check(CLI::Range(3, 1024));
   cmd->add_flag("--list-controllers", o->list_controllers,
                 "Print the motion controllers (motion.controller values) and exit");
   cmd->callback([o] { SetExitCode(RunSweepCommand(*o)); });

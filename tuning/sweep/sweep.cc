@@ -1,12 +1,24 @@
 #include "tuning/sweep/sweep.h"
 
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 #include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
+#include <stdexcept>
 
 #include "params/io/write.h"
 #include "tuning/closed_loop.h"
@@ -367,57 +379,435 @@ void ValidateSweep(const SweepDefinition& d) {
   if (!problems.empty()) throw ConfigError("scw sweep", problems.items());
 }
 
-SweepResult RunSweep(const SweepDefinition& d, int threads, const SweepTraceOptions& traces) {
-  ValidateSweep(d);
+namespace {
+
+// The grid with every run's scenario and its resolution group (shared by RunSweep and the
+// worker processes, so both number and resolve the runs identically).
+struct SweepPlan {
   SweepResult r;
+  std::vector<GridPoint> grid;
+  std::vector<int> run_resolve;                      ///< per run: index into unique_specs
+  std::vector<params::ScenarioParams> unique_specs;  ///< one per distinct resolution
+  std::string base_dir, source;
+};
+
+SweepPlan MakePlan(const SweepDefinition& d) {
+  ValidateSweep(d);
+  SweepPlan plan;
+  SweepResult& r = plan.r;
   r.axes = d.axes;
   r.configs = d.configs.empty() ? std::vector<SweepConfig>{{"default", {}}} : d.configs;
-  const auto conditions = ParseConditions(r.axes, traces.at);
-
-  const std::vector<GridPoint> grid = ExpandGrid(d.axes, static_cast<int>(r.configs.size()));
-  const int n = static_cast<int>(grid.size());
-  r.runs.resize(grid.size());
+  plan.grid = ExpandGrid(d.axes, static_cast<int>(r.configs.size()));
+  const int n = static_cast<int>(plan.grid.size());
+  r.runs.resize(plan.grid.size());
+  plan.run_resolve.resize(plan.grid.size());
   // Scenarios (serially: cheap, and errors come out in run order), grouped by resolution.
   std::map<std::string, int> resolve_index;
-  std::vector<int> run_resolve(grid.size());
-  std::vector<params::ScenarioParams> unique_specs;
   for (int i = 0; i < n; ++i) {
     SweepRun& run = r.runs[static_cast<std::size_t>(i)];
-    run.point = grid[static_cast<std::size_t>(i)];
+    run.point = plan.grid[static_cast<std::size_t>(i)];
     run.spec = PointScenario(d, run.point);
     const auto [it, added] =
-        resolve_index.emplace(ResolveKey(run.spec), static_cast<int>(unique_specs.size()));
-    if (added) unique_specs.push_back(run.spec);
-    run_resolve[static_cast<std::size_t>(i)] = it->second;
+        resolve_index.emplace(ResolveKey(run.spec), static_cast<int>(plan.unique_specs.size()));
+    if (added) plan.unique_specs.push_back(run.spec);
+    plan.run_resolve[static_cast<std::size_t>(i)] = it->second;
   }
-  r.resolves = static_cast<int>(unique_specs.size());
-  const std::string base_dir =
+  r.resolves = static_cast<int>(plan.unique_specs.size());
+  plan.base_dir =
       d.scenario_file.empty() ? std::string() : fs::path(d.scenario_file).parent_path().string();
-  const std::string source = d.scenario_file.empty() ? "built-in" : d.scenario_file;
-  std::vector<ResolvedScenario> resolved(unique_specs.size());
-  ParallelFor(r.resolves, threads, [&](int k) {
-    resolved[static_cast<std::size_t>(k)] =
-        Resolve(unique_specs[static_cast<std::size_t>(k)], base_dir, source);
-  });
+  plan.source = d.scenario_file.empty() ? "built-in" : d.scenario_file;
+  return plan;
+}
 
-  auto scenario_of = [&](int i) {
-    ResolvedScenario sc =
-        resolved[static_cast<std::size_t>(run_resolve[static_cast<std::size_t>(i)])];
-    sc.spec = r.runs[static_cast<std::size_t>(i)].spec;
+// Resolutions on demand, each at most once. Get(k) for distinct k may run in parallel; Scenario(i)
+// may run in parallel once its group is resolved.
+class Resolutions {
+ public:
+  explicit Resolutions(const SweepPlan& plan) : plan_(plan), done_(plan.unique_specs.size()) {}
+  const ResolvedScenario& Get(int k) {
+    auto& slot = done_[static_cast<std::size_t>(k)];
+    if (!slot)
+      slot = std::make_unique<ResolvedScenario>(
+          Resolve(plan_.unique_specs[static_cast<std::size_t>(k)], plan_.base_dir, plan_.source));
+    return *slot;
+  }
+  /// The scenario of run i: its group's resolution with the run's own spec.
+  ResolvedScenario Scenario(int i) {
+    ResolvedScenario sc = Get(plan_.run_resolve[static_cast<std::size_t>(i)]);
+    sc.spec = plan_.r.runs[static_cast<std::size_t>(i)].spec;
     return sc;
+  }
+
+ private:
+  const SweepPlan& plan_;
+  std::vector<std::unique_ptr<ResolvedScenario>> done_;
+};
+
+// --- Run results between processes: one text line per run, doubles as hexadecimal floats
+// (printf %a, strtod) so the parent gets the worker's values bit for bit. Every RunMetrics field
+// is carried (update both functions when RunMetrics grows).
+std::string EncodeRun(const RunMetrics& m, double ideal_lap_time) {
+  std::string out;
+  char buf[64];
+  const auto num = [&](double x) {
+    std::snprintf(buf, sizeof buf, " %a", x);
+    out += buf;
   };
-  auto run_one = [&](int i) {
-    const ResolvedScenario sc = scenario_of(i);
-    SweepRun& run = r.runs[static_cast<std::size_t>(i)];
-    run.metrics = RunClosedLoop(sc, sc.stability);
-    run.ideal_lap_time = sc.ideal_lap_time;
-    run.computed = true;
+  const auto integer = [&](long x) { out += " " + std::to_string(x); };
+  integer(static_cast<long>(m.status));
+  integer(static_cast<long>(m.lap_times.size()));
+  for (double t : m.lap_times) num(t);
+  integer(m.laps_planned);
+  for (double x : {m.time, m.distance, m.distance_planned, m.end_s}) num(x);
+  integer(m.end_lap);
+  for (double x :
+       {m.max_abs_sideslip, m.max_abs_lateral_error, m.max_abs_heading_error, m.max_slip_front,
+        m.max_slip_rear, m.sideslip_excess_integral, m.esc_time, m.cs_time, m.abs_time, m.tc_time})
+    num(x);
+  for (int c : {m.esc_count, m.cs_count, m.abs_count, m.tc_count}) integer(c);
+  for (double x : {m.esc_brake_energy, m.max_speed, ideal_lap_time}) num(x);
+  return out;
+}
+
+bool DecodeRun(const char* text, RunMetrics* m, double* ideal_lap_time) {
+  const char* p = text;
+  bool ok = true;
+  const auto num = [&]() {
+    char* end = nullptr;
+    const double x = std::strtod(p, &end);
+    if (end == p) ok = false;
+    p = end;
+    return x;
   };
+  const auto integer = [&]() {
+    char* end = nullptr;
+    const long x = std::strtol(p, &end, 10);
+    if (end == p) ok = false;
+    p = end;
+    return x;
+  };
+  const long status = integer();
+  if (status < 0 || status > static_cast<long>(RunStatus::kInvalidParams)) return false;
+  m->status = static_cast<RunStatus>(status);
+  const long laps = integer();
+  if (laps < 0 || laps > 100000) return false;
+  m->lap_times.resize(static_cast<std::size_t>(laps));
+  for (double& t : m->lap_times) t = num();
+  m->laps_planned = static_cast<int>(integer());
+  for (double* x : {&m->time, &m->distance, &m->distance_planned, &m->end_s}) *x = num();
+  m->end_lap = static_cast<int>(integer());
+  for (double* x : {&m->max_abs_sideslip, &m->max_abs_lateral_error, &m->max_abs_heading_error,
+                    &m->max_slip_front, &m->max_slip_rear, &m->sideslip_excess_integral,
+                    &m->esc_time, &m->cs_time, &m->abs_time, &m->tc_time})
+    *x = num();
+  for (int* c : {&m->esc_count, &m->cs_count, &m->abs_count, &m->tc_count})
+    *c = static_cast<int>(integer());
+  for (double* x : {&m->esc_brake_energy, &m->max_speed, ideal_lap_time}) *x = num();
+  while (*p == ' ') ++p;
+  return ok && (*p == '\0' || *p == '\n');
+}
+
+std::string OneLine(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = '\x1f';
+  return s;
+}
+std::string Multiline(std::string s) {
+  for (char& c : s)
+    if (c == '\x1f') c = '\n';
+  return s;
+}
+
+std::string RunLabel(const SweepResult& r, int i) {
+  const SweepRun& run = r.runs[static_cast<std::size_t>(i)];
+  std::string s = "run " + std::to_string(i + 1) + " (config " +
+                  r.configs[static_cast<std::size_t>(run.point.config)].name;
+  for (std::size_t a = 0; a < r.axes.size(); ++a)
+    s +=
+        ", " + r.axes[a].key + "=" + r.axes[a].values[static_cast<std::size_t>(run.point.value[a])];
+  return s + ")";
+}
+
+// Worker processes: `argv` + "--worker-fd=3"; each reads "run <i>" lines on its stdin and answers
+// "ok <i> <EncodeRun>" or "error <i> <C|R> <message>" on fd 3 (its stdout goes to stderr so
+// stray output cannot corrupt the protocol). One job per worker at a time, so no pipe can fill.
+class WorkerPool {
+ public:
+  WorkerPool(std::vector<std::string> argv, int n, const SweepResult& r) : r_(r) {
+    struct sigaction ignore {};
+    ignore.sa_handler = SIG_IGN;
+    sigemptyset(&ignore.sa_mask);
+    sigaction(SIGPIPE, &ignore, &old_sigpipe_);  // a dead worker's pipe: EPIPE, not death
+    argv.push_back("--worker-fd=3");
+    std::vector<char*> cargv;
+    for (auto& a : argv) cargv.push_back(a.data());
+    cargv.push_back(nullptr);
+    for (int w = 0; w < n; ++w) {
+      int to[2], from[2];
+      if (pipe2(to, O_CLOEXEC) != 0) Fail("cannot create a pipe");
+      if (pipe2(from, O_CLOEXEC) != 0) {
+        close(to[0]);
+        close(to[1]);
+        Fail("cannot create a pipe");
+      }
+      const pid_t pid = fork();
+      if (pid == 0) {  // child: async-signal-safe calls only
+        if (dup2(to[0], 0) < 0 || dup2(from[1], 3) < 0 || dup2(2, 1) < 0) _exit(127);
+        execv(cargv[0], cargv.data());
+        _exit(127);
+      }
+      close(to[0]);
+      close(from[1]);
+      if (pid < 0) {
+        close(to[1]);
+        close(from[0]);
+        Fail("cannot start a worker process");
+      }
+      workers_.push_back({pid, to[1], from[0], {}, -1});
+    }
+  }
+  ~WorkerPool() {
+    for (auto& w : workers_) {
+      if (w.to >= 0) close(w.to);
+      if (w.from >= 0) close(w.from);
+      if (w.pid > 0) {
+        kill(w.pid, SIGTERM);
+        waitpid(w.pid, nullptr, 0);
+      }
+    }
+    sigaction(SIGPIPE, &old_sigpipe_, nullptr);
+  }
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+
+  /// Runs `jobs` on the workers; on_result(i, payload) for every answer "ok". Errors of runs are
+  /// rethrown after the batch (the first by index); a worker that dies throws at once.
+  void Run(const std::vector<int>& jobs, const std::function<void(int, const char*)>& on_result) {
+    std::size_t next = 0, pending = 0;
+    std::map<int, std::pair<bool, std::string>> errors;  // run → (config error, message)
+    const auto assign = [&](Worker& w) {
+      if (next >= jobs.size()) return;
+      w.job = jobs[next++];
+      const std::string line = "run " + std::to_string(w.job) + "\n";
+      if (!WriteAll(w.to, line)) Died(w);
+      ++pending;
+    };
+    for (auto& w : workers_) assign(w);
+    std::vector<pollfd> fds(workers_.size());
+    while (pending > 0) {
+      for (std::size_t k = 0; k < workers_.size(); ++k)
+        fds[k] = {workers_[k].job >= 0 ? workers_[k].from : -1, POLLIN, 0};
+      if (poll(fds.data(), fds.size(), -1) < 0) {
+        if (errno == EINTR) continue;
+        Fail("poll failed");
+      }
+      for (std::size_t k = 0; k < workers_.size(); ++k) {
+        if (fds[k].revents == 0) continue;
+        Worker& w = workers_[k];
+        char buf[4096];
+        const ssize_t got = read(w.from, buf, sizeof buf);
+        if (got < 0 && errno == EINTR) continue;
+        if (got <= 0) Died(w);
+        w.buf.append(buf, static_cast<std::size_t>(got));
+        std::size_t eol;
+        while ((eol = w.buf.find('\n')) != std::string::npos) {
+          const std::string line = w.buf.substr(0, eol);
+          w.buf.erase(0, eol + 1);
+          int job = -1, used = 0;
+          if (line.rfind("ok ", 0) == 0 && std::sscanf(line.c_str(), "ok %d%n", &job, &used) == 1 &&
+              job == w.job) {
+            on_result(job, line.c_str() + used);
+          } else if (line.rfind("error ", 0) == 0 &&
+                     std::sscanf(line.c_str(), "error %d%n", &job, &used) == 1 && job == w.job &&
+                     line.size() > static_cast<std::size_t>(used) + 2) {
+            const bool config = line[static_cast<std::size_t>(used) + 1] == 'C';
+            errors[job] = {config, Multiline(line.substr(static_cast<std::size_t>(used) + 3))};
+          } else {
+            Fail("sweep worker process " + std::to_string(w.pid) + " sent an unreadable line for " +
+                 RunLabel(r_, w.job) + ": '" + line.substr(0, 200) + "'");
+          }
+          w.job = -1;
+          --pending;
+          assign(w);
+        }
+      }
+    }
+    if (!errors.empty()) {
+      const auto& [job, e] = *errors.begin();
+      if (e.first) throw ConfigError("scw sweep", "", RunLabel(r_, job) + ": " + e.second);
+      throw std::runtime_error(RunLabel(r_, job) + ": " + e.second);
+    }
+  }
+
+  /// Ends the workers (EOF on their input) and checks that each exited with 0.
+  void Finish() {
+    for (auto& w : workers_) {
+      close(w.to);
+      w.to = -1;
+    }
+    for (auto& w : workers_) {
+      int status = 0;
+      const pid_t pid = w.pid;
+      waitpid(pid, &status, 0);
+      w.pid = -1;
+      if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+        Fail("sweep worker process " + std::to_string(pid) + " " + StatusText(status) +
+             " at the end of the sweep");
+    }
+  }
+
+ private:
+  struct Worker {
+    pid_t pid;
+    int to, from;
+    std::string buf;
+    int job;
+  };
+
+  static bool WriteAll(int fd, const std::string& s) {
+    std::size_t done = 0;
+    while (done < s.size()) {
+      const ssize_t n = write(fd, s.data() + done, s.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      done += static_cast<std::size_t>(n);
+    }
+    return true;
+  }
+  static std::string StatusText(int status) {
+    if (WIFSIGNALED(status))
+      return "was killed by signal " + std::to_string(WTERMSIG(status)) + " (" +
+             strsignal(WTERMSIG(status)) + ")";
+    if (WIFEXITED(status)) {
+      if (WEXITSTATUS(status) == 127) return "could not be started (exit code 127)";
+      return "exited with code " + std::to_string(WEXITSTATUS(status));
+    }
+    return "ended abnormally";
+  }
+  [[noreturn]] void Died(Worker& w) {
+    int status = 0;
+    const pid_t pid = w.pid;
+    if (w.from >= 0) close(w.from);
+    w.from = -1;
+    kill(pid, SIGTERM);
+    waitpid(pid, &status, 0);
+    w.pid = -1;
+    Fail("sweep worker process " + std::to_string(pid) + " " + StatusText(status) +
+         " while computing " + RunLabel(r_, w.job) + "; no table written");
+  }
+  [[noreturn]] static void Fail(const std::string& what) { throw std::runtime_error(what); }
+
+  const SweepResult& r_;
+  std::vector<Worker> workers_;
+  struct sigaction old_sigpipe_ {};
+};
+
+}  // namespace
+
+SweepResult RunSweep(const SweepDefinition& d, int threads, const SweepTraceOptions& traces) {
+  SweepExecution exec;
+  exec.threads = threads;
+  return RunSweep(d, exec, traces);
+}
+
+std::vector<std::string> SweepWorkerArguments(const SweepDefinition& d) {
+  std::vector<std::string> a;
+  if (!d.scenario_file.empty()) a.push_back("--scenario=" + d.scenario_file);
+  for (const auto& o : d.base_overrides) a.push_back("--set=" + o);
+  if (!d.stability_file.empty()) a.push_back("--stability=" + d.stability_file);
+  for (const auto& axis : d.axes) {
+    std::string v = "--vary=" + axis.key + "=";
+    for (std::size_t i = 0; i < axis.values.size(); ++i) v += (i ? "," : "") + axis.values[i];
+    a.push_back(v);
+  }
+  for (const auto& c : d.configs) a.push_back("--config=" + ConfigText(c).substr(9));
+  return a;
+}
+
+int RunSweepWorker(const SweepDefinition& d, int in_fd, int out_fd) {
+  SweepPlan plan = MakePlan(d);
+  Resolutions resolutions(plan);
+  FILE* in = fdopen(in_fd, "r");
+  FILE* out = fdopen(out_fd, "w");
+  if (in == nullptr || out == nullptr) return 1;
+  char line[256];
+  const int n = static_cast<int>(plan.grid.size());
+  while (std::fgets(line, sizeof line, in) != nullptr) {
+    int i = -1;
+    if (std::sscanf(line, "run %d", &i) != 1 || i < 0 || i >= n) return 1;
+    std::string answer;
+    try {
+      const ResolvedScenario sc = resolutions.Scenario(i);
+      answer =
+          "ok " + std::to_string(i) + EncodeRun(RunClosedLoop(sc, sc.stability), sc.ideal_lap_time);
+    } catch (const ConfigError& e) {
+      answer = "error " + std::to_string(i) + " C " + OneLine(e.what());
+    } catch (const std::exception& e) {
+      answer = "error " + std::to_string(i) + " R " + OneLine(e.what());
+    }
+    if (std::fputs((answer + "\n").c_str(), out) < 0 || std::fflush(out) != 0) return 1;
+  }
+  return 0;
+}
+
+SweepResult RunSweep(const SweepDefinition& d, const SweepExecution& exec,
+                     const SweepTraceOptions& traces) {
+  SweepPlan plan = MakePlan(d);
+  SweepResult& r = plan.r;
+  const auto conditions = ParseConditions(r.axes, traces.at);
+  const std::vector<GridPoint>& grid = plan.grid;
+  const int n = static_cast<int>(grid.size());
+  const int threads = exec.threads;
+  Resolutions resolutions(plan);
+
+  // How a batch of runs is computed: threads of this process (resolutions first, in parallel),
+  // or worker processes (each resolves what it needs).
+  std::unique_ptr<WorkerPool> pool;
+  std::function<void(const std::vector<int>&)> run_batch;
+  int workers = ResolveThreads(threads);
+  if (exec.processes > 0) {
+    if (exec.worker_command.empty())
+      throw std::invalid_argument("RunSweep: processes need a worker command");
+    workers = std::min(exec.processes, std::max(n, 1));
+    std::vector<std::string> argv = exec.worker_command;
+    for (auto& a : SweepWorkerArguments(d)) argv.push_back(std::move(a));
+    pool = std::make_unique<WorkerPool>(argv, workers, r);
+    run_batch = [&](const std::vector<int>& batch) {
+      pool->Run(batch, [&](int i, const char* payload) {
+        SweepRun& run = r.runs[static_cast<std::size_t>(i)];
+        if (!DecodeRun(payload, &run.metrics, &run.ideal_lap_time))
+          throw std::runtime_error("sweep worker sent unreadable results for " + RunLabel(r, i));
+        run.computed = true;
+      });
+    };
+  } else {
+    run_batch = [&](const std::vector<int>& batch) {
+      // The batch's resolutions first, in parallel (only those a run needs: a series stopped at
+      // its first abort never resolves its later values).
+      std::vector<int> groups;
+      for (int i : batch) groups.push_back(plan.run_resolve[static_cast<std::size_t>(i)]);
+      std::sort(groups.begin(), groups.end());
+      groups.erase(std::unique(groups.begin(), groups.end()), groups.end());
+      ParallelFor(static_cast<int>(groups.size()), threads,
+                  [&](int k) { (void)resolutions.Get(groups[static_cast<std::size_t>(k)]); });
+      ParallelFor(static_cast<int>(batch.size()), threads, [&](int k) {
+        const int i = batch[static_cast<std::size_t>(k)];
+        const ResolvedScenario sc = resolutions.Scenario(i);
+        SweepRun& run = r.runs[static_cast<std::size_t>(i)];
+        run.metrics = RunClosedLoop(sc, sc.stability);
+        run.ideal_lap_time = sc.ideal_lap_time;
+        run.computed = true;
+      });
+    };
+  }
+
   if (!d.stop_at_first_abort) {
-    ParallelFor(n, threads, run_one);
+    std::vector<int> all(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) all[static_cast<std::size_t>(i)] = i;
+    run_batch(all);
   } else {
     // Waves: the next few runs of every series still going, in parallel; a series stops after
-    // its first abort. Which runs get computed depends on the thread count, the reported ones
+    // its first abort. Which runs get computed depends on the worker count, the reported ones
     // (every run up to the first abort) do not.
     int n_series = 0;
     for (const auto& p : grid) n_series = std::max(n_series, p.series + 1);
@@ -426,7 +816,6 @@ SweepResult RunSweep(const SweepDefinition& d, int threads, const SweepTraceOpti
       members[static_cast<std::size_t>(grid[static_cast<std::size_t>(i)].series)].push_back(i);
     std::vector<std::size_t> next(members.size(), 0);
     std::vector<bool> stopped(members.size(), false);
-    const int workers = ResolveThreads(threads);
     while (true) {
       std::vector<std::size_t> alive;
       for (std::size_t s = 0; s < members.size(); ++s)
@@ -438,8 +827,7 @@ SweepResult RunSweep(const SweepDefinition& d, int threads, const SweepTraceOpti
       for (std::size_t s : alive)
         for (std::size_t k = next[s]; k < std::min(next[s] + per, members[s].size()); ++k)
           batch.push_back(members[s][k]);
-      ParallelFor(static_cast<int>(batch.size()), threads,
-                  [&](int k) { run_one(batch[static_cast<std::size_t>(k)]); });
+      run_batch(batch);
       for (std::size_t s : alive) {
         const std::size_t end = std::min(next[s] + per, members[s].size());
         for (; next[s] < end && !stopped[s]; ++next[s])
@@ -447,6 +835,10 @@ SweepResult RunSweep(const SweepDefinition& d, int threads, const SweepTraceOpti
             stopped[s] = true;
       }
     }
+  }
+  if (pool) {
+    pool->Finish();
+    pool.reset();
   }
 
   std::vector<int> series(grid.size());
@@ -465,10 +857,12 @@ SweepResult RunSweep(const SweepDefinition& d, int threads, const SweepTraceOpti
       const SweepRun& run = r.runs[static_cast<std::size_t>(i)];
       if (run.reported && Matches(r, run, conditions)) selected.push_back(i);
     }
+    // Resolutions of the traced runs first (serially: with worker processes none exist here).
+    for (int i : selected) (void)resolutions.Get(plan.run_resolve[static_cast<std::size_t>(i)]);
     fs::create_directories(traces.dir);
     ParallelFor(static_cast<int>(selected.size()), threads, [&](int k) {
       const int i = selected[static_cast<std::size_t>(k)];
-      const ResolvedScenario sc = scenario_of(i);
+      const ResolvedScenario sc = resolutions.Scenario(i);
       CsvWriter w(
           (fs::path(traces.dir) / TraceFileName(r, r.runs[static_cast<std::size_t>(i)])).string(),
           TraceHeader());
@@ -478,7 +872,7 @@ SweepResult RunSweep(const SweepDefinition& d, int threads, const SweepTraceOpti
       w.Commit();
     });
   }
-  return r;
+  return std::move(plan.r);
 }
 
 bool MatchesTraceConditions(const SweepResult& r, const SweepRun& run,

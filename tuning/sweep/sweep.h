@@ -27,10 +27,23 @@
 //
 // Resolution (racing line and velocity profile, ~1 s) is shared: runs whose scenarios differ only
 // in keys the closed loop reads at run time (subsystems.*, abort.*, laps, name) share one
-// Resolve; each run gets a copy of the resolved scenario with its own spec.
+// Resolve; each run gets a copy of the resolved scenario with its own spec. Resolutions happen
+// when a run first needs them (values after every series' first abort are never resolved).
 //
 // Determinism: resolutions and runs are pure functions written into per-index slots, so the
 // results are bit-identical for any thread count.
+//
+// Worker processes (SweepExecution::processes): the MPC motion controllers' Ipopt calls are
+// serialised within a process (controller/motion/nlp_solver.h), so threads do not speed up MPC
+// sweeps. With `processes` = N the runs go to N worker processes instead: each is
+// `worker_command` + SweepWorkerArguments(d) (the same scw binary, `scw sweep ... --worker-fd=3`,
+// RunSweepWorker), builds the same grid, resolves the scenarios it is given (the racing line
+// once per process) and computes one run at a time, handed out by the parent as workers become
+// free, in the same waves as with threads. Results travel as exact text (hexadecimal floats)
+// into the same per-index slots, so the table is bit-identical to the single-process one and the
+// series stop at their first abort exactly as with threads. A worker that dies or cannot be
+// started ends the sweep with std::runtime_error naming the run it was computing; nothing is
+// written then. Traces are re-run in the parent (threads).
 #pragma once
 
 #include <string>
@@ -118,10 +131,29 @@ struct SweepTraceOptions {
   std::vector<std::string> at;
 };
 
-/// Runs the grid on `threads` threads (0 = all cores) and writes the traces of the selected
-/// reported runs (re-run with a trace writer: runs are deterministic). Throws ConfigError for bad
-/// input, std::runtime_error for I/O failures.
+/// Where the runs execute (see the header comment).
+struct SweepExecution {
+  int threads = 0;    ///< threads of this process (0 = all cores); with processes: traces only
+  int processes = 0;  ///< ≥ 1: worker processes for the runs; 0: threads
+  /// Executable and leading arguments of a worker, e.g. {"/proc/self/exe", "sweep"}.
+  std::vector<std::string> worker_command;
+};
+
+/// Runs the grid and writes the traces of the selected reported runs (re-run with a trace
+/// writer: runs are deterministic). Throws ConfigError for bad input, std::runtime_error for I/O
+/// failures and failed worker processes.
+SweepResult RunSweep(const SweepDefinition& d, const SweepExecution& exec,
+                     const SweepTraceOptions& traces = {});
+/// The same on `threads` threads (0 = all cores).
 SweepResult RunSweep(const SweepDefinition& d, int threads, const SweepTraceOptions& traces = {});
+
+/// The `scw sweep` arguments that rebuild `d` in a worker (--scenario=, --set=, --stability=,
+/// --vary= with the expanded values, --config=).
+std::vector<std::string> SweepWorkerArguments(const SweepDefinition& d);
+
+/// The worker side: reads "run <i>" lines from `in_fd` until end of input and answers each on
+/// `out_fd` with the run's results (or its error). Returns the process exit code (0: input ended).
+int RunSweepWorker(const SweepDefinition& d, int in_fd, int out_fd);
 
 /// Whether a run matches the trace conditions (throws ConfigError for a malformed condition or a
 /// key that is neither `config` nor varied).

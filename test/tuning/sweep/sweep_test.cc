@@ -257,5 +257,107 @@ TEST(SweepRunTest, CsvHasOneRowPerReportedRunAndTracesTheSelectedRuns) {
   fs::remove_all(dir);
 }
 
+// ---------------------------------------------------------------------------------------------
+// Worker processes (--processes): the same table as in-process threads, clear errors.
+
+SweepExecution Processes(int n, std::vector<std::string> command = {SCW_BINARY, "sweep"}) {
+  SweepExecution e;
+  e.processes = n;
+  e.threads = 1;
+  e.worker_command = std::move(command);
+  return e;
+}
+
+std::string CsvOf(const SweepResult& r, const std::string& name) {
+  const fs::path path = fs::temp_directory_path() /
+                        ("scw_sweep_proc_" + std::to_string(::getpid()) + "_" + name + ".csv");
+  WriteSweepCsv(path.string(), r);
+  std::ifstream in(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  fs::remove(path);
+  return text;
+}
+
+TEST(SweepProcessTest, WorkerProcessesGiveTheSameTableAsOneThread) {
+  // Two configurations × two CS settings (one resolution, which every worker repeats), each
+  // series stopping at its first abort (0.01 m).
+  SweepDefinition d = Small();
+  d.axes = {ParseVary("abort.max_lateral_error=100,0.01,50"),
+            ParseVary("subsystems.cs=true,false")};
+  const SweepResult serial = RunSweep(d, 1);
+  const std::string expected = CsvOf(serial, "serial");
+  for (const int n : {2, 3}) {
+    const SweepResult r = RunSweep(d, Processes(n));
+    EXPECT_EQ(CsvOf(r, "p" + std::to_string(n)), expected) << n << " processes";
+    ASSERT_EQ(r.runs.size(), serial.runs.size());
+    for (std::size_t i = 0; i < r.runs.size(); ++i) {
+      EXPECT_EQ(r.runs[i].reported, serial.runs[i].reported) << i;
+      if (!r.runs[i].reported) continue;
+      // Every field, bit for bit (the CSV rounds nothing, but not every field is in it).
+      const RunMetrics &x = serial.runs[i].metrics, &y = r.runs[i].metrics;
+      EXPECT_EQ(x.lap_times, y.lap_times);
+      EXPECT_EQ(x.distance_planned, y.distance_planned);
+      EXPECT_EQ(x.sideslip_excess_integral, y.sideslip_excess_integral);
+      EXPECT_EQ(x.laps_planned, y.laps_planned);
+      EXPECT_EQ(serial.runs[i].ideal_lap_time, r.runs[i].ideal_lap_time);
+    }
+  }
+}
+
+TEST(SweepProcessTest, PmpcSweepInWorkerProcessesEqualsOneThread) {
+  // The case the worker processes exist for: Ipopt-based runs (one lap each, with and without
+  // ESC + CS), in two processes and in one thread.
+  SweepDefinition d;
+  d.base_overrides = {"laps=1", "motion.raceline=centerline", "motion.controller=pmpc"};
+  d.axes = {ParseVary("gg_scale=1.0")};
+  d.configs = {ParseConfig("off:subsystems.esc=false,subsystems.cs=false"), ParseConfig("sc")};
+  d.stop_at_first_abort = true;
+  const SweepResult serial = RunSweep(d, 1);
+  EXPECT_EQ(CsvOf(RunSweep(d, Processes(2)), "pmpc_p2"), CsvOf(serial, "pmpc_serial"));
+  EXPECT_GT(serial.runs[0].metrics.distance, 100.0);
+}
+
+TEST(SweepProcessTest, WorkerArgumentsRebuildTheDefinition) {
+  SweepDefinition d = Small();
+  d.axes.push_back(ParseVary("grip.wheel_mu_x=[0.8, 1, 0.8, 1],[1,1,1,1]"));
+  d.stability_file = "params/stability/default.yaml";
+  const std::vector<std::string> a = SweepWorkerArguments(d);
+  const std::vector<std::string> expected = {"--set=laps=1",
+                                             "--set=motion.raceline=centerline",
+                                             "--stability=params/stability/default.yaml",
+                                             "--vary=abort.max_lateral_error=100,0.01,50",
+                                             "--vary=grip.wheel_mu_x=[0.8, 1, 0.8, 1],[1,1,1,1]",
+                                             "--config=all",
+                                             "--config=no_esc:subsystems.esc=false"};
+  EXPECT_EQ(a, expected);
+  // Parsed back, the axes are the same values.
+  EXPECT_EQ(ParseVary(a[4].substr(7)).values, d.axes[1].values);
+}
+
+TEST(SweepProcessTest, AFailedWorkerIsAnErrorNamingTheRun) {
+  const SweepDefinition d = Small();
+  const auto message = [&](std::vector<std::string> command) {
+    try {
+      (void)RunSweep(d, Processes(2, std::move(command)));
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // Killed while computing its first run (the shell ignores the sweep arguments).
+  const std::string killed = message({"/bin/sh", "-c", "read job; kill -9 $$", "sh"});
+  EXPECT_NE(killed.find("killed by signal 9"), std::string::npos) << killed;
+  EXPECT_NE(killed.find("(config "), std::string::npos) << killed;  // whichever died first
+  EXPECT_NE(killed.find(", abort.max_lateral_error="), std::string::npos) << killed;
+  EXPECT_NE(killed.find("no table written"), std::string::npos) << killed;
+  // Not startable.
+  const std::string missing = message({"/nonexistent/scw", "sweep"});
+  EXPECT_NE(missing.find("could not be started"), std::string::npos) << missing;
+  // Protocol garbage.
+  const std::string garbage =
+      message({"/bin/sh", "-c", "read job; echo hello >&3; exec sleep 5", "sh"});
+  EXPECT_NE(garbage.find("unreadable line"), std::string::npos) << garbage;
+}
+
 }  // namespace
 }  // namespace scw::tuning
