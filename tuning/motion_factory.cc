@@ -15,26 +15,7 @@ namespace cm = controller::motion;
 
 /// The planner's limits: the plant's g-g-v table × limit_fraction × GG.
 cm::GgTable PlannerLimits(const ResolvedScenario& sc) {
-  const double f = sc.spec.gg_scale * sc.spec.limit_fraction;
-  cm::GgTable g;
-  g.speed = sc.ggv.speed;
-  // The MPCs use one exponent for drive and brake: the most conservative of the planner's over
-  // the speeds the car can reach (above its top speed the drive column is 0 and its exponent
-  // meaningless).
-  g.exponent = 10.0;
-  for (std::size_t i = 0; i < sc.ggv.speed.size(); ++i) {
-    if (sc.ggv.ax_drive_max[i] > 0.5) g.exponent = std::min(g.exponent, sc.ggv.drive_exponent[i]);
-    g.exponent = std::min(g.exponent, sc.ggv.brake_exponent[i]);
-  }
-  g.ay_max.clear();
-  g.ax_drive_max.clear();
-  g.ax_brake_max.clear();
-  for (std::size_t i = 0; i < sc.ggv.speed.size(); ++i) {
-    g.ay_max.push_back(f * sc.ggv.ay_max[i]);
-    g.ax_drive_max.push_back(f * sc.ggv.ax_drive_max[i]);
-    g.ax_brake_max.push_back(f * sc.ggv.ax_brake_max[i]);
-  }
-  return g;
+  return sc.ggv.Scaled(sc.spec.gg_scale * sc.spec.limit_fraction);
 }
 
 /// Room left and right of the reference line at each of its stations, from the track widths,

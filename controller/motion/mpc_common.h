@@ -2,12 +2,9 @@
 // NMPC): the planner's acceleration limits, the drivable corridor around the reference path, the
 // solve-time statistics and the plan shift used as warm start.
 //
-// Acceleration limits (GgTable), the same law as the velocity planner (plant/track/ggv.h):
-//   |a_y| ≤ ay_max(v),   a_x ≤ ax_drive_max(v)·(1 − (|a_y|/ay_max(v))^p)^(1/p),
-//   −a_x ≤ ax_brake_max(v)·(1 − (|a_y|/ay_max(v))^p)^(1/p)
-// with tables over v [m/s] interpolated linearly and held outside; all entries [m/s²] already
-// scaled (limit_fraction × GG × the plant's steady-state limits), so the MPCs use exactly the
-// limits the reference was planned with.
+// Acceleration limits (GgTable): the velocity planner's own table and law (controller/planning/
+// ggv.h: drive and brake exponents per speed), already scaled (limit_fraction × GG × the plant's
+// combined envelope), so the MPCs use exactly the limits the reference was planned with.
 //
 // Corridor: for every station of the reference Path the admissible lateral offset n [m] of the
 // CoG from the path (n > 0 left, as PathProjection::lateral_error): −right(s) ≤ n ≤ left(s), both
@@ -20,24 +17,12 @@
 #include <vector>
 
 #include "controller/motion/path.h"
+#include "controller/planning/ggv.h"
 
 namespace scw::controller::motion {
 
-struct GgTable {
-  std::vector<double> speed{0.0, 100.0};         ///< [m/s], strictly ascending
-  std::vector<double> ay_max{10.0, 10.0};        ///< [m/s²] > 0
-  std::vector<double> ax_drive_max{5.0, 5.0};    ///< [m/s²] ≥ 0
-  std::vector<double> ax_brake_max{10.0, 10.0};  ///< [m/s²] > 0
-  double exponent = 2.0;                         ///< p of the combination law, in [1, 10]
-
-  /// Throws std::invalid_argument for unequal lengths, non-ascending speeds or bad values.
-  void Validate() const;
-  double AyMax(double v) const noexcept;
-  double AxDriveMax(double v) const noexcept;
-  double AxBrakeMax(double v) const noexcept;
-  /// (1 − r^p)^(1/p), r = |a_y|/ay_max clamped to [0, 1].
-  double Combine(double ay_abs, double v) const noexcept;
-};
+/// The planner's g-g-v table (controller/planning/ggv.h), already scaled by the caller.
+using GgTable = planning::GgvTable;
 
 /// Lateral bounds around the path, one entry per Path station (see the file comment).
 struct Corridor {

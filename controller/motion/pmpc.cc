@@ -13,6 +13,9 @@ constexpr double kInf = 1e19;  // Ipopt's "no bound"
 
 // Vertices of the inscribed g-g polygon in r = |a_n|/ay_max.
 constexpr double kPolygonR[] = {0.0, 0.5, 0.85, 1.0};
+constexpr std::size_t kPolygonSides = std::size(kPolygonR) - 1;
+constexpr double kExponentMin = 1.0, kExponentStep = 0.05;
+constexpr int kExponentGrid = 41;  // p = 1.0 … 3.0; larger exponents use the polygon of 3.0
 
 double CentripetalScale(double n, double kappa) { return 1.0 / std::max(1.0 - n * kappa, 0.2); }
 
@@ -257,7 +260,7 @@ double MeanCurvature(const Path& path, double s0, double s1) {
 }  // namespace
 
 PointMassMpc::State::State(const PointMassMpc& c)
-    : ws(std::make_unique<Workspace>(c.options_, static_cast<int>(c.slope_.size()))) {
+    : ws(std::make_unique<Workspace>(c.options_, static_cast<int>(kPolygonSides))) {
   ResizePlan(&plan, c.options_.horizon_steps);
   ResizePlan(&scratch, c.options_.horizon_steps);
 }
@@ -281,15 +284,26 @@ PointMassMpc::PointMassMpc(const PmpcOptions& options, GgTable limits, Corridor 
   if (!(o.wheelbase > 0.0) || !(o.max_steering > 0.0) || !(o.headroom >= o.nominal_fraction) ||
       !(o.nominal_fraction > 0.0) || !(o.min_lookahead > 0.0))
     throw std::invalid_argument("pmpc: invalid wheelbase, steering limit, fractions or lookahead");
-  // The inscribed polygon of (1 − r^p)^(1/p).
-  const double p = limits_.exponent;
-  const auto x_of = [p](double r) { return std::pow(std::max(0.0, 1.0 - std::pow(r, p)), 1 / p); };
-  for (std::size_t j = 0; j + 1 < std::size(kPolygonR); ++j) {
-    const double r0 = kPolygonR[j], r1 = kPolygonR[j + 1];
-    const double m = (x_of(r1) - x_of(r0)) / (r1 - r0);
-    slope_.push_back(m);
-    offset_.push_back(x_of(r0) - m * r0);
+  // Inscribed polygons of (1 − r^p)^(1/p) for p on a grid; each node uses the polygon of the
+  // largest grid exponent not above the table's drive or brake exponent at its speed (inside).
+  for (int q = 0; q < kExponentGrid; ++q) {
+    const double p = kExponentMin + kExponentStep * q;
+    const auto x_of = [p](double r) {
+      return std::pow(std::max(0.0, 1.0 - std::pow(r, p)), 1 / p);
+    };
+    for (std::size_t j = 0; j + 1 < std::size(kPolygonR); ++j) {
+      const double r0 = kPolygonR[j], r1 = kPolygonR[j + 1];
+      const double m = (x_of(r1) - x_of(r0)) / (r1 - r0);
+      slope_.push_back(m);
+      offset_.push_back(x_of(r0) - m * r0);
+    }
   }
+}
+
+std::size_t PointMassMpc::PolygonBase(double p) const noexcept {
+  const int q = std::clamp(static_cast<int>(std::floor((p - kExponentMin) / kExponentStep + 1e-9)),
+                           0, kExponentGrid - 1);
+  return static_cast<std::size_t>(q) * kPolygonSides;
 }
 
 PointMassMpc::~PointMassMpc() = default;
@@ -415,16 +429,18 @@ bool PointMassMpc::Solve(const MotionInput& in, double s, double n, double w, do
     const double ay = o.nominal_fraction * limits_.AyMax(vb);
     const double ad = std::max(o.nominal_fraction * limits_.AxDriveMax(vb), 0.05);
     const double ab = o.nominal_fraction * limits_.AxBrakeMax(vb);
-    const std::size_t S = slope_.size();
+    const std::size_t S = kPolygonSides;
+    const std::size_t base[2] = {PolygonBase(limits_.DriveExponent(vb)),
+                                 PolygonBase(limits_.BrakeExponent(vb))};
     for (int side = 0; side < 2; ++side)
       for (std::size_t j = 0; j < S; ++j)
         for (int sg = 0; sg < 2; ++sg) {
           ws.jv[e++] = side == 0 ? 1.0 / ad : -1.0 / ab;
-          ws.jv[e++] = -slope_[j] * (sg == 0 ? 1.0 : -1.0) / ay;
+          ws.jv[e++] = -slope_[base[side] + j] * (sg == 0 ? 1.0 : -1.0) / ay;
           const auto row = static_cast<std::size_t>(
               ws.GgRow(k, side * 2 * static_cast<int>(S) + 2 * static_cast<int>(j) + sg));
           ws.gl[row] = -kInf;
-          ws.gu[row] = offset_[j];
+          ws.gu[row] = offset_[base[side] + j];
         }
     const auto at = static_cast<std::size_t>(ws.U(k, 0)), an = static_cast<std::size_t>(ws.U(k, 1));
     ws.zl[at] = -1.5 * ab;
@@ -439,7 +455,9 @@ bool PointMassMpc::Solve(const MotionInput& in, double s, double n, double w, do
     double gt = lin.at[K], gn = lin.an[K];
     const double xr = gt >= 0.0 ? gt / ad : -gt / ab, rr = std::abs(gn) / ay;
     double worst = 0.0;
-    for (std::size_t j = 0; j < S; ++j) worst = std::max(worst, (xr - slope_[j] * rr) / offset_[j]);
+    const std::size_t b = base[gt >= 0.0 ? 0 : 1];
+    for (std::size_t j = 0; j < S; ++j)
+      worst = std::max(worst, (xr - slope_[b + j] * rr) / offset_[b + j]);
     if (worst > 0.98) {
       gt *= 0.98 / worst;
       gn *= 0.98 / worst;

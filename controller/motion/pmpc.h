@@ -15,7 +15,8 @@
 //   s.t. x_0 = measured, linearised dynamics,
 //        −right(s̄_k) + tube ≤ n_k ± ε_k ≤ left(s̄_k) − tube       (soft track bounds, ε ≥ 0)
 //        (a_t, a_n) inside an inscribed polygon of the planner's g-g law at v̄_k (GgTable: the
-//        same speed-dependent limits, limit_fraction × GG, as the reference; exponent p),
+//        same speed-dependent limits, limit_fraction × GG, as the reference; the drive side uses
+//        the drive exponent at v̄_k, the brake side the brake exponent),
 //        scaled by nominal_fraction.
 // Tube: the nominal plan keeps `tube_lateral` [m] off the track bounds; between solves an
 // ancillary feedback law (100 Hz) steers the car back onto the nominal plan and may use the
@@ -136,8 +137,9 @@ class PointMassMpc final : public MotionController {
   double CorridorRight(double s) const noexcept;
   /// The inscribed g-g polygon in normalised coordinates (x = a_t/a_lim, r = |a_n|/ay_max):
   /// x ≤ c_j + m_j r for the segments j (same for drive and brake, m_j ≤ 0).
-  const std::vector<double>& polygon_slopes() const noexcept { return slope_; }
-  const std::vector<double>& polygon_offsets() const noexcept { return offset_; }
+  /// Index of the first side of the inscribed polygon used for exponent p in the slope/offset
+  /// tables (the largest grid exponent ≤ p).
+  std::size_t PolygonBase(double p) const noexcept;
 
  private:
   bool Solve(const MotionInput& in, double s, double n, double w, double v, State* st) const;

@@ -213,9 +213,9 @@ TEST(PmpcTest, SolvedPlansSatisfyGgTrackAndDynamics) {
                                        : o.nominal_fraction * mpc.limits().AxBrakeMax(v);
       const double r = std::abs(p.an[K]) / ay;
       EXPECT_LE(r, 1.03) << "s = " << c.s << " k = " << k;
-      const double comb =
-          std::pow(std::max(0.0, 1.0 - std::pow(std::min(r, 1.0), mpc.limits().exponent)),
-                   1.0 / mpc.limits().exponent);
+      const double comb = controller::planning::GgvTable::Combine(
+          std::min(r, 1.0),
+          p.at[K] >= 0.0 ? mpc.limits().DriveExponent(v) : mpc.limits().BrakeExponent(v));
       EXPECT_LE(std::abs(p.at[K]), 1.03 * ax * comb + 0.05) << "s = " << c.s << " k = " << k;
       // Track bounds (tightened by the tube) after the first node.
       const double up = mpc.CorridorLeft(p.s[K + 1]) - o.tube_lateral;
