@@ -37,7 +37,7 @@ struct TuneOptions {
   std::string space, scenarios, base, algorithm = "crs2+sbplx", out, resume, node;
   std::string base_outside = "grow";
   int max_evals = 180;
-  double max_time = 170.0;
+  double max_time = 0.0;  // opt-in: a wall-time limit makes the result depend on the machine
   int threads = 0;
   unsigned long long seed = 1;
   std::string progress = "auto";
@@ -188,8 +188,11 @@ int RunTune(const TuneOptions& o) {
   if (show)
     to.on_progress = [&](const tuning::Progress& p) {
       const double eta = p.evals > 0 ? p.elapsed_s / p.evals * (p.max_evals - p.evals) : 0.0;
-      std::fprintf(stderr, "\r  %-6s eval %4d/%d  best cost %.3f  elapsed %4.0f s  eta %4.0f s  ",
-                   p.phase.c_str(), p.evals, p.max_evals, p.best_cost, p.elapsed_s, eta);
+      const double eta_shown = o.max_time > 0.0 ? std::min(eta, o.max_time - p.elapsed_s) : eta;
+      std::fprintf(stderr, "\r  %-6s eval %4d/%d  best cost %.3f  elapsed %4.0f s  eta %4.0f s%s  ",
+                   p.phase.c_str(), p.evals, p.max_evals, p.best_cost, p.elapsed_s,
+                   std::max(0.0, eta_shown),
+                   o.max_time > 0.0 && eta > o.max_time - p.elapsed_s ? " (time limit)" : "");
       std::fflush(stderr);
     };
   g_stop = false;
@@ -206,6 +209,10 @@ int RunTune(const TuneOptions& o) {
   std::cerr << "  optimisation: " << r.evals << " evaluations (" << r.replayed
             << " replayed), stop: " << r.stop_reason << ", best cost " << r.best_cost
             << " at evaluation " << r.best_eval << "\n";
+  if (r.stop_reason == "max_time")
+    std::cerr << "  note: the --max-time limit of " << o.max_time << " s stopped the run after "
+              << r.evals << " of " << o.max_evals
+              << " evaluations; the result depends on this machine's speed\n";
 
   // Result: baseline (the starting set itself) vs tuned, on training and held-out scenarios.
   // The decoded set is already quantised to the schema resolutions: it is exactly what is exported.
@@ -367,13 +374,20 @@ void AddTune(CLI::App& app) {
       ->check(CLI::IsMember({"grow", "refuse"}));
   cmd->add_option("--algorithm", o->algorithm,
                   "NLopt algorithm: crs2, isres, esch, direct_l, sbplx, neldermead, bobyqa, "
-                  "cobyla, or A+B (global A, then local B)");
-  cmd->add_option("--max-evals", o->max_evals, "Evaluation budget")->check(CLI::Range(1, 1000000));
-  cmd->add_option("--max-time", o->max_time, "Wall-time guard [s] (0: none)")
+                  "cobyla, or A+B (global A, then local B)")
+      ->capture_default_str();
+  cmd->add_option("--max-evals", o->max_evals, "Evaluation budget (the default run stops here)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  cmd->add_option("--max-time", o->max_time,
+                  "Wall-time limit [s], opt-in (0: none; with a limit the result depends on the "
+                  "machine's speed and the final message says when it stopped the run)")
+      ->capture_default_str()
       ->check(CLI::Range(0.0, 1e7));
   cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")
+      ->capture_default_str()
       ->check(CLI::Range(0, 1024));
-  cmd->add_option("--seed", o->seed, "Optimizer seed");
+  cmd->add_option("--seed", o->seed, "Optimizer seed")->capture_default_str();
   cmd->add_option("--out", o->out, "Output folder (default: a fresh scw-runs/tune-<time>)");
   cmd->add_option("--resume", o->resume,
                   "Continue an interrupted run from its evaluations.csv (same options)");
