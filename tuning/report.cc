@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "params/io/write.h"
+#include "tuning/io/csv.h"
 
 namespace scw::tuning {
 namespace {
@@ -114,10 +115,11 @@ std::string ComparisonCsv(const std::string& group, const BatchEvaluator& ev,
   for (std::size_t k = 0; k < ev.scenarios().size(); ++k)
     for (std::size_t s = 0; s < results.size(); ++s) {
       const RunMetrics& m = results[s].runs[k];
-      out += group + "," + ev.scenarios()[k].spec.name + "," + labels[s] + "," +
-             RunStatusName(m.status) + "," + FormatDouble(m.Progress()) + "," +
-             FormatDouble(m.MeanLapTime()) + "," + FormatDouble(m.max_abs_sideslip * 180.0 / M_PI) +
-             "," + FormatDouble(m.max_abs_lateral_error) + "," + std::to_string(m.esc_count) + "," +
+      out += CsvField(group) + "," + CsvField(ev.scenarios()[k].spec.name) + "," +
+             CsvField(labels[s]) + "," + RunStatusName(m.status) + "," +
+             FormatDouble(m.Progress()) + "," + FormatDouble(m.MeanLapTime()) + "," +
+             FormatDouble(m.max_abs_sideslip * 180.0 / M_PI) + "," +
+             FormatDouble(m.max_abs_lateral_error) + "," + std::to_string(m.esc_count) + "," +
              std::to_string(m.cs_count) + "," + std::to_string(m.abs_count) + "," +
              std::to_string(m.tc_count) + "," + FormatDouble(m.esc_brake_energy) + "," +
              FormatDouble(results[s].costs[k].total) + "," + FormatDouble(results[s].total) + "\n";

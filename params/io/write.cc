@@ -1,15 +1,8 @@
 #include "params/io/write.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
-#include <atomic>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
-#include <stdexcept>
 
 namespace scw::params {
 
@@ -140,42 +133,6 @@ std::string EmitNested(const std::vector<EmitEntry>& entries, const std::string&
     }
   }
   return out;
-}
-
-void WriteFileAtomic(const std::string& path, const std::string& text) {
-  static std::atomic<unsigned> counter{0};
-  const std::string tmp =
-      path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter.fetch_add(1));
-  auto fail = [&](const std::string& what) {
-    const std::string reason = std::strerror(errno);
-    std::remove(tmp.c_str());
-    throw std::runtime_error("cannot write " + path + ": " + what + " (" + reason +
-                             "); the file was not changed");
-  };
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    const std::string reason = std::strerror(errno);
-    throw std::runtime_error("cannot write " + path +
-                             ": cannot create a temporary file next to "
-                             "it (" +
-                             reason + "); the file was not changed");
-  }
-  std::size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      ::close(fd);
-      fail("write failed");
-    }
-    done += static_cast<std::size_t>(n);
-  }
-  if (::fsync(fd) != 0) {
-    ::close(fd);
-    fail("fsync failed");
-  }
-  if (::close(fd) != 0) fail("close failed");
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) fail("rename failed");
 }
 
 }  // namespace scw::params

@@ -3,7 +3,8 @@
 //   doubles: shortest round-trip text (std::to_chars), always with '.' or an exponent (8.0, 4e-05)
 //   integers: plain decimal; booleans: true/false; strings: double-quoted
 //   arrays: flow style [a, b], non-empty; nested maps in schema order; each key once; no anchors.
-// Files are written atomically (temporary file in the same folder, then rename).
+// Files are written through AtomicWriter (params/io/atomic_writer.h): a regular file atomically
+// (temporary file in the same folder, then rename), a device, FIFO or `-` directly.
 #pragma once
 
 #include <functional>
@@ -13,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "params/io/atomic_writer.h"
 #include "params/schema/field.h"
 
 namespace scw::params {
@@ -32,10 +34,6 @@ struct EmitEntry {
 /// in `<node_key>: ros__parameters:`. `header` lines are emitted as comments at the top.
 std::string EmitNested(const std::vector<EmitEntry>& entries, const std::string& node_key,
                        const std::string& header);
-
-/// Writes `text` to `path` atomically. Throws std::runtime_error naming the path on failure; the
-/// destination is then untouched and no temporary file remains.
-void WriteFileAtomic(const std::string& path, const std::string& text);
 
 namespace detail {
 template <class T>

@@ -4,6 +4,7 @@
 #include <utility>
 #include <vector>
 
+#include "params/io/atomic_writer.h"
 #include "params/schema/field.h"
 #include "tuning/cli/command.h"
 
@@ -29,6 +30,9 @@ void SetExitCode(int code) { g_exit_code = code; }
 
 int main(int argc, char** argv) {
   using namespace scw::cli;
+  // Ctrl-C or a kill in any command removes the temporary files of unfinished outputs (the
+  // targets keep their previous content), then ends the program by that signal.
+  scw::params::InstallTemporaryFileCleanup();
   g_command_line.assign(argv, argv + argc);
   CLI::App app{
       "scw - stability-control workspace: design, tune and export the stability control\n"

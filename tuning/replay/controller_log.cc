@@ -1,10 +1,6 @@
 #include "tuning/replay/controller_log.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -172,7 +168,7 @@ LogFormatError::LogFormatError(const std::string& file, std::vector<Problem> hea
     : ConfigError(file, std::move(header_problems)), line_(1), column_(std::move(first_column)) {}
 
 // ---------------------------------------------------------------------------------------------
-// Number formatting and the atomic file
+// Number formatting
 
 namespace detail {
 
@@ -190,55 +186,6 @@ void AppendInteger(std::string* out, long long x) {
   char buf[24];
   const auto res = std::to_chars(buf, buf + sizeof(buf), x);
   out->append(buf, res.ptr);
-}
-
-AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
-  static std::atomic<unsigned> counter{0};
-  tmp_ = path_ + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter.fetch_add(1));
-  const int fd = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0)
-    throw std::runtime_error("cannot write " + path_ +
-                             ": cannot create a temporary file next to it (" +
-                             std::strerror(errno) + ")");
-  f_ = ::fdopen(fd, "wb");
-  if (f_ == nullptr) {
-    const std::string reason = std::strerror(errno);
-    ::close(fd);
-    std::remove(tmp_.c_str());
-    throw std::runtime_error("cannot write " + path_ + ": " + reason);
-  }
-  // Large buffer: few system calls for long logs; the memory use stays constant.
-  std::setvbuf(f_, nullptr, _IOFBF, std::size_t{1} << 18);
-}
-
-AtomicFile::~AtomicFile() {
-  if (f_ != nullptr) std::fclose(f_);
-  if (!committed_) std::remove(tmp_.c_str());
-}
-
-void AtomicFile::Fail(const std::string& what) {
-  const std::string reason = std::strerror(errno);
-  if (f_ != nullptr) std::fclose(f_);
-  f_ = nullptr;
-  std::remove(tmp_.c_str());
-  throw std::runtime_error("cannot write " + path_ + ": " + what + " (" + reason +
-                           "); the file was not changed");
-}
-
-void AtomicFile::Append(std::string_view text) {
-  if (f_ == nullptr) throw std::logic_error("AtomicFile::Append after Commit or failure: " + path_);
-  if (std::fwrite(text.data(), 1, text.size(), f_) != text.size()) Fail("write failed");
-}
-
-void AtomicFile::Commit() {
-  if (f_ == nullptr) throw std::logic_error("AtomicFile::Commit twice or after failure: " + path_);
-  if (std::fflush(f_) != 0) Fail("write failed");
-  if (::fsync(::fileno(f_)) != 0) Fail("fsync failed");
-  const int rc = std::fclose(f_);
-  f_ = nullptr;
-  if (rc != 0) Fail("close failed");
-  if (std::rename(tmp_.c_str(), path_.c_str()) != 0) Fail("rename failed");
-  committed_ = true;
 }
 
 }  // namespace detail

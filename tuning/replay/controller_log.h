@@ -24,7 +24,6 @@
 
 #include <array>
 #include <cstdint>
-#include <cstdio>
 #include <fstream>
 #include <memory>
 #include <string>
@@ -32,6 +31,7 @@
 #include <vector>
 
 #include "controller/stability/stability_controller.h"
+#include "params/io/atomic_writer.h"
 #include "params/schema/field.h"
 
 namespace scw::tuning {
@@ -75,8 +75,10 @@ class LogFormatError : public ConfigError {
 ///
 /// The rows go to a temporary file next to `path` (same folder, so the final rename is atomic);
 /// Commit() makes the log appear under `path` at once. Destroying the writer without Commit()
-/// (an exception, an aborted run) removes the temporary file and leaves `path` untouched. Every
-/// column of kInputColumns is written, unavailable signals as `nan`.
+/// (an exception, an aborted run, Ctrl-C) removes the temporary file and leaves `path`
+/// untouched. A symlink's target is written the same way; a FIFO, a character device or `-`
+/// (standard output) is written directly (params/io/atomic_writer.h). Every column of
+/// kInputColumns is written, unavailable signals as `nan`.
 ///
 /// Usage (closed loop):
 ///   ControllerLogWriter log(path);             // throws std::runtime_error: cannot create
@@ -152,28 +154,10 @@ namespace detail {
 void AppendNumber(std::string* out, double x);
 void AppendInteger(std::string* out, long long x);
 
-/// A file written through a temporary next to it and renamed into place by Commit(); the
-/// destructor removes the temporary file unless committed.
-class AtomicFile {
- public:
-  explicit AtomicFile(std::string path);
-  ~AtomicFile();
-  AtomicFile(const AtomicFile&) = delete;
-  AtomicFile& operator=(const AtomicFile&) = delete;
-
-  void Append(std::string_view text);
-  void Commit();
-  const std::string& path() const noexcept { return path_; }
-  bool committed() const noexcept { return committed_; }
-
- private:
-  void Fail(const std::string& what);
-
-  std::string path_;
-  std::string tmp_;
-  std::FILE* f_ = nullptr;
-  bool committed_ = false;
-};
+/// The output file of the log and replay writers: the workspace's one atomic writer (a regular
+/// target through a temporary file and a rename, a symlink's target likewise, a device, FIFO or
+/// `-` directly; see params/io/atomic_writer.h).
+using AtomicFile = params::AtomicWriter;
 
 }  // namespace detail
 

@@ -191,13 +191,6 @@ bool Matches(const SweepResult& r, const SweepRun& run, const std::vector<Condit
   return true;
 }
 
-std::string CsvField(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-
 std::string SafeFilePart(const std::string& s) {
   std::string out = s;
   for (char& c : out)
@@ -892,7 +885,7 @@ void WriteSweepCsv(const std::string& path, const SweepResult& r) {
   int max_laps = 0;
   for (const auto& run : r.runs) max_laps = std::max(max_laps, run.spec.laps);
   std::vector<std::string> header = {"config"};
-  for (const auto& a : r.axes) header.push_back(CsvField(a.key));
+  for (const auto& a : r.axes) header.push_back(a.key);  // CsvWriter quotes (RFC 4180)
   for (const char* h : {"status", "progress", "laps_completed"}) header.emplace_back(h);
   for (int k = 1; k <= max_laps; ++k) header.push_back("lap_" + std::to_string(k) + "_s");
   for (const char* h :
@@ -906,9 +899,9 @@ void WriteSweepCsv(const std::string& path, const SweepResult& r) {
   for (const auto& run : r.runs) {
     if (!run.reported) continue;
     const RunMetrics& m = run.metrics;
-    w.Add(CsvField(r.configs[static_cast<std::size_t>(run.point.config)].name));
+    w.Add(r.configs[static_cast<std::size_t>(run.point.config)].name);
     for (std::size_t i = 0; i < r.axes.size(); ++i)
-      w.Add(CsvField(r.axes[i].values[static_cast<std::size_t>(run.point.value[i])]));
+      w.Add(r.axes[i].values[static_cast<std::size_t>(run.point.value[i])]);
     w.Add(std::string(RunStatusName(m.status)));
     w.Add(m.Progress());
     w.Add(static_cast<int>(m.lap_times.size()));

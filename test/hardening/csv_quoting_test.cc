@@ -1,0 +1,99 @@
+// CSV text fields per RFC 4180 (issue 15): a name with a comma, a quote or a line break stays one
+// cell. Written with CsvWriter, parsed back with ParseCsv, every field round-trips; plain fields
+// are written exactly as before.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "params/io/yaml_doc.h"
+#include "tuning/csv_writer.h"
+#include "tuning/io/csv.h"
+
+namespace scw::tuning {
+namespace {
+
+namespace fs = std::filesystem;
+
+class CsvQuotingTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("scw_csv_quoting_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  fs::path dir_;
+};
+
+TEST_F(CsvQuotingTest, CommaQuoteAndLineBreaksRoundTripThroughTheWriter) {
+  const std::string path = (dir_ / "comparison.csv").string();
+  const std::vector<std::string> names = {
+      "Yas North, wet",    // comma: shifted every later column before
+      "the \"fast\" set",  // quotes
+      "\"quoted\"",        // quotes at both ends
+      "two\nlines",        // LF
+      "cr\r\nlf",          // CRLF inside a field
+      "plain",             // untouched
+      "",                  // empty
+      " spaces kept ",     // blanks are data
+      ",",                 // only a separator
+  };
+  {
+    CsvWriter w(path, {"scenario", "mean lap, s", "count"});
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      w.Add(names[i]);
+      w.Add(0.5 + static_cast<double>(i));
+      w.Add(static_cast<int>(i));
+      w.EndRow();
+    }
+    w.Commit();
+  }
+  const auto records = ParseCsv(params::ReadTextFile(path));
+  ASSERT_EQ(records.size(), names.size() + 1);
+  EXPECT_EQ(records[0], (std::vector<std::string>{"scenario", "mean lap, s", "count"}));
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    ASSERT_EQ(records[i + 1].size(), 3u) << "row " << i << ": " << names[i];
+    EXPECT_EQ(records[i + 1][0], names[i]);
+    EXPECT_EQ(std::stod(records[i + 1][1]), 0.5 + static_cast<double>(i));
+    EXPECT_EQ(records[i + 1][2], std::to_string(i));
+  }
+}
+
+TEST_F(CsvQuotingTest, QuotingFollowsRfc4180AndLeavesPlainFieldsAlone) {
+  EXPECT_EQ(CsvField("plain"), "plain");
+  EXPECT_EQ(CsvField("1.25e-05"), "1.25e-05");
+  EXPECT_EQ(CsvField("a,b"), "\"a,b\"");
+  EXPECT_EQ(CsvField("say \"hi\""), "\"say \"\"hi\"\"\"");
+  EXPECT_EQ(CsvField("a\nb"), "\"a\nb\"");
+  EXPECT_EQ(CsvField("a\rb"), "\"a\rb\"");
+  EXPECT_EQ(CsvRecord({"x", "y,z", ""}), "x,\"y,z\",");
+
+  const std::string path = (dir_ / "plain.csv").string();
+  {
+    CsvWriter w(path, {"t", "status"});
+    w.Add(0.25);
+    w.Add(std::string("ok"));
+    w.EndRow();
+    w.Commit();
+  }
+  EXPECT_EQ(params::ReadTextFile(path), "t,status\n0.25,ok\n");
+}
+
+TEST_F(CsvQuotingTest, ParserAcceptsCrLfAndRefusesBrokenQuoting) {
+  EXPECT_EQ(ParseCsv("a,b\r\n1,\"x\"\"y\"\r\n"),
+            (std::vector<std::vector<std::string>>{{"a", "b"}, {"1", "x\"y"}}));
+  EXPECT_EQ(ParseCsv("a,\n"), (std::vector<std::vector<std::string>>{{"a", ""}}));
+  EXPECT_THROW(ParseCsv("a,\"open\n"), std::invalid_argument);
+  EXPECT_THROW(ParseCsv("\"closed\"tail,b\n"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace scw::tuning
