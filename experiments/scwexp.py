@@ -9,6 +9,7 @@ import csv
 import json
 import math
 import os
+import resource
 import shutil
 import subprocess
 import sys
@@ -167,11 +168,23 @@ def fmt(x, digits=2):
 
 
 class Timer:
+    """Wall time, and the CPU time of the finished child processes (scw and its workers) since
+    the start: the wall time depends on what else the machine runs, the CPU time much less."""
+
     def __init__(self):
         self.t0 = time.monotonic()
+        self.c0 = self._children_cpu()
+
+    @staticmethod
+    def _children_cpu():
+        r = resource.getrusage(resource.RUSAGE_CHILDREN)
+        return r.ru_utime + r.ru_stime
 
     def seconds(self):
         return time.monotonic() - self.t0
+
+    def cpu_seconds(self):
+        return self._children_cpu() - self.c0
 
 
 def sweep_cmd(scw, args, sets, vary, configs, out_csv, extra=()):
@@ -201,6 +214,195 @@ def mpc_sweep_cmd(scw, args, sets, vary, configs, out_csv, processes=None, extra
     return cmd
 
 
+# Columns of a sweep row kept per run in summary.json (the report is computed from these).
+RUN_FIELDS = ("gg_scale", "status", "progress", "laps_completed", "mean_lap_time_s",
+              "max_abs_sideslip_deg", "max_slip_front_pct", "max_slip_rear_pct",
+              "max_abs_lateral_error_m", "max_speed_mps", "esc_count", "cs_count", "abs_count",
+              "tc_count", "esc_time_s", "cs_time_s", "abs_time_s", "tc_time_s", "end_lap",
+              "end_s_m")
+ACTIVATION_KEYS = ("esc_count", "cs_count", "abs_count", "tc_count")
+
+# Abort statuses of study 1 that are the paper's test end (a tyre locks or spins); every other
+# abort there is a safety stop (sideslip, lateral error, off track, timeout).
+SLIP_STATUSES = ("wheel_lock", "wheel_spin")
+
+
+def pack_series(rows, key="gg_scale"):
+    """analyse_series of one series plus its runs (RUN_FIELDS of each row, in GG order)."""
+    rows = sorted(rows, key=lambda r: r[key])
+    a = analyse_series(rows, key)
+    a["runs"] = [{k: r.get(k) for k in RUN_FIELDS} for r in rows]
+    if a["first_abort"] is not None:
+        ab = next(r for r in rows if r["status"] != "completed")
+        a["first_abort_s_m"] = ab.get("end_s_m")
+        a["first_abort_lap"] = ab.get("end_lap")
+    return a
+
+
+def perturbed_series(rows, configs, pert_key, pert_values):
+    """{str(pert value): {config: pack_series}} of a sweep varied over gg_scale and pert_key."""
+    out = {}
+    for v in pert_values:
+        sel = [r for r in rows if abs(float(r[pert_key]) - float(v)) < 1e-9]
+        out[str(v)] = {c: pack_series([r for r in sel if r["config"] == c]) for c in configs}
+    return out
+
+
+def study_sweep(scw, args, sets, configs, out_csv, log, pert=None, mpc=True, gg=None,
+                extra=()):
+    """One scw sweep of a study: gg_scale (first, the series' key) and optionally a
+    perturbation key (pert = (key, [values])); MPC sweeps go to --processes workers. Returns
+    (command, rows)."""
+    vary = [f"gg_scale={gg or args.gg}"]
+    if pert:
+        vary.append(f"{pert[0]}=" + ",".join(str(v) for v in pert[1]))
+    if os.path.exists(out_csv):
+        os.remove(out_csv)  # never read a previous run's table
+    if mpc:
+        cmd = mpc_sweep_cmd(scw, args, sets, vary, configs, out_csv,
+                            processes=getattr(args, "processes", None), extra=extra)
+    else:
+        cmd = sweep_cmd(scw, args, sets, vary, configs, out_csv, extra)
+    run(cmd, log=log)
+    return cmd, read_csv(out_csv)
+
+
+def brake_40ms_vehicle(scw, path):
+    """The built-in vehicle with a 40 ms brake response (brakes.delay 0.006 s: dead time 6 ms +
+    the unchanged 32 ms lag and 1800 bar/s rate limit; docs/plant-calibration.md)."""
+    run([scw, "vehicle", "init", "-o", path], log=path + ".log")
+    with open(path) as f:
+        text = f.read()
+    lines, in_brakes, done = text.splitlines(), False, False
+    for i, line in enumerate(lines):
+        if not line.startswith(" "):
+            in_brakes = line.startswith("brakes:")
+        elif in_brakes and line.strip().startswith("delay:"):
+            lines[i] = line[:len(line) - len(line.lstrip())] + "delay: 0.006"
+            done = True
+    if not done:
+        sys.exit(f"error: no brakes.delay in {path}")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    return path
+
+
+# Named places of Yas Marina North (the spec's names; corners from `scw track info`).
+CORNER_NAMES = {1: "T1", 5: "hairpin", 7: "chicane", 8: "chicane"}
+
+
+def track_corners(scw, sets=()):
+    """Corners (number, from, to) of the scenario's track, parsed from `scw track info`."""
+    track = next((s.split("=", 1)[1] for s in sets if s.startswith("track=")), None)
+    cmd = [scw, "track", "info"] + (["--track", track] if track else [])
+    out = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT).stdout
+    corners = []
+    for line in out.splitlines():
+        f = line.split()
+        if len(f) >= 6 and f[0].isdigit() and f[1] in ("left", "right"):
+            corners.append({"n": int(f[0]), "dir": f[1], "from": float(f[2]),
+                            "to": float(f[3]), "r_min": float(f[4])})
+    return corners
+
+
+def place(s, corners):
+    """'braking into T1', 'corner 3', 'exit of corner 3', 'straight' for arc length s [m]."""
+    if s is None or (isinstance(s, float) and math.isnan(s)) or not corners:
+        return "–"
+    best, dist = None, 1e9
+    for c in corners:
+        d = 0.0 if c["from"] <= s <= c["to"] else min(abs(s - c["from"]), abs(s - c["to"]))
+        if d < dist:
+            best, dist = c, d
+    name = CORNER_NAMES.get(best["n"], f"corner {best['n']}")
+    if dist == 0.0:
+        return name
+    if s < best["from"] and dist <= 150:
+        return f"braking into {name}"
+    if s > best["to"] and dist <= 120:
+        return f"exit of {name}"
+    return "straight"
+
+
+def diagnose_abort(scw, args, sets, config_overrides, gg, path_stem, window=2.0):
+    """Re-runs one aborted run with `scw simulate --trace` (the same scenario keys, so the same
+    run) and describes the last `window` seconds before the abort: where, speed, peak |β| and
+    lateral error, throttle, when each subsystem last became active, and the wheel whose slip
+    ended the run (its commanded pressure and whether ESC was active at the pressure peak).
+    Returns a dict (text + numbers), or None if the trace could not be made."""
+    trace = path_stem + ".csv"
+    cmd = [scw, "simulate", "--set"] + list(sets) + [f"gg_scale={gg}"] + \
+        [x for x in config_overrides.split(",") if x] + ["--trace", trace]
+    if getattr(args, "stability", None):
+        cmd += ["--stability", args.stability]
+    proc = run(cmd, log=path_stem + ".log", check=False)
+    if proc.returncode not in (0, 1) or not os.path.exists(trace):
+        return None
+    rows = read_csv(trace)
+    if not rows:
+        return None
+    t_end = rows[-1]["t_s"]
+    win = [r for r in rows if r["t_s"] >= t_end - window]
+    last = rows[-1]
+    wheels = ("fl", "fr", "rl", "rr")
+    w = max(wheels, key=lambda k: abs(last[f"slip_{k}_pct"]))
+    peak = max(win, key=lambda r: r[f"p_out_{w}_bar"])
+    since = {}
+    for key in ("esc", "cs", "abs", "tc"):
+        flag = f"{key}_active"
+        if last[flag] > 0.5 or any(r[flag] > 0.5 for r in win):
+            t0 = None
+            for r in reversed(rows):
+                if r[flag] > 0.5:
+                    t0 = r["t_s"]
+                elif t0 is not None:
+                    break
+            since[key] = t0
+    bmax = max(win, key=lambda r: abs(r["beta_deg"]))
+    emax = max(win, key=lambda r: abs(r["lateral_error_m"]))
+    res = {
+        "t_s": t_end, "s_m": last["s_m"], "lap": int(last["lap"]) + 1, "v_mps": last["vx_mps"],
+        "max_beta_deg": abs(bmax["beta_deg"]), "max_beta_t": bmax["t_s"],
+        "max_lat_err_m": abs(emax["lateral_error_m"]),
+        "max_throttle": max(r["throttle_out"] for r in win),
+        "wheel": w.upper(), "wheel_slip_pct": last[f"slip_{w}_pct"],
+        "wheel_p_peak_bar": peak[f"p_out_{w}_bar"], "wheel_p_peak_t": peak["t_s"],
+        "wheel_p_req_at_peak_bar": peak[f"p_req_{w}_bar"],
+        "esc_at_peak": bool(peak["esc_active"] > 0.5), "active_since": since,
+        "trace": os.path.relpath(trace, RESULTS),
+    }
+    act = ", ".join(f"{k.upper()} from t = {v:.2f} s" for k, v in since.items() if v is not None)
+    res["text"] = (
+        f"abort at t = {t_end:.2f} s, s = {last['s_m']:.0f} m, lap {int(last['lap']) + 1}, "
+        f"{last['vx_mps']:.1f} m/s; last {window:g} s: max |β| {abs(bmax['beta_deg']):.1f}° "
+        f"(t = {bmax['t_s']:.2f} s), max |lateral error| {abs(emax['lateral_error_m']):.1f} m, "
+        f"throttle up to {res['max_throttle']:.2f}; active: {act or 'no subsystem'}; "
+        f"{w.upper()} slip {last[f'slip_{w}_pct']:.0f} % at the end, its commanded pressure "
+        f"peaked at {res['wheel_p_peak_bar']:.0f} bar (t = {peak['t_s']:.2f} s; motion "
+        f"controller's request {res['wheel_p_req_at_peak_bar']:.0f} bar"
+        f"{', ESC active' if res['esc_at_peak'] else ''})")
+    return res
+
+
+def diagnose_series(scw, args, sets, configs, per_pert_main, pert_key, pert_value, out):
+    """diagnose_abort for the first abort of every configuration (name, overrides) of one
+    perturbation; {config: dict}."""
+    res = {}
+    for name, overrides in configs:
+        a = per_pert_main.get(name)
+        if not a or a["first_abort"] is None:
+            continue
+        stem = os.path.join(out, "diagnosis", f"{name}_gg{a['first_abort']:g}")
+        os.makedirs(os.path.dirname(stem), exist_ok=True)
+        d = diagnose_abort(scw, args, list(sets) + [f"{pert_key}={pert_value}"], overrides,
+                           a["first_abort"], stem)
+        if d:
+            d["gg"] = a["first_abort"]
+            d["status"] = a["first_abort_status"]
+            res[name] = d
+    return res
+
+
 def add_common_args(parser, gg="1.0:0.05:1.8", laps=3):
     parser.add_argument("--gg", default=gg,
                         help=f"GG values: start:step:stop or a comma list (default {gg})")
@@ -209,6 +411,10 @@ def add_common_args(parser, gg="1.0:0.05:1.8", laps=3):
     parser.add_argument("--stability", help="stability params file (default: the car's)")
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                         help="extra scenario override for every run (repeatable)")
+    parser.add_argument("--processes", type=int, default=2,
+                        help="worker processes of the MPC sweeps (default 2)")
+    parser.add_argument("--no-sensitivity", action="store_true",
+                        help="skip the unscored sensitivity runs (40 ms brake, old defaults)")
     parser.add_argument("--no-report", action="store_true",
                         help="do not regenerate experiments/results/report.md")
 

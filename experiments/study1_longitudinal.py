@@ -1,13 +1,22 @@
 #!/usr/bin/env python3
-"""Study 1 (paper §V-A, longitudinal stability): slip control (ABS + TC) on vs off over
-increasing acceleration scaling GG; 3 laps per run; a series ends at its first abort (wheel lock:
-slip < -95 % for 0.5 s, wheel spin: slip > 50 % for 0.5 s; the other abort conditions stay on).
-ESC and countersteer run in both configurations, as in the car's default setup.
+"""Study 1 (paper §V-A, longitudinal stability): slip control (ABS + TC) on vs off with the
+point-mass MPC (motion.controller=pmpc, the paper's controller for studies 1 and 2), nominal
+grip, 3 laps per run, GG 1.0:0.05:1.8; a series ends at its first abort.
 
-Writes experiments/results/study1_longitudinal/: sweep.csv, study1_longitudinal.png (max front
-slip solid, rear dashed, and mean lap time per GG), summary.json, scw.log.
+The paper ends the test when a tyre begins to lock or spin: here slip below -50 % (lock) or
+above +30 % (spin) for at least 0.1 s (abort.lock_slip_pct=50, abort.spin_slip_pct=30,
+abort.slip_time=0.1). The lateral-error abort is lifted (abort.max_lateral_error=100, the
+largest allowed); |β| > 20°, leaving the track and the time-out still end a run and are reported
+as safety stops, not slip-control failures. ESC and countersteer run in both configurations, as
+in the car's default setup; the car's shipped stability parameters throughout.
 
-    python3 experiments/study1_longitudinal.py [--gg 1.0:0.05:1.8] [--laps 3] [--threads 0]
+Robustness: three sensor-noise seeds (sensor_noise=true, seed 1/2/3) in one sweep. Sensitivity
+(unscored): the same with a 40 ms brake response (vehicle file with brakes.delay 0.006).
+
+Writes experiments/results/study1_longitudinal/: sweep.csv, sweep_brake40ms.csv,
+study1_longitudinal.png, study1_brake40ms.png, summary.json, scw*.log.
+
+    python3 experiments/study1_longitudinal.py [--gg 1.0:0.05:1.8] [--laps 3] [--processes 2]
 """
 
 import argparse
@@ -15,87 +24,102 @@ import os
 import sys
 
 import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
-
-import matplotlib.pyplot as plt  # noqa: E402
+import studyplot  # noqa: E402
 
 STUDY = "study1_longitudinal"
+CONTROLLER = "pmpc"
+BASE_SETS = ["abort.lock_slip_pct=50", "abort.spin_slip_pct=30", "abort.slip_time=0.1",
+             "abort.max_lateral_error=100", "sensor_noise=true"]
+PERT = ("seed", [1, 2, 3])
 CONFIGS = [
     ("sc_on", "subsystems.abs=true,subsystems.tc=true", "slip control on", "tab:blue"),
     ("sc_off", "subsystems.abs=false,subsystems.tc=false", "slip control off", "tab:red"),
 ]
+TOP = [("max_slip_front_pct", "-", ", front"), ("max_slip_rear_pct", "--", ", rear")]
 
 
-def plot(rows, path):
-    fig, (ax_slip, ax_lap) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
-    for k, (name, _, label, color) in enumerate(CONFIGS):
-        s = scwexp.series(rows, name)
-        if not s:
-            continue
-        gg = [r["gg_scale"] for r in s]
-        ax_slip.plot(gg, [r["max_slip_front_pct"] for r in s], "-o", color=color, ms=3,
-                     label=f"{label}, front")
-        ax_slip.plot(gg, [r["max_slip_rear_pct"] for r in s], "--s", color=color, ms=3,
-                     label=f"{label}, rear")
-        scwexp.mark_aborts(ax_slip, s, "gg_scale", "max_slip_front_pct", color)
-        scwexp.mark_aborts(ax_slip, s, "gg_scale", "max_slip_rear_pct", color)
-        done = [r for r in s if r["status"] == "completed"]
-        ax_lap.plot([r["gg_scale"] for r in done], [r["mean_lap_time_s"] for r in done], "-o",
-                    color=color, ms=3, label=label)
-        for r in s:
-            if r["status"] != "completed":
-                ax_lap.axvline(r["gg_scale"], color=color, ls=":", lw=1)
-                ax_lap.annotate(f"abort: {r['status']}", (r["gg_scale"], 0.95 - 0.45 * k), color=color,
-                                xycoords=("data", "axes fraction"), rotation=90, ha="right",
-                                va="top", fontsize=8)
-    ax_slip.set_ylabel("max |slip| [%]")
-    ax_slip.grid(True, alpha=0.3)
-    ax_slip.legend(fontsize=8)
-    ax_slip.set_title("Study 1: slip control on/off (x: aborted run)")
-    ax_lap.set_ylabel("mean lap time [s]")
-    ax_lap.set_xlabel("acceleration scaling GG [-]")
-    ax_lap.grid(True, alpha=0.3)
-    ax_lap.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+def figure(per_pert, path, title):
+    panels = [(f"sensor-noise seed {v}", per_pert[v]) for v in per_pert]
+    lines = [(n, label, color, "-") for n, _, label, color in CONFIGS]
+    return studyplot.plot_grid(panels, lines, TOP, "max |slip| [%] (front solid, rear dashed)",
+                               path, title)
 
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     scwexp.add_common_args(p, gg="1.0:0.05:1.8", laps=3)
+    p.add_argument("--seeds", default="1,2,3", help="sensor-noise seeds (default 1,2,3)")
+    p.add_argument("--controller", default=CONTROLLER, help="motion controller (default pmpc)")
     args = p.parse_args(argv)
     scw = scwexp.find_scw()
     out = scwexp.results_dir(STUDY)
     timer = scwexp.Timer()
-    csv_path = os.path.join(out, "sweep.csv")
-    sets = [f"laps={args.laps}"] + args.set
-    cmd = scwexp.sweep_cmd(scw, args, sets, [f"gg_scale={args.gg}"],
-                           [f"{n}:{o}" for n, o, _, _ in CONFIGS], csv_path)
-    scwexp.run(cmd, log=os.path.join(out, "scw.log"))
-    rows = scwexp.read_csv(csv_path)
-    png = os.path.join(out, f"{STUDY}.png")
-    plot(rows, png)
+    pert = (PERT[0], [int(x) for x in args.seeds.split(",")])
+    mpc = args.controller != "pure_pursuit"
+    sets = [f"laps={args.laps}", f"motion.controller={args.controller}"] + BASE_SETS + args.set
+    configs = [f"{n}:{o}" for n, o, _, _ in CONFIGS]
+    names = [n for n, *_ in CONFIGS]
+    cmd, rows = scwexp.study_sweep(scw, args, sets, configs, os.path.join(out, "sweep.csv"),
+                                   os.path.join(out, "scw.log"), pert=pert, mpc=mpc)
+    main_wall = timer.seconds()
+    per_pert = scwexp.perturbed_series(rows, names, *pert)
+    png = figure(per_pert, os.path.join(out, f"{STUDY}.png"),
+                 f"Study 1: slip control on/off, {args.controller}, nominal grip "
+                 "(x: aborted run, ★: minimum lap time)")
+    summary = {"study": STUDY, "command": " ".join(cmd), "controller": args.controller,
+               "wall_time_main_s": main_wall, "perturbation": {"key": pert[0],
+                                                               "label": "sensor-noise seed",
+                                                               "values": [str(v) for v in pert[1]]},
+               "configs": {n: label for n, _, label, _ in CONFIGS},
+               "runs": per_pert, "figures": [os.path.relpath(png, scwexp.RESULTS)],
+               "sensitivity": {}}
 
-    summary = {"study": STUDY, "command": " ".join(cmd), "wall_time_s": timer.seconds(),
-               "figures": [os.path.relpath(png, scwexp.RESULTS)], "series": {}}
-    for name, _, label, _ in CONFIGS:
-        s = scwexp.series(rows, name)
-        a = scwexp.analyse_series(s)
-        a["label"] = label
-        a["max_slip_front_pct"] = [r["max_slip_front_pct"] for r in s]
-        a["max_slip_rear_pct"] = [r["max_slip_rear_pct"] for r in s]
-        a["mean_lap_time_s"] = [r["mean_lap_time_s"] for r in s]
-        a["status"] = [r["status"] for r in s]
-        for k in ("abs_count", "tc_count", "esc_count", "cs_count"):
-            a[k] = [r[k] for r in s]
-        summary["series"][name] = a
+    if not args.no_sensitivity:
+        t = scwexp.Timer()
+        veh = scwexp.brake_40ms_vehicle(scw, os.path.join(out, "vehicle_brake40ms.yaml"))
+        scmd, srows = scwexp.study_sweep(scw, args, sets + [f"vehicle={veh}"], configs,
+                                         os.path.join(out, "sweep_brake40ms.csv"),
+                                         os.path.join(out, "scw_brake40ms.log"), pert=pert,
+                                         mpc=mpc)
+        sp = scwexp.perturbed_series(srows, names, *pert)
+        spng = figure(sp, os.path.join(out, "study1_brake40ms.png"),
+                      "Study 1, sensitivity: 40 ms brake response (unscored)")
+        summary["sensitivity"]["brake40ms"] = {
+            "label": "40 ms brake response (brakes.delay 0.006 s)", "command": " ".join(scmd),
+            "wall_time_s": t.seconds(), "runs": sp,
+            "figures": [os.path.relpath(spng, scwexp.RESULTS)]}
+        # Diagnostic (unscored): ESC and CS off in both configurations; the paper does not say
+        # whether they ran in its study 1, and their brake pulses can lock a wheel themselves.
+        t = scwexp.Timer()
+        nconfigs = [f"{c},subsystems.esc=false,subsystems.cs=false" for c in configs]
+        scmd, srows = scwexp.study_sweep(scw, args, sets, nconfigs,
+                                         os.path.join(out, "sweep_no_esc_cs.csv"),
+                                         os.path.join(out, "scw_no_esc_cs.log"), pert=pert,
+                                         mpc=mpc)
+        sp = scwexp.perturbed_series(srows, names, *pert)
+        spng = figure(sp, os.path.join(out, "study1_no_esc_cs.png"),
+                      "Study 1, diagnostic (unscored): ESC and CS off in both configurations")
+        summary["sensitivity"]["no_esc_cs"] = {
+            "label": "ESC and CS off in both configurations (slip control alone)",
+            "command": " ".join(scmd), "wall_time_s": t.seconds(), "runs": sp,
+            "figures": [os.path.relpath(spng, scwexp.RESULTS)]}
+    # Where and how each configuration's first abort happened (seed of the first column).
+    first = str(pert[1][0])
+    summary["diagnosis"] = scwexp.diagnose_series(
+        scw, args, sets, [(n, o) for n, o, _, _ in CONFIGS], per_pert[first], pert[0], first,
+        out)
+    summary["diagnosis_perturbation"] = first
+    summary["corners"] = scwexp.track_corners(scw, sets)
+    summary["wall_time_s"] = timer.seconds()
+    summary["cpu_time_s"] = timer.cpu_seconds()
     scwexp.write_summary(STUDY, summary)
-    for name, a in summary["series"].items():
-        print(f"{name}: max stable GG {a['max_stable']}, first abort {a['first_abort']} "
-              f"({a['first_abort_status']}), min lap {scwexp.fmt(a['min_lap_time_s'], 3)} s at "
-              f"GG {a['min_lap_value']}")
-    print(f"{STUDY}: {timer.seconds():.0f} s wall; outputs in {out}")
+    for v, ser in per_pert.items():
+        for name, a in ser.items():
+            print(f"seed {v} {name}: max stable GG {a['max_stable']}, first abort "
+                  f"{a['first_abort']} ({a['first_abort_status']}), min lap "
+                  f"{scwexp.fmt(a['min_lap_time_s'], 3)} s at GG {a['min_lap_value']}")
+    print(f"{STUDY}: {timer.seconds():.0f} s wall (main sweep {main_wall:.0f} s); outputs in {out}")
     scwexp.update_report(args)
     return 0
 

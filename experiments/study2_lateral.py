@@ -1,13 +1,21 @@
 #!/usr/bin/env python3
 """Study 2 (paper §V-A, lateral stability): no lateral stability control / ESC only / CS only /
-ESC + CS with the rear lateral grip reduced by 20 % (grip.rear_mu_y=0.8) over increasing GG;
-a series ends at its first abort (|β| > 20° or lateral error > 3 m; the wheel-lock abort is off:
-abort.lock_slip_pct=100). Slip control (ABS/TC) runs in all four, as in the car's setup.
-Then the first lap at GG 1.4 for all four configurations, traced (the paper's time-series
-figure; each configuration runs there whether or not its series stopped earlier).
+ESC + CS with the point-mass MPC (motion.controller=pmpc), 3 laps per run, GG 1.0:0.05:1.8; a
+series ends at its first abort (|β| > 20° or lateral error > 3 m, the defaults; the wheel-lock
+abort is off: abort.lock_slip_pct=100). Slip control (ABS/TC) runs in all four, as in the car's
+setup; the car's shipped stability parameters throughout.
 
-Writes experiments/results/study2_lateral/: sweep.csv, study2_lateral.png (max |β| and mean lap
-time per GG), traces/ + study2_timeseries_gg1.4.png, summary.json, scw*.log.
+The rear lateral grip is reduced in the simulated car only (plan_with_nominal_grip=true): the
+planner and the MPC keep the unchanged, scaled limits, as in the paper. Robustness: rear μy
+0.78 / 0.80 / 0.82 in one sweep. Then the first lap at GG 1.4 (rear μy 0.80) for all four,
+traced (the paper's time-series figure), and the first lap at the GG where `none` first
+aborts.
+
+Sensitivity (unscored, rear μy 0.80): a 40 ms brake response (brakes.delay 0.006), and the
+workspace's old defaults (pure pursuit, the reduced grip known to the planner).
+
+Writes experiments/results/study2_lateral/: sweep*.csv, study2_lateral.png,
+study2_timeseries_gg<GG>.png, study2_<sensitivity>.png, traces/, summary.json, scw*.log.
 
     python3 experiments/study2_lateral.py [--gg 1.0:0.05:1.8] [--laps 3] [--trace-gg 1.4]
 """
@@ -18,128 +26,152 @@ import os
 import sys
 
 import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
-
-import matplotlib.pyplot as plt  # noqa: E402
 import plot_trace  # noqa: E402
+import studyplot  # noqa: E402
 
 STUDY = "study2_lateral"
-BASE_SETS = ["grip.rear_mu_y=0.8", "abort.lock_slip_pct=100"]
+CONTROLLER = "pmpc"
+BASE_SETS = ["plan_with_nominal_grip=true", "abort.lock_slip_pct=100"]
+PERT = ("grip.rear_mu_y", ["0.78", "0.8", "0.82"])
+MAIN_PERT = "0.8"
 CONFIGS = [
     ("none", "subsystems.esc=false,subsystems.cs=false", "no lateral SC", "tab:gray"),
     ("esc", "subsystems.esc=true,subsystems.cs=false", "ESC only", "tab:red"),
     ("cs", "subsystems.esc=false,subsystems.cs=true", "CS only", "tab:blue"),
     ("esc+cs", "subsystems.esc=true,subsystems.cs=true", "ESC + CS", "tab:purple"),
 ]
+TOP = [("max_abs_sideslip_deg", None, "")]
 
 
-def plot_sweep(rows, configs, path, title):
-    fig, (ax_b, ax_lap) = plt.subplots(2, 1, figsize=(7, 6.5), sharex=True)
-    for name, _, label, color, *style in configs:
-        ls = style[0] if style else "-"
-        s = scwexp.series(rows, name)
-        if not s:
-            continue
-        ax_b.plot([r["gg_scale"] for r in s], [r["max_abs_sideslip_deg"] for r in s], ls,
-                  marker="o", color=color, ms=3, label=label)
-        scwexp.mark_aborts(ax_b, s, "gg_scale", "max_abs_sideslip_deg", color)
-        done = [r for r in s if r["status"] == "completed"]
-        ax_lap.plot([r["gg_scale"] for r in done], [r["mean_lap_time_s"] for r in done], ls,
-                    marker="o", color=color, ms=3, label=label)
-        if done:
-            best = min(done, key=lambda r: r["mean_lap_time_s"])
-            ax_lap.plot([best["gg_scale"]], [best["mean_lap_time_s"]], marker="*", ms=12,
-                        color=color, ls="none")
-    ax_b.axhline(20.0, color="k", ls=":", lw=1)
-    ax_b.set_ylabel("max |β| [deg]")
-    ax_b.grid(True, alpha=0.3)
-    ax_b.legend(fontsize=8)
-    ax_b.set_title(title)
-    ax_lap.set_ylabel("mean lap time [s]")
-    ax_lap.set_xlabel("acceleration scaling GG [-]")
-    ax_lap.grid(True, alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+def figure(per_pert, path, title):
+    panels = [(f"rear μy {v}", per_pert[v]) for v in per_pert]
+    lines = [(n, label, color, "-") for n, _, label, color in CONFIGS]
+    return studyplot.plot_grid(panels, lines, TOP, "max |β| [deg]", path, title, hline=20.0)
 
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     scwexp.add_common_args(p, gg="1.0:0.05:1.8", laps=3)
+    p.add_argument("--rear-mu-y", default=",".join(PERT[1]),
+                   help="rear lateral grip factors (default 0.78,0.8,0.82)")
     p.add_argument("--trace-gg", default="1.4", help="GG of the time-series figure (default 1.4)")
+    p.add_argument("--controller", default=CONTROLLER, help="motion controller (default pmpc)")
     args = p.parse_args(argv)
     scw = scwexp.find_scw()
     out = scwexp.results_dir(STUDY)
     timer = scwexp.Timer()
-    csv_path = os.path.join(out, "sweep.csv")
+    pert = (PERT[0], args.rear_mu_y.split(","))
+    main_pert = MAIN_PERT if MAIN_PERT in pert[1] else pert[1][len(pert[1]) // 2]
+    mpc = args.controller != "pure_pursuit"
+    sets = [f"laps={args.laps}", f"motion.controller={args.controller}"] + BASE_SETS + args.set
     configs = [f"{n}:{o}" for n, o, _, _ in CONFIGS]
-    cmd = scwexp.sweep_cmd(scw, args, [f"laps={args.laps}"] + BASE_SETS + args.set,
-                           [f"gg_scale={args.gg}"], configs, csv_path)
-    scwexp.run(cmd, log=os.path.join(out, "scw.log"))
-    rows = scwexp.read_csv(csv_path)
-    png = os.path.join(out, f"{STUDY}.png")
-    plot_sweep(rows, CONFIGS, png, "Study 2: lateral SC configurations, rear μy −20 % "
-               "(x: aborted run, ★: minimum lap time)")
+    names = [n for n, *_ in CONFIGS]
+    cmd, rows = scwexp.study_sweep(scw, args, sets, configs, os.path.join(out, "sweep.csv"),
+                                   os.path.join(out, "scw.log"), pert=pert, mpc=mpc)
+    main_wall = timer.seconds()
+    per_pert = scwexp.perturbed_series(rows, names, *pert)
+    png = figure(per_pert, os.path.join(out, f"{STUDY}.png"),
+                 f"Study 2: lateral SC configurations, {args.controller}, rear μy reduced in the "
+                 "car only (x: aborted run, ★: minimum lap time)")
 
-    # Time series: the first lap at GG 1.4, every configuration (no stopping: one value).
+    # Time series: the first lap at the trace GG (the paper's 1.4) and at the GG where `none`
+    # first aborts, rear μy of the main perturbation, all four configurations.
     trace_dir = os.path.join(out, "traces")
-    for old in glob.glob(os.path.join(trace_dir, "*.csv")):
+    os.makedirs(trace_dir, exist_ok=True)
+    for old in glob.glob(os.path.join(trace_dir, "*.csv")) + \
+            glob.glob(os.path.join(trace_dir, "*", "*.csv")):
         os.remove(old)
-    trace_csv = os.path.join(out, f"timeseries_gg{args.trace_gg}.csv")
-    tcmd = [scw, "sweep", "-o", trace_csv, "--trace-dir", trace_dir, "--set", "laps=1"]
-    tcmd += BASE_SETS + args.set + scwexp.threads_arg(args) + ["--vary",
-                                                               f"gg_scale={args.trace_gg}"]
-    for c in configs:
-        tcmd += ["--config", c]
-    if args.stability:
-        tcmd += ["--stability", args.stability]
-    scwexp.run(tcmd, log=os.path.join(out, "scw_traces.log"))
-    trace_rows = scwexp.read_csv(trace_csv)
-    traces, labels = [], []
-    for name, _, label, _ in CONFIGS:
-        path = os.path.join(trace_dir, f"{name}__gg_scale-{args.trace_gg}.csv")
-        if os.path.exists(path):
-            r = next(x for x in trace_rows if x["config"] == name)
-            traces.append(path)
-            labels.append(f"{label} ({r['status']})")
-    ts_png = os.path.join(out, f"study2_timeseries_gg{args.trace_gg}.png")
-    plot_trace.plot(traces, ts_png, labels, "distance", None,
-                    f"Study 2: first lap at GG {args.trace_gg}, rear μy −20 %")
+
+    def time_series(gg):
+        sub = os.path.join(trace_dir, f"gg{gg:g}")
+        os.makedirs(sub, exist_ok=True)
+        trace_csv = os.path.join(out, f"timeseries_gg{gg:g}.csv")
+        tsets = ["laps=1", f"motion.controller={args.controller}", f"{pert[0]}={main_pert}"] + \
+            BASE_SETS + args.set
+        tcmd = scwexp.sweep_cmd(scw, args, tsets, [f"gg_scale={gg:g}"], configs, trace_csv,
+                                extra=["--trace-dir", sub])
+        tcmd.remove("--stop-at-first-abort")
+        if mpc:
+            i = tcmd.index("--threads")
+            tcmd[i:i + 2] = ["--processes", str(max(1, args.processes))]
+        scwexp.run(tcmd, log=os.path.join(out, f"scw_traces_gg{gg:g}.log"))
+        trace_rows = scwexp.read_csv(trace_csv)
+        traces, labels, runs = [], [], {}
+        for name, _, label, _ in CONFIGS:
+            found = glob.glob(os.path.join(sub, f"{name}__*.csv"))
+            r = next((x for x in trace_rows if x["config"] == name), None)
+            if found and r:
+                traces.append(found[0])
+                labels.append(f"{label} ({r['status']})")
+            if r:
+                runs[name] = {k: r.get(k) for k in scwexp.RUN_FIELDS}
+        ts_png = os.path.join(out, f"study2_timeseries_gg{gg:g}.png")
+        plot_trace.plot(traces, ts_png, labels, "distance", None,
+                        f"Study 2: first lap at GG {gg:g}, {args.controller}, "
+                        f"rear μy {main_pert} in the car only")
+        return tcmd, runs, ts_png
+
+    tcmd, trace_runs, ts_png = time_series(float(args.trace_gg))
+    extra_ts = None
+    none_abort = per_pert[main_pert]["none"]["first_abort"]
+    if none_abort is not None and abs(none_abort - float(args.trace_gg)) > 1e-9:
+        _, xruns, xpng = time_series(none_abort)
+        extra_ts = {"gg": none_abort, "runs": xruns,
+                    "figure": os.path.relpath(xpng, scwexp.RESULTS)}
 
     summary = {"study": STUDY, "command": " ".join(cmd), "trace_command": " ".join(tcmd),
-               "wall_time_s": timer.seconds(),
+               "controller": args.controller, "wall_time_main_s": main_wall,
+               "perturbation": {"key": pert[0], "label": "rear μy",
+                                "values": [str(v) for v in pert[1]], "main": main_pert},
+               "configs": {n: label for n, _, label, _ in CONFIGS}, "runs": per_pert,
                "figures": [os.path.relpath(x, scwexp.RESULTS) for x in (png, ts_png)],
-               "series": {}, "trace_gg": float(args.trace_gg), "trace_runs": {}}
-    for name, _, label, _ in CONFIGS:
-        s = scwexp.series(rows, name)
-        a = scwexp.analyse_series(s)
-        a["label"] = label
-        a["max_abs_sideslip_deg"] = [r["max_abs_sideslip_deg"] for r in s]
-        a["mean_lap_time_s"] = [r["mean_lap_time_s"] for r in s]
-        a["status"] = [r["status"] for r in s]
-        for k in ("esc_count", "cs_count", "abs_count", "tc_count"):
-            a[k] = [r[k] for r in s]
-        summary["series"][name] = a
-        r = next((x for x in trace_rows if x["config"] == name), None)
-        if r:
-            summary["trace_runs"][name] = {
-                k: r[k] for k in ("status", "progress", "max_abs_sideslip_deg",
-                                  "max_abs_lateral_error_m", "max_abs_heading_error_deg",
-                                  "max_speed_mps", "end_s_m", "esc_count", "cs_count")}
-    # Claim (d) of the paper: lap-time cost versus "none" at GG 1.3.
-    at = {}
-    for name, *_ in CONFIGS:
-        r = scwexp.row_at(rows, name, 1.3)
-        at[name] = ({k: r[k] for k in ("status", "mean_lap_time_s", "esc_count", "cs_count")}
-                    if r else None)
-    summary["gg1.3"] = at
+               "trace_gg": float(args.trace_gg), "trace_runs": trace_runs,
+               "trace_at_none_abort": extra_ts, "sensitivity": {}}
+
+    if not args.no_sensitivity:
+        one = (pert[0], [main_pert])
+        variants = [
+            ("brake40ms", "40 ms brake response (brakes.delay 0.006 s), rear μy " + main_pert,
+             None, mpc, args.controller),
+            ("old_defaults", "old defaults: pure pursuit, reduced grip known to the planner "
+             "(plan_with_nominal_grip=false), rear μy " + main_pert, None, False,
+             "pure_pursuit"),
+        ]
+        for tag, label, _, vmpc, ctrl in variants:
+            t = scwexp.Timer()
+            vsets = [f"laps={args.laps}", f"motion.controller={ctrl}"] + BASE_SETS + args.set
+            if tag == "brake40ms":
+                veh = scwexp.brake_40ms_vehicle(scw, os.path.join(out, "vehicle_brake40ms.yaml"))
+                vsets.append(f"vehicle={veh}")
+            else:
+                vsets = [s for s in vsets if not s.startswith("plan_with_nominal_grip")] + \
+                    ["plan_with_nominal_grip=false"]
+            scmd, srows = scwexp.study_sweep(scw, args, vsets, configs,
+                                             os.path.join(out, f"sweep_{tag}.csv"),
+                                             os.path.join(out, f"scw_{tag}.log"), pert=one,
+                                             mpc=vmpc)
+            sp = scwexp.perturbed_series(srows, names, *one)
+            spng = figure(sp, os.path.join(out, f"study2_{tag}.png"),
+                          f"Study 2, sensitivity (unscored): {label}")
+            summary["sensitivity"][tag] = {"label": label, "command": " ".join(scmd),
+                                           "wall_time_s": t.seconds(), "runs": sp,
+                                           "figures": [os.path.relpath(spng, scwexp.RESULTS)]}
+    # Where and how each configuration's first abort happened (main rear μy), from a trace.
+    summary["diagnosis"] = scwexp.diagnose_series(
+        scw, args, sets, [(n, o) for n, o, _, _ in CONFIGS], per_pert[main_pert], pert[0],
+        main_pert, out)
+    summary["diagnosis_perturbation"] = main_pert
+    summary["corners"] = scwexp.track_corners(scw, sets)
     summary["wall_time_s"] = timer.seconds()
+    summary["cpu_time_s"] = timer.cpu_seconds()
     scwexp.write_summary(STUDY, summary)
-    for name, a in summary["series"].items():
-        print(f"{name}: max stable GG {a['max_stable']}, first abort {a['first_abort']} "
-              f"({a['first_abort_status']}), min lap {scwexp.fmt(a['min_lap_time_s'], 3)} s at "
-              f"GG {a['min_lap_value']}")
-    print(f"{STUDY}: {timer.seconds():.0f} s wall; outputs in {out}")
+    for v, ser in per_pert.items():
+        for name, a in ser.items():
+            print(f"rear μy {v} {name}: max stable GG {a['max_stable']}, first abort "
+                  f"{a['first_abort']} ({a['first_abort_status']}), min lap "
+                  f"{scwexp.fmt(a['min_lap_time_s'], 3)} s at GG {a['min_lap_value']}")
+    print(f"{STUDY}: {timer.seconds():.0f} s wall (main sweep {main_wall:.0f} s); outputs in {out}")
     scwexp.update_report(args)
     return 0
 

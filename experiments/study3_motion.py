@@ -1,18 +1,18 @@
 #!/usr/bin/env python3
-"""Study 3 (paper §V-A, motion controllers): every motion controller the scw binary offers
-(scw sweep --list-controllers: pure_pursuit, and pmpc/nmpc once they exist) without and with
-lateral stability control (ESC + CS), rear lateral grip −20 %, over increasing GG; a series ends
-at its first abort (|β| > 20° or lateral error > 3 m; wheel-lock abort off). The ESC targets
-come from the lateral acceleration the motion controller requests (κ = a_y,req / v², paper
-Eq. "esc_target_acc"; every motion controller passes its a_y request to the ESC).
+"""Study 3 (paper §V-A, motion controllers): pure pursuit, the point-mass MPC (pmpc) and the
+nonlinear MPC (nmpc), each without and with lateral stability control (ESC + CS), rear lateral
+grip reduced in the simulated car only (plan_with_nominal_grip=true), 3 laps per run,
+GG 1.0:0.05:1.8; a series ends at its first abort (|β| > 20° or lateral error > 3 m; wheel-lock
+abort off). Slip control runs in both variants; the car's shipped stability parameters. The ESC
+targets come from the lateral acceleration each motion controller requests (paper Eq.
+"esc_target_acc").
 
-A controller the binary rejects is skipped with a note (the study completes with the rest).
-The MPC controllers run far slower than pure pursuit, so by default they get one lap per run and
-a GG step of 0.1 (--mpc-laps, --mpc-gg), and run on one thread (--mpc-threads: parallel runs of
-the Ipopt-based MPCs crashed in MUMPS); expect about 30 s per MPC run.
+Robustness: rear μy 0.78 / 0.80 / 0.82 (one sweep per controller). The MPC sweeps run in
+worker processes (--processes, default 2). A controller the binary rejects is skipped with a
+note. Sensitivity (unscored, rear μy 0.80, pure pursuit and pmpc): a 40 ms brake response.
 
-Writes experiments/results/study3_motion/: sweep_<controller>.csv, study3_motion.png (solid:
-without SC, dashed: with ESC + CS), summary.json, scw_<controller>.log.
+Writes experiments/results/study3_motion/: sweep_<controller>.csv, study3_motion.png,
+study3_brake40ms.png, summary.json, scw_<controller>.log.
 
     python3 experiments/study3_motion.py [--gg 1.0:0.05:1.8] [--laps 3] [--controllers a,b]
 """
@@ -21,91 +21,120 @@ import argparse
 import os
 import sys
 
-import scwexp
-import study2_lateral
+import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
+import studyplot  # noqa: E402
 
 STUDY = "study3_motion"
-BASE_SETS = ["grip.rear_mu_y=0.8", "abort.lock_slip_pct=100"]
+BASE_SETS = ["plan_with_nominal_grip=true", "abort.lock_slip_pct=100"]
+PERT = ("grip.rear_mu_y", ["0.78", "0.8", "0.82"])
+MAIN_PERT = "0.8"
+CONTROLLERS = ["pure_pursuit", "pmpc", "nmpc"]
 VARIANTS = [("off", "subsystems.esc=false,subsystems.cs=false", "without SC", "-"),
             ("sc", "subsystems.esc=true,subsystems.cs=true", "with ESC + CS", "--")]
-COLORS = ["tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown"]
+COLORS = {"pure_pursuit": "tab:blue", "pmpc": "tab:orange", "nmpc": "tab:green"}
+SENSITIVITY_CONTROLLERS = ["pure_pursuit", "pmpc"]
+
+
+def run_controllers(scw, args, out, controllers, pert, extra_sets, tag):
+    """One sweep per controller; returns (rows, commands, walls, skipped)."""
+    rows, commands, walls, skipped = [], [], {}, {}
+    for ctrl in controllers:
+        csv_path = os.path.join(out, f"sweep_{ctrl}{tag}.csv")
+        log = os.path.join(out, f"scw_{ctrl}{tag}.log")
+        configs = [f"{ctrl}_{v}:{o}" for v, o, _, _ in VARIANTS]
+        sets = [f"laps={args.laps}", f"motion.controller={ctrl}"] + BASE_SETS + extra_sets
+        t = scwexp.Timer()
+        mpc = ctrl != "pure_pursuit"
+        vary = [f"gg_scale={args.gg}", f"{pert[0]}=" + ",".join(pert[1])]
+        if os.path.exists(csv_path):
+            os.remove(csv_path)
+        cmd = (scwexp.mpc_sweep_cmd(scw, args, sets, vary, configs, csv_path,
+                                    processes=args.processes) if mpc else
+               scwexp.sweep_cmd(scw, args, sets, vary, configs, csv_path))
+        proc = scwexp.run(cmd, log=log, check=False)
+        walls[ctrl] = t.seconds()
+        commands.append(" ".join(cmd))
+        if proc.returncode != 0 or not os.path.exists(csv_path):
+            with open(log) as f:
+                reason = [x for x in f.read().strip().splitlines()
+                          if x.strip() and not x.startswith("iter")]
+            skipped[ctrl] = (f"exit code {proc.returncode}, no results: " +
+                             " ".join(reason[-3:]))[:400]
+            print(f"skipping {ctrl}: {skipped[ctrl]}")
+            continue
+        rows += scwexp.read_csv(csv_path)
+    return rows, commands, walls, skipped
+
+
+def figure(per_pert, controllers, path, title):
+    panels = [(f"rear μy {v}", per_pert[v]) for v in per_pert]
+    lines = [(f"{c}_{v}", f"{c} {label}", COLORS.get(c, "k"), ls)
+             for c in controllers for v, _, label, ls in VARIANTS]
+    return studyplot.plot_grid(panels, lines, [("max_abs_sideslip_deg", None, "")],
+                               "max |β| [deg]", path, title, hline=20.0)
 
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     scwexp.add_common_args(p, gg="1.0:0.05:1.8", laps=3)
-    p.add_argument("--mpc-gg", default="1.0:0.1:1.6",
-                   help="GG values for the MPC controllers (slower than real time x100; "
-                        "default 1.0:0.1:1.6)")
-    p.add_argument("--mpc-laps", type=int, default=1,
-                   help="laps per run for the MPC controllers (default 1)")
-    p.add_argument("--mpc-threads", type=int, default=1,
-                   help="worker threads for the MPC controllers (default 1: parallel Ipopt/MUMPS "
-                        "solves crashed in our runs)")
-    p.add_argument("--controllers",
-                   help="comma-separated motion controllers (default: all scw offers)")
+    p.add_argument("--controllers", default=",".join(CONTROLLERS),
+                   help="comma-separated motion controllers (default pure_pursuit,pmpc,nmpc)")
+    p.add_argument("--rear-mu-y", default=",".join(PERT[1]),
+                   help="rear lateral grip factors (default 0.78,0.8,0.82)")
     args = p.parse_args(argv)
     scw = scwexp.find_scw()
     out = scwexp.results_dir(STUDY)
     timer = scwexp.Timer()
-    controllers = (args.controllers.split(",") if args.controllers
-                   else scwexp.list_controllers(scw))
-    rows, skipped, commands, walls = [], {}, [], {}
-    for ctrl in controllers:
-        csv_path = os.path.join(out, f"sweep_{ctrl}.csv")
-        log = os.path.join(out, f"scw_{ctrl}.log")
-        if os.path.exists(csv_path):
-            os.remove(csv_path)  # never read a previous run's table
-        configs = [f"{ctrl}_{v}:motion.controller={ctrl},{o}" for v, o, _, _ in VARIANTS]
-        fast = ctrl == "pure_pursuit"
-        laps, gg = (args.laps, args.gg) if fast else (args.mpc_laps, args.mpc_gg)
-        run_args = argparse.Namespace(**vars(args))
-        if not fast:
-            run_args.threads = args.mpc_threads
-        cmd = scwexp.sweep_cmd(scw, run_args, [f"laps={laps}"] + BASE_SETS + args.set,
-                               [f"gg_scale={gg}"], configs, csv_path)
-        t = scwexp.Timer()
-        proc = scwexp.run(cmd, log=log, check=False)
-        walls[ctrl] = t.seconds()
-        commands.append(" ".join(cmd))
-        if proc.returncode != 0 or not os.path.exists(csv_path):
-            with open(log) as f:
-                reason = f.read().strip().splitlines()
-            reason = [x for x in reason if not x.startswith("iter") and x.strip()]
-            skipped[ctrl] = (f"exit code {proc.returncode}, no results: " +
-                             " ".join(reason[-3:]))[:400]
-            print(f"skipping {ctrl}: {skipped[ctrl]}")
-            continue
-        rows += scwexp.read_csv(csv_path)
+    known = scwexp.list_controllers(scw)
+    controllers = args.controllers.split(",")
+    pert = (PERT[0], args.rear_mu_y.split(","))
+    main_pert = MAIN_PERT if MAIN_PERT in pert[1] else pert[1][len(pert[1]) // 2]
+    skipped = {c: "not offered by this scw (scw sweep --list-controllers)"
+               for c in controllers if c not in known}
+    run_list = [c for c in controllers if c not in skipped]
+    rows, commands, walls, sk = run_controllers(scw, args, out, run_list, pert, args.set, "")
+    skipped.update(sk)
+    done = [c for c in controllers if c not in skipped]
+    names = [f"{c}_{v}" for c in done for v, *_ in VARIANTS]
+    per_pert = scwexp.perturbed_series(rows, names, *pert)
+    png = figure(per_pert, done, os.path.join(out, f"{STUDY}.png"),
+                 "Study 3: motion controllers without (solid) / with (dashed) ESC + CS, rear μy "
+                 "reduced in the car only")
+    summary = {"study": STUDY, "commands": commands, "wall_time_per_controller_s": walls,
+               "controllers": controllers, "skipped": skipped,
+               "perturbation": {"key": pert[0], "label": "rear μy",
+                                "values": [str(v) for v in pert[1]], "main": main_pert},
+               "configs": {f"{c}_{v}": f"{c} {label}" for c in done
+                           for v, _, label, _ in VARIANTS},
+               "runs": per_pert, "figures": [os.path.relpath(png, scwexp.RESULTS)],
+               "sensitivity": {}}
+    summary["wall_time_main_s"] = timer.seconds()
 
-    plot_configs = []
-    for k, ctrl in enumerate(c for c in controllers if c not in skipped):
-        for v, _, label, ls in VARIANTS:
-            plot_configs.append((f"{ctrl}_{v}", None, f"{ctrl} {label}",
-                                 COLORS[k % len(COLORS)], ls))
-    png = os.path.join(out, f"{STUDY}.png")
-    study2_lateral.plot_sweep(rows, plot_configs, png,
-                              "Study 3: motion controllers without (solid) / with (dashed) "
-                              "ESC + CS, rear μy −20 %")
-    summary = {"study": STUDY, "commands": commands, "wall_time_s": timer.seconds(),
-               "wall_time_per_controller_s": walls, "controllers": controllers,
-               "skipped": skipped, "figures": [os.path.relpath(png, scwexp.RESULTS)],
-               "series": {}}
-    for name, _, label, _, _ in plot_configs:
-        s = scwexp.series(rows, name)
-        a = scwexp.analyse_series(s)
-        a["label"] = label
-        a["max_abs_sideslip_deg"] = [r["max_abs_sideslip_deg"] for r in s]
-        a["mean_lap_time_s"] = [r["mean_lap_time_s"] for r in s]
-        a["status"] = [r["status"] for r in s]
-        for k in ("esc_count", "cs_count", "abs_count", "tc_count"):
-            a[k] = [r[k] for r in s]
-        summary["series"][name] = a
-        print(f"{name}: max stable GG {a['max_stable']}, first abort {a['first_abort']} "
-              f"({a['first_abort_status']}), min lap {scwexp.fmt(a['min_lap_time_s'], 3)} s at "
-              f"GG {a['min_lap_value']}")
+    if not args.no_sensitivity:
+        t = scwexp.Timer()
+        veh = scwexp.brake_40ms_vehicle(scw, os.path.join(out, "vehicle_brake40ms.yaml"))
+        sens = [c for c in SENSITIVITY_CONTROLLERS if c in done]
+        one = (pert[0], [main_pert])
+        srows, scmds, _, _ = run_controllers(scw, args, out, sens, one,
+                                             args.set + [f"vehicle={veh}"], "_brake40ms")
+        snames = [f"{c}_{v}" for c in sens for v, *_ in VARIANTS]
+        sp = scwexp.perturbed_series(srows, snames, *one)
+        spng = figure(sp, sens, os.path.join(out, "study3_brake40ms.png"),
+                      f"Study 3, sensitivity (unscored): 40 ms brake, rear μy {main_pert}")
+        summary["sensitivity"]["brake40ms"] = {
+            "label": f"40 ms brake response (brakes.delay 0.006 s), rear μy {main_pert}, "
+                     + ", ".join(sens), "command": " | ".join(scmds), "wall_time_s": t.seconds(),
+            "controllers": sens, "runs": sp, "figures": [os.path.relpath(spng, scwexp.RESULTS)]}
+    summary["corners"] = scwexp.track_corners(scw, args.set)
+    summary["wall_time_s"] = timer.seconds()
+    summary["cpu_time_s"] = timer.cpu_seconds()
     scwexp.write_summary(STUDY, summary)
+    for v, ser in per_pert.items():
+        for name, a in ser.items():
+            print(f"rear μy {v} {name}: max stable GG {a['max_stable']}, first abort "
+                  f"{a['first_abort']} ({a['first_abort_status']}), min lap "
+                  f"{scwexp.fmt(a['min_lap_time_s'], 3)} s at GG {a['min_lap_value']}")
     print(f"{STUDY}: {timer.seconds():.0f} s wall; outputs in {out}")
     scwexp.update_report(args)
     return 0
