@@ -7,7 +7,7 @@ figures with the subsystem activation counts beside them, and the unscored sensi
 
     python3 experiments/report.py                      (after the studies; each study calls it)
     python3 experiments/report.py --publish experiments/reference-results
-        (also copies report.md and its figures there, with links relative to that folder)
+        (also copies report.md and the figures it links there, same relative paths)
 """
 
 import argparse
@@ -460,6 +460,60 @@ def mechanism(s, names, labels):
     return out
 
 
+def findings(s1, s2, s3):
+    """Facts over all scored series: how far the GG got, where and why the series ended, how
+    often ESC acted before the first abort, what the traced aborts show."""
+    from collections import Counter
+    series, esc_runs = [], []
+    for s, esc_on in ((s1, lambda n: True), (s2, lambda n: "esc" in n),
+                      (s3, lambda n: n.endswith("_sc"))):
+        if not s:
+            continue
+        for p, ser in s["runs"].items():
+            for n, a in ser.items():
+                series.append((s["study"], p, n, a))
+                if esc_on(n):
+                    esc_runs += done_runs(a)
+    if not series:
+        return []
+    lf = 0.7
+    st = [a["max_stable"] for *_, a in series if a["max_stable"] is not None]
+    places = Counter(scwexp.place(a.get("first_abort_s_m"), CORNERS) for *_, a in series
+                     if a["first_abort"] is not None)
+    statuses = Counter(a["first_abort_status"] for *_, a in series if a["first_abort"])
+    out = ["## Findings (computed from all runs of the three studies, sensitivity runs excluded)",
+           ""]
+    if st:
+        out.append(f"- Max stable GG over the {len(series)} series of the studies: {min(st):.2f}–"
+                   f"{max(st):.2f}, i.e. {100 * lf * min(st):.0f}–{100 * lf * max(st):.0f} % of "
+                   "the combined limits (GG 1.43 = 100 %); "
+                   f"{sum(1 for *_, a in series if a['max_stable'] is None)} series did not "
+                   "complete GG 1.0.")
+    out.append("- First aborts by reason: " + ", ".join(f"{k} {v}" for k, v in
+                                                       statuses.most_common()) +
+               "; by place: " + ", ".join(f"{k} {v}" for k, v in places.most_common()) + ".")
+    if esc_runs:
+        n = active_count(esc_runs, "esc_count")
+        out.append(f"- ESC acted in {n} of {len(esc_runs)} completed runs with ESC enabled "
+                   "(studies 1–3)" + (": its interventions happen almost only in the runs that "
+                                      "abort." if n < 0.25 * len(esc_runs) else "."))
+    diags = [x for s in (s1, s2) if s for x in (s.get("diagnosis") or {}).values()]
+    locks = [x for x in diags if x["wheel_slip_pct"] <= -50 and x["esc_at_peak"]]
+    leads = [x["t_s"] - x["active_since"]["esc"] for x in diags
+             if x["active_since"].get("esc") is not None]
+    if diags:
+        txt = (f"- Of the {len(diags)} traced first aborts (studies 1–2), {len(locks)} end with a "
+               "wheel locked after an ESC brake command the motion controller did not request")
+        if locks:
+            txt += (f" ({min(x['wheel_p_peak_bar'] for x in locks):.0f}–"
+                    f"{max(x['wheel_p_peak_bar'] for x in locks):.0f} bar)")
+        if leads:
+            txt += (f"; where ESC acted, it switched on {min(leads):.2f}–{max(leads):.2f} s before "
+                    "the abort (brake response 150 ms)")
+        out.append(txt + ".")
+    return out + [""]
+
+
 def sens_verdicts(s, fn, *extra):
     """'40 ms brake: holds; ...' for the sensitivity runs of a study that have the series."""
     parts = []
@@ -513,7 +567,10 @@ every run. Everything below was fixed before any claim was evaluated
 4. **Scenario as the paper**: studies 1 and 2 with the point-mass MPC (`pmpc`; ~1.5 s per lap,
    sweeps in worker processes); the rear-grip reduction only in the simulated car
    (`plan_with_nominal_grip=true`); study 1 ends a series only when a tyre begins to lock or spin
-   (slip < −50 % or > +30 % for ≥ 0.1 s), other aborts there are safety stops;
+   (slip < −50 % or > +30 % for ≥ 0.1 s: `abort.lock_slip_pct=50`, `abort.spin_slip_pct=30`,
+   `abort.slip_time=0.1`, all existing keys); there the lateral-error abort is lifted
+   (`abort.max_lateral_error=100`, the largest allowed) and |β| > 20°, leaving the track or the
+   time-out end a run as a *safety stop*, reported apart from lock and spin;
    3 perturbations per study, a claim holding in ≥ 2 of 3.
 5. Not changed: the car's stability parameters, the ESC's yaw reference (the MPCs publish their
    planned a_y; pure pursuit the car node's feedback curvature × v², `motion.esc_target`), the
@@ -524,7 +581,8 @@ every run. Everything below was fixed before any claim was evaluated
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--publish", metavar="DIR",
-                    help="also copy report.md and its figures to DIR (flat, relative links)")
+                    help="also copy report.md and the figures it links to DIR (same relative "
+                         "paths; figures no longer linked are removed)")
     args = ap.parse_args(argv)
     s1 = scwexp.read_summary("study1_longitudinal")
     s2 = scwexp.read_summary("study2_lateral")
@@ -657,7 +715,7 @@ def main(argv=None):
                    f"{sv or '–'} |")
     if not summary_rows:
         out.append("| – | – | no study results yet |")
-    out += [""] + sections
+    out += [""] + findings(s1, s2, s3) + sections
     if cmp_:
         out += ["## Comparison of parameter sets", "", f"Wall time {cmp_['wall_time_s']:.0f} s. "
                 f"Sets: {', '.join(cmp_['labels'])}. Table: `{cmp_['markdown']}`.", ""]
@@ -700,19 +758,22 @@ def sensitivity(s, labels, pert_label, claims, metric, study1=False):
 
 
 def publish(report_path, dest):
-    """Copies the report and the figures it links into dest (flat), links rewritten."""
+    """Copies the report and the figures it links into dest, keeping their paths relative to
+    the report (so the links work unchanged); figures no longer linked are removed."""
     os.makedirs(dest, exist_ok=True)
     with open(report_path) as f:
         text = f.read()
-
-    def repl(m):
-        src = os.path.join(os.path.dirname(report_path), m.group(2))
-        name = m.group(2).replace("/", "__")
-        if os.path.exists(src):
-            shutil.copyfile(src, os.path.join(dest, name))
-        return f"![{m.group(1)}]({name})"
-
-    text = re.sub(r"!\[([^\]]*)\]\(([^)]+\.png)\)", repl, text)
+    linked = set(re.findall(r"!\[[^\]]*\]\(([^)]+\.png)\)", text))
+    for rel_path in linked:
+        src = os.path.join(os.path.dirname(report_path), rel_path)
+        dst = os.path.join(dest, rel_path)
+        os.makedirs(os.path.dirname(dst), exist_ok=True)
+        shutil.copyfile(src, dst)
+    for root, _, files in os.walk(dest):
+        for name in files:
+            rel_path = os.path.relpath(os.path.join(root, name), dest)
+            if name.endswith(".png") and rel_path not in linked:
+                os.remove(os.path.join(root, name))
     with open(os.path.join(dest, "report.md"), "w") as f:
         f.write(text)
     print(f"published {dest}/report.md")

@@ -7,8 +7,8 @@
 #
 #   experiments/run_all.sh [PARAMS.yaml ...]        (SCW_BIN=/path/to/scw to choose the binary)
 #
-# Each study takes up to about 20 min on 2 cores (MPC runs in 2 worker processes). To refresh the
-# committed reference copy afterwards:
+# About 15 min on 2 cores (MPC runs in 2 worker processes; each study well under 20 min).
+# To refresh the committed reference copy afterwards:
 #   python3 experiments/report.py --publish experiments/reference-results
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
