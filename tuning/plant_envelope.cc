@@ -125,14 +125,8 @@ GgvTable PlantEnvelope(const params::VehicleParams& v, double brake_bias_front) 
   // The pure drive limit steps down at every upshift: the value at each 2 m/s node is at most the
   // smallest engine-limited acceleration over its neighbourhood (0.5 m/s samples of the engine's
   // full-load force less drag and rolling resistance), so the interpolation never exceeds it.
-  const auto& veh = ideal;
   auto engine_accel = [&](double x) {
-    const double down = 0.5 * veh.aero.air_density *
-                        (veh.aero.downforce_area_front + veh.aero.downforce_area_rear) * x * x;
-    const double resist =
-        0.5 * veh.aero.air_density * veh.aero.drag_area * x * x +
-        veh.wheels.rolling_resistance * (veh.chassis.mass * veh.chassis.gravity + down);
-    return (qs.MaxEngineForce(x) - resist) / veh.chassis.mass;
+    return (qs.MaxEngineForce(x) - qs.RoadLoad(x)) / ideal.chassis.mass;
   };
   auto pure_drive_min = [&](double sp) {
     double d = qs.MaxDrive(sp, 0.0);

@@ -10,6 +10,36 @@
 namespace scw::plant {
 namespace {
 
+// Illinois regula falsi on [a, b] with f(a) < 0 ≤ f(b): shrinks the bracket until its width is
+// below rel (1 + |b|), `iters` steps, or an exact root (fb == 0 when `stop_on_fb_zero`, else the
+// last f(x) == 0); x is the last point evaluated.
+struct Bracket {
+  double a, fa, b, fb, x;
+};
+template <class F>
+void Illinois(F&& f, Bracket* br, int iters, double rel, bool stop_on_fb_zero) noexcept {
+  double a = br->a, fa = br->fa, b = br->b, fb = br->fb, x = br->b;
+  int side = 0;
+  for (int k = 0; k < iters; ++k) {
+    x = (fb * a - fa * b) / (fb - fa);
+    if (!(x > a && x < b)) x = 0.5 * (a + b);
+    const double fx = f(x);
+    if (fx >= 0.0) {
+      b = x;
+      fb = fx;
+      if (side == -1) fa *= 0.5;
+      side = -1;
+    } else {
+      a = x;
+      fa = fx;
+      if (side == 1) fb *= 0.5;
+      side = 1;
+    }
+    if (b - a < rel * (1.0 + std::abs(b)) || (stop_on_fb_zero ? fb : fx) == 0.0) break;
+  }
+  *br = {a, fa, b, fb, x};
+}
+
 // Root of an increasing-then-peaking function: the first x ≥ lo with f(x) ≥ 0, searched in steps
 // of `step` up to `hi`, refined by the Illinois variant of regula falsi. Returns false when f
 // passes its peak below 0 (checked by a golden-section search of the peak between the last
@@ -91,27 +121,9 @@ bool FirstCrossing(F&& f, double lo, double step, double hi, double floor, doubl
     }
   }
   if (!bracketed) return false;
-  // Illinois regula falsi on [a, b] with f(a) < 0 ≤ f(b).
-  int side = 0;
-  double x = b;
-  for (int k = 0; k < 60; ++k) {
-    x = (fb * a - fa * b) / (fb - fa);
-    if (!(x > a && x < b)) x = 0.5 * (a + b);
-    const double fx = f(x);
-    if (fx >= 0.0) {
-      b = x;
-      fb = fx;
-      if (side == -1) fa *= 0.5;
-      side = -1;
-    } else {
-      a = x;
-      fa = fx;
-      if (side == 1) fb *= 0.5;
-      side = 1;
-    }
-    if (b - a < 1e-10 * (1.0 + std::abs(b)) || fb == 0.0) break;
-  }
-  *root = b;
+  Bracket br{a, fa, b, fb, b};
+  Illinois(f, &br, 60, 1e-10, true);
+  *root = br.b;
   return true;
 }
 
@@ -122,26 +134,9 @@ double BracketedRoot(F&& f, double a, double b) noexcept {
   double fa = f(a), fb = f(b);
   if (fa >= 0.0) return a;
   if (fb <= 0.0) return b;
-  int side = 0;
-  double x = b;
-  for (int k = 0; k < 80; ++k) {
-    x = (fb * a - fa * b) / (fb - fa);
-    if (!(x > a && x < b)) x = 0.5 * (a + b);
-    const double fx = f(x);
-    if (fx >= 0.0) {
-      b = x;
-      fb = fx;
-      if (side == -1) fa *= 0.5;
-      side = -1;
-    } else {
-      a = x;
-      fa = fx;
-      if (side == 1) fb *= 0.5;
-      side = 1;
-    }
-    if (b - a < 1e-9 * (1.0 + std::abs(b)) || fx == 0.0) break;
-  }
-  return x;
+  Bracket br{a, fa, b, fb, b};
+  Illinois(f, &br, 80, 1e-9, false);
+  return br.x;
 }
 
 // Largest x in [lo, hi] with pred(x) true, assuming pred is true at lo and monotone; bisection to
@@ -405,10 +400,14 @@ QuasiSteadyState QuasiSteadyModel::Solve(double v, double a_x, double a_y_in) co
 double QuasiSteadyModel::MinDeceleration(double v) const noexcept {
   if (Solve(v, 0.0, 0.0).feasible) return 0.0;
   // Above the top speed: coasting (no drive torque), drag and rolling resistance decelerate.
+  return RoadLoad(v) / m_;
+}
+
+double QuasiSteadyModel::RoadLoad(double v) const noexcept {
   const auto& a = veh_.params().aero;
   const double down =
       0.5 * a.air_density * (a.downforce_area_front + a.downforce_area_rear) * v * v;
-  return (drag_k_ * v * v + crr_ * (m_ * veh_.params().chassis.gravity + down)) / m_;
+  return drag_k_ * v * v + crr_ * (m_ * veh_.params().chassis.gravity + down);
 }
 
 double QuasiSteadyModel::MaxLateral(double v) const noexcept {

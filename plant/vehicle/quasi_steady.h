@@ -74,6 +74,8 @@ class QuasiSteadyModel {
   double MaxBrake(double v, double a_y) const noexcept;
   double UndersteerGradient(double v) const noexcept;
 
+  /// Aero drag plus rolling resistance (with downforce) on a straight at v [N].
+  double RoadLoad(double v) const noexcept;
   /// Largest driving force at the rear wheels from the engine at v [N] (best gear, full load).
   double MaxEngineForce(double v) const noexcept;
   const Vehicle& vehicle() const noexcept { return veh_; }
