@@ -70,6 +70,9 @@ struct FlatDoc {
 /// an empty `expected_node` accepts the file's single node section, whatever its name.
 FlatDoc Flatten(const YamlNode& root, Layout layout, const std::string& expected_node,
                 Problems* problems);
+/// The entries point into `root`: flattening a temporary would leave them dangling.
+FlatDoc Flatten(YamlNode&& root, Layout layout, const std::string& expected_node,
+                Problems* problems) = delete;
 
 /// Short rendering of a node for messages: scalars verbatim, sequences as [a, b], maps as {…}.
 std::string Render(const YamlNode& node);

@@ -77,8 +77,8 @@ TEST_F(TuneCliTest, OneEvaluationExportsTheBaseSetWithProvenanceAndPassesTheChec
   EXPECT_TRUE(params::DifferingKeys(LoadText(full, "full"), LoadText(shipped, "shipped")).empty());
   // ... and an overrides file that changes nothing.
   Problems pr;
-  const auto doc = params::Flatten(params::ParseYaml(over, "over"), params::Layout::kRos2,
-                                   params::kStabilityNodeKey, &pr);
+  const params::YamlNode parsed = params::ParseYaml(over, "over");
+  const auto doc = params::Flatten(parsed, params::Layout::kRos2, params::kStabilityNodeKey, &pr);
   EXPECT_TRUE(pr.empty());
   EXPECT_TRUE(doc.entries.empty()) << over;
   EXPECT_NE(over.find("ros__parameters: {}"), std::string::npos) << over;

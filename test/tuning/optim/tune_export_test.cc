@@ -65,8 +65,8 @@ params::CheckReport Check(const std::string& text, bool complete) {
 // Dotted keys an overrides file sets.
 std::set<std::string> KeysOf(const std::string& text) {
   Problems pr;
-  const auto doc = params::Flatten(params::ParseYaml(text, "overrides.yaml"), params::Layout::kRos2,
-                                   params::kStabilityNodeKey, &pr);
+  const params::YamlNode parsed = params::ParseYaml(text, "overrides.yaml");
+  const auto doc = params::Flatten(parsed, params::Layout::kRos2, params::kStabilityNodeKey, &pr);
   EXPECT_TRUE(pr.empty());
   std::set<std::string> keys;
   for (const auto& e : doc.entries) keys.insert(e.key);
@@ -142,8 +142,8 @@ TEST(TuneExportTest, OverridesListOnlyRealChangesRoundedAndTheHeaderKeepsTheChec
                                              TunedFileHeader(Provenance(changed), false));
   EXPECT_EQ(KeysOf(over), changed);
   // Values at their resolution: short decimal texts, no round-trip noise.
-  const auto doc = params::Flatten(params::ParseYaml(over, "o"), params::Layout::kRos2,
-                                   params::kStabilityNodeKey, &pr);
+  const params::YamlNode parsed = params::ParseYaml(over, "o");
+  const auto doc = params::Flatten(parsed, params::Layout::kRos2, params::kStabilityNodeKey, &pr);
   for (const auto& e : doc.entries) {
     const std::string text = params::Render(*e.node);
     EXPECT_LE(text.size(), 24u) << e.key << ": " << text;  // arrays: two short elements
