@@ -1,5 +1,7 @@
 #include "params/io/load.h"
 
+#include "params/io/suggest.h"
+
 #include <cmath>
 #include <limits>
 
@@ -79,12 +81,18 @@ std::string ConvertLeaf(const YamlNode& node, const Meta&, bool* out) {
   return "expected true or false, got " + Got(node);
 }
 
-std::string ConvertLeaf(const YamlNode& node, const Meta&, bool accept_int,
+std::string ConvertLeaf(const YamlNode& node, const Meta& meta, bool accept_int,
                         std::vector<double>* out, std::string* note) {
   if (node.kind != YamlNode::Kind::kSequence)
     return "expected a list of doubles like [1.0, 2.0], got " + Got(node);
-  if (node.items.empty())
+  if (node.items.empty()) {
+    // Lists that may be empty are workspace-only (friction patches): no node key declares one.
+    if (meta.min_size == 0) {
+      out->clear();
+      return "";
+    }
     return "empty list: the car's node cannot load an empty array; give at least one element";
+  }
   out->clear();
   bool any_int = false, any_double = false;
   for (std::size_t i = 0; i < node.items.size(); ++i) {
@@ -114,31 +122,9 @@ std::string ConvertLeaf(const YamlNode& node, const Meta&, std::string* out) {
   return "";
 }
 
-namespace {
-std::size_t EditDistance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j)
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
-}
-}  // namespace
-
 std::string SuggestKey(const std::string& unknown, const std::vector<std::string>& known) {
-  std::string best;
-  std::size_t best_d = std::max<std::size_t>(3, unknown.size() / 5) + 1;
-  for (const auto& k : known) {
-    const std::size_t d = EditDistance(unknown, k);
-    if (d < best_d) {
-      best_d = d;
-      best = k;
-    }
-  }
-  return best;
+  const std::vector<std::string_view> candidates(known.begin(), known.end());
+  return ClosestWord(unknown, candidates, std::max<std::size_t>(3, unknown.size() / 5) + 1);
 }
 
 }  // namespace scw::params::detail

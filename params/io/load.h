@@ -50,6 +50,9 @@ std::string ConvertLeaf(const YamlNode& node, const Meta& meta, std::string* out
 
 /// Closest schema key to an unknown key (same parent preferred), or empty.
 std::string SuggestKey(const std::string& unknown, const std::vector<std::string>& known);
+/// Unknown keys of one file that get a "did you mean" hint: past this many the file is most
+/// likely not of this kind at all (or its indentation is broken), and hints would be noise.
+inline constexpr int kMaxKeySuggestions = 16;
 
 std::string LineSuffix(int line);
 
@@ -120,13 +123,15 @@ P LoadFromText(const std::string& text, const std::string& file, const LoadOptio
       rep.notes.push_back({path, note + detail::LineSuffix(node.line)});
   });
 
+  int suggestions = 0;
   for (const auto& [key, nodes] : by_key) {
     if (consumed.count(key)) continue;
     std::string msg = opt.layout == Layout::kRos2
                           ? "unknown key: the car's node would silently ignore it and keep its "
                             "code default"
                           : "unknown key";
-    const std::string hint = detail::SuggestKey(key, known);
+    const std::string hint =
+        suggestions++ < detail::kMaxKeySuggestions ? detail::SuggestKey(key, known) : "";
     if (!hint.empty()) msg += " (did you mean " + hint + "?)";
     msg += detail::LineSuffix(nodes.front()->line);
     if (opt.lenient)

@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
 #include "params/io/load.h"
+#include "params/io/ros2_check.h"
+#include "params/io/suggest.h"
 #include "params/io/write.h"
 #include "params/schema/stability_params.h"
 #include "test/params/test_util.h"
@@ -213,6 +216,98 @@ TEST(LoadTest, OptionalKeysKeepDefaultsAndAreTracked) {
   EXPECT_TRUE(rep.present.count("tire_stiffness_front"));
   EXPECT_FALSE(rep.present.count("tire_stiffness_rear"));
   EXPECT_EQ(rep.present.size(), 86u);
+}
+
+}  // namespace
+}  // namespace scw::params
+
+namespace scw::params {
+namespace {
+
+// Full Levenshtein table: the reference the bounded search in SuggestKey must agree with.
+std::size_t FullEditDistance(const std::string& a, const std::string& b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      d[i][j] = std::min(
+          {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0u : 1u)});
+  return d[a.size()][b.size()];
+}
+
+std::string ReferenceSuggestion(const std::string& unknown, const std::vector<std::string>& known) {
+  std::string best;
+  std::size_t best_d = std::max<std::size_t>(3, unknown.size() / 5) + 1;
+  for (const auto& k : known) {
+    const std::size_t d = FullEditDistance(unknown, k);
+    if (d < best_d) {
+      best_d = d;
+      best = k;
+    }
+  }
+  return best;
+}
+
+TEST(LoadTest, KeySuggestionsEqualThoseOfTheFullEditDistance) {
+  std::vector<std::string> known;
+  for (const auto& d : DeclaredParams<StabilityParams>()) known.push_back(d.key);
+  ASSERT_GT(known.size(), 50u);
+  // Typos of every kind against every key, plus keys far from all of them.
+  std::vector<std::string> probes = {"",
+                                     "x",
+                                     "ESC",
+                                     "ESC.kp_psi_dott",
+                                     "ESC.kp_psi_do",
+                                     "SlipControl.ABS.front.slip_treshold",
+                                     "zzzzzzzzzzzzzzzz",
+                                     "tS",
+                                     "ts",
+                                     "vehicle.mass_",
+                                     "countersteer"};
+  for (const auto& k : known) {
+    std::string drop = k, swap = k, sub = k;
+    drop.erase(drop.size() / 2, 1);
+    if (swap.size() > 3) std::swap(swap[1], swap[2]);
+    sub[0] = sub[0] == 'q' ? 'r' : 'q';
+    probes.insert(probes.end(), {drop, swap, sub, k + "xyz", "a." + k});
+  }
+  for (const auto& p : probes)
+    EXPECT_EQ(detail::SuggestKey(p, known), ReferenceSuggestion(p, known)) << p;
+  EXPECT_EQ(detail::SuggestKey("ESC.kp_psi_dott", known), "ESC.kp_psi_dot");
+}
+
+TEST(LoadTest, OnlyTheFirstUnknownKeysOfAFileGetHints) {
+  std::string text = std::string(kStabilityNodeKey) + ":\n  ros__parameters:\n";
+  for (int i = 0; i < detail::kMaxKeySuggestions + 4; ++i)
+    text += "    ESC.kp_psi_dot" + std::string(1, static_cast<char>('a' + i)) + ": 1.0\n";
+  try {
+    (void)LoadRosText<StabilityParams>(text, "many.yaml", kStabilityNodeKey);
+    FAIL() << "unknown keys accepted";
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    std::size_t hints = 0, unknown = 0;
+    for (auto p = msg.find("did you mean"); p != std::string::npos;
+         p = msg.find("did you mean", p + 1))
+      ++hints;
+    for (auto p = msg.find("unknown key"); p != std::string::npos;
+         p = msg.find("unknown key", p + 1))
+      ++unknown;
+    EXPECT_EQ(unknown, static_cast<std::size_t>(detail::kMaxKeySuggestions + 4)) << msg;
+    EXPECT_EQ(hints, static_cast<std::size_t>(detail::kMaxKeySuggestions)) << msg;
+  }
+}
+
+TEST(LoadTest, EditDistanceStopsAtItsLimitAndIsExactBelowIt) {
+  EXPECT_EQ(EditDistance("kitten", "sitting"), 3u);
+  EXPECT_EQ(EditDistance("", "abc"), 3u);
+  EXPECT_EQ(EditDistance("abc", "abc"), 0u);
+  EXPECT_GE(EditDistance("kitten", "sitting", 2), 2u);
+  EXPECT_EQ(EditDistance("kitten", "sitting", 4), 3u);
+  const std::string long_a(300, 'a'), long_b = std::string(299, 'a') + "b";
+  EXPECT_EQ(EditDistance(long_a, long_b), 1u);  // beyond the stack rows
+  EXPECT_EQ(ClosestWord("tnue", {"simulate", "tune", "sweep"}, 3), "tune");
+  EXPECT_EQ(ClosestWord("xyz", {"simulate", "tune", "sweep"}, 3), "");
 }
 
 }  // namespace
