@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "controller/motion/longitudinal.h"
+#include "plant/track/road_surface.h"
 #include "plant/vehicle/vehicle.h"
 #include "tuning/csv_writer.h"
 #include "tuning/motion_factory.h"
@@ -87,6 +88,10 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
                                                        sc.longitudinal_model, sc.tracking.tS);
   const auto& ab = sc.spec.abort;
   const plant::Track& track = *sc.track;
+  // The road under each wheel (the track's friction and patches, the scenario's patches): the
+  // plant feels it at every plant step; on a uniform surface the default environment is exact.
+  const plant::RoadSurface road(track, sc.spec.friction_patches);
+  double road_hint = plant::Track::kNoHint;
   const double h = car.time_step();
   const double ts = stab.tS;
   const long ratio = std::max(1L, std::lround(ts / h));
@@ -284,7 +289,16 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
       break;
     }
 
-    for (long k = 0; k < ratio; ++k) car.Step(act, &st);
+    if (road.uniform()) {
+      for (long k = 0; k < ratio; ++k) car.Step(act, &st);
+    } else {
+      for (long k = 0; k < ratio; ++k) {
+        const auto cp =
+            track.Project(st.x[plant::kX], st.x[plant::kY], st.x[plant::kPsi], road_hint);
+        road_hint = cp.s;
+        car.Step(act, road.UnderWheels(cp, car.contact_x(), car.contact_y()), &st);
+      }
+    }
   }
   return m;
 }

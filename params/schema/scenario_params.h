@@ -8,6 +8,7 @@
 #include <string>
 
 #include "params/schema/field.h"
+#include "params/schema/friction_patch_params.h"
 #include "params/schema/longitudinal_params.h"
 #include "params/schema/tire_params.h"
 
@@ -143,6 +144,7 @@ struct ScenarioParams {
   double limit_fraction = 0.7;
   bool plan_with_nominal_grip = false;
   GripParams grip{};
+  FrictionPatches friction_patches{};
   int laps = 3;
   AbortParams abort{};
   SubsystemSwitches subsystems{};
@@ -189,6 +191,10 @@ struct ScenarioParams {
                     "scenario's grip factors (the planner does not know the track is slippery).",
              .optional = true});
     v.Nested("grip", s.grip, true);
+    // Patches of other grip on the road (params/schema/friction_patch_params.h), added to the
+    // track file's. Only the simulated car feels them: the planner knows the track's
+    // friction_scale, not a patch (a wet or oily patch is an event the motion controller meets).
+    v.Nested("friction_patches", s.friction_patches, true);
     v.Field(
         s.laps,
         {.key = "laps", .unit = "-", .lo = 1, .hi = 100, .doc = "Laps after the flying start."});

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "params/schema/field.h"
+#include "params/schema/friction_patch_params.h"
 
 namespace scw::params {
 
@@ -36,6 +37,7 @@ struct TrackParams {
   std::vector<double> width_left{6.0, 6.0, 6.0, 6.0};
   std::vector<double> width_right{6.0, 6.0, 6.0, 6.0};
   std::vector<double> friction_scale{1.0};
+  FrictionPatches friction_patches{};
   double step = 1.0;
   double closure_tolerance = 2.0;
   double heading_tolerance = 0.02;
@@ -100,6 +102,7 @@ struct TrackParams {
                                .doc = "Friction multiplier per segment (or one value for the whole "
                                       "track) applied to the tyre-road friction.",
                                .optional = true});
+    v.Nested("friction_patches", s.friction_patches, true);
     v.Field(s.step, {.key = "step",
                      .unit = "m",
                      .lo = 0.05,

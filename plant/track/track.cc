@@ -359,6 +359,7 @@ Track Track::FromDefinition(const params::TrackParams& def, const std::string& s
   Track tr = FromNodes(std::move(x), std::move(y), std::move(psi), std::move(kappa), std::move(wl),
                        std::move(wr), std::move(mu), length, def.name);
   tr.closure_gap_ = gap;
+  tr.patches_ = def.friction_patches;
   return tr;
 }
 

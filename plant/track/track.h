@@ -112,6 +112,9 @@ class Track {
   double WidthLeftAt(double s) const noexcept { return Interpolate(wl_, s); }
   double WidthRightAt(double s) const noexcept { return Interpolate(wr_, s); }
   double FrictionAt(double s) const noexcept { return Interpolate(mu_, s); }
+  /// Patches of other grip the track file declares (params/schema/friction_patch_params.h; none
+  /// for centre-line CSV tracks). plant/track/road_surface.h evaluates them.
+  const params::FrictionPatches& friction_patches() const { return patches_; }
 
   /// Point at arc length s and lateral offset n (> 0 left).
   void ToCartesian(double s, double n, double* x, double* y) const noexcept;
@@ -138,6 +141,7 @@ class Track {
   std::size_t n_ = 0;
   double length_ = 0.0, ds_ = 0.0, closure_gap_ = 0.0;
   std::vector<double> s_, x_, y_, psi_, kappa_, wl_, wr_, mu_, tx_, ty_;
+  params::FrictionPatches patches_{};
 };
 
 }  // namespace scw::plant

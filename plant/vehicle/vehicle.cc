@@ -29,6 +29,7 @@ inline double SmoothSign(double w) noexcept { return std::clamp(w * 10.0, -1.0, 
 constexpr int kOmega = kOmegaFL;
 constexpr int kKappa = kKappaFL;
 constexpr int kAlpha = kAlphaFL;
+constexpr double kMaxRoadFriction = 10.0;  // road factors outside (0, 10) count as 1
 
 }  // namespace
 
@@ -132,7 +133,8 @@ void Vehicle::SlipKinematics(const StateVector& x, double c, double s, PerWheel<
   }
 }
 
-void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, Eval* e) const noexcept {
+void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, const Environment& env,
+                       Eval* e) const noexcept {
   e->fz = WheelLoads(x);
   e->cos_steer = std::cos(u.steer);
   e->sin_steer = std::sin(u.steer);
@@ -141,7 +143,10 @@ void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, Eval* e) cons
   std::array<const params::Mf52Params*, 4> tire_p;
   for (std::size_t i = 0; i < 4; ++i) {
     const double alpha = x[kAlpha + i];
-    tire_in[i] = {e->fz[i], x[kKappa + i], IsLeft(i) ? alpha : -alpha, lambda_x_[i], lambda_y_[i]};
+    // The road's factor multiplies the vehicle's; exactly 1 leaves the scaling bit for bit.
+    const double road = env.mu[i] > 0.0 && env.mu[i] < kMaxRoadFriction ? env.mu[i] : 1.0;
+    tire_in[i] = {e->fz[i], x[kKappa + i], IsLeft(i) ? alpha : -alpha, lambda_x_[i] * road,
+                  lambda_y_[i] * road};
     tire_p[i] = IsFront(i) ? &p_.tires.front : &p_.tires.rear;
   }
   std::array<TireForce, 4> tire_f;
@@ -203,7 +208,7 @@ void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, Eval* e) cons
 
 StateVector Vehicle::Derivatives(const StateVector& x, const PlantInputs& u) const noexcept {
   Eval e;
-  Evaluate(x, u, &e);
+  Evaluate(x, u, Environment{}, &e);
   StateVector d;
   const double cp = std::cos(x[kPsi]), sp = std::sin(x[kPsi]);
   d[kX] = x[kVx] * cp - x[kVy] * sp;
@@ -248,7 +253,7 @@ State Vehicle::MakeState(const InitialCondition& ic) const {
   return s;
 }
 
-void Vehicle::Step(const Actuators& u, State* state) const noexcept {
+void Vehicle::Step(const Actuators& u, const Environment& env, State* state) const noexcept {
   State& s = *state;
   const double h = h_;
   if (s.status & kStatusNonFinite) {
@@ -267,7 +272,7 @@ void Vehicle::Step(const Actuators& u, State* state) const noexcept {
 
   // 2. Forces at the start of the step.
   Eval e;
-  Evaluate(s.x, in, &e);
+  Evaluate(s.x, in, env, &e);
 
   // 3. Velocities explicit, positions with the new velocities (symplectic Euler).
   StateVector& x = s.x;

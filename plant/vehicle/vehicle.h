@@ -78,6 +78,7 @@
 #include "plant/powertrain/gearbox.h"
 #include "plant/sensors/measurement.h"
 #include "plant/sensors/sensor_noise.h"
+#include "plant/vehicle/environment.h"
 
 namespace scw::plant {
 
@@ -185,7 +186,9 @@ class Vehicle {
   State MakeState(const InitialCondition& ic = {}) const;
 
   /// Advances the state by one step h. noexcept, allocation-free, deterministic.
-  void Step(const Actuators& u, State* s) const noexcept;
+  void Step(const Actuators& u, State* s) const noexcept { Step(u, Environment{}, s); }
+  /// The same on the road `env` (a non-finite or non-positive factor counts as 1).
+  void Step(const Actuators& u, const Environment& env, State* s) const noexcept;
 
   /// Continuous right-hand side x' = f(x, u) of the same model (friction torques smoothed over
   /// |omega| < 0.1 rad/s). For linearisation and tests.
@@ -201,6 +204,10 @@ class Vehicle {
   const PerWheel<double>& lambda_mu_x() const noexcept { return lambda_x_; }
   const PerWheel<double>& lambda_mu_y() const noexcept { return lambda_y_; }
 
+  /// Body-frame offsets of the tyre contact points from the CoG [m] (x forward, y left).
+  const PerWheel<double>& contact_x() const noexcept { return px_; }
+  const PerWheel<double>& contact_y() const noexcept { return py_; }
+
   int brake_delay_steps() const noexcept { return brakes_.delay_steps(); }
   int steering_delay_steps() const noexcept { return steering_.delay_steps(); }
   const GearboxConfig& gearbox() const noexcept { return gearbox_; }
@@ -208,7 +215,8 @@ class Vehicle {
 
  private:
   struct Eval;  // forces and accelerations of one evaluation
-  void Evaluate(const StateVector& x, const PlantInputs& u, Eval* e) const noexcept;
+  void Evaluate(const StateVector& x, const PlantInputs& u, const Environment& env,
+                Eval* e) const noexcept;
   // c, s: cosine and sine of the road-wheel angle (computed once per evaluation).
   void SlipKinematics(const StateVector& x, double c, double s, PerWheel<double>* kappa,
                       PerWheel<double>* alpha, PerWheel<double>* inv_tau_k,

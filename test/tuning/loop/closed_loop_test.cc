@@ -158,3 +158,37 @@ TEST(ClosedLoopTest, ControllerLogReplaysTheSimulationExactly) {
 
 }  // namespace
 }  // namespace scw::tuning
+
+namespace scw::tuning {
+namespace {
+
+std::vector<std::string> WholeTrackPatch(const std::string& factor) {
+  return {"laps=1",
+          "friction_patches.start=[0.0]",
+          "friction_patches.end=[1e5]",
+          "friction_patches.n_min=[-100.0]",
+          "friction_patches.n_max=[100.0]",
+          "friction_patches.factor=[" + factor + "]"};
+}
+
+TEST(ClosedLoopTest, FrictionPatchesReachThePlant) {
+  // A patch of factor 1 takes the per-wheel road path and changes nothing, bit for bit.
+  const ResolvedScenario plain = Resolve(DefaultScenario({"laps=1"}));
+  const ResolvedScenario neutral = Resolve(DefaultScenario(WholeTrackPatch("1.0")));
+  const RunMetrics a = RunClosedLoop(plain, plain.stability);
+  const RunMetrics b = RunClosedLoop(neutral, neutral.stability);
+  ASSERT_EQ(a.status, RunStatus::kCompleted);
+  EXPECT_EQ(a.lap_times, b.lap_times);
+  EXPECT_EQ(a.max_abs_sideslip, b.max_abs_sideslip);
+  EXPECT_EQ(a.cs_count, b.cs_count);
+  // A wet track the planner knows nothing about: the car slides where it did not.
+  const ResolvedScenario wet = Resolve(DefaultScenario(WholeTrackPatch("0.6")));
+  const RunMetrics w = RunClosedLoop(wet, wet.stability);
+  EXPECT_EQ(wet.ideal_lap_time, plain.ideal_lap_time);  // the plan is the same
+  EXPECT_TRUE(w.status != RunStatus::kCompleted || w.max_abs_sideslip > 2.0 * a.max_abs_sideslip)
+      << RunStatusName(w.status) << " max beta " << w.max_abs_sideslip;
+  EXPECT_GT(w.max_slip_front + w.max_slip_rear, a.max_slip_front + a.max_slip_rear);
+}
+
+}  // namespace
+}  // namespace scw::tuning
