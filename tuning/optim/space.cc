@@ -75,6 +75,8 @@ std::pair<std::string, int> SplitIndex(const std::string& key) {
 
 double RefValue(const FieldRef& f, int index) {
   if (f.scalar) return *f.scalar;
+  if (index >= static_cast<int>(f.array->size()) || f.array->empty())
+    return std::numeric_limits<double>::quiet_NaN();  // a base with a shorter array
   if (index >= 0) return (*f.array)[static_cast<std::size_t>(index)];
   return *std::min_element(f.array->begin(), f.array->end());
 }
@@ -202,6 +204,8 @@ ParameterSpace::ParameterSpace(std::string name, std::vector<SpaceEntry> entries
       case Transform::kRatio: {
         if (f.array && e.index < 0)
           pr.Add(at + ".key", "offset/ratio apply to a scalar or one element key[i]");
+        if (f.array && e.index >= static_cast<int>(f.array->size()))
+          pr.Add(at + ".key", "element index out of range");
         auto ref = fields.find(e.of);
         if (e.of.empty() || ref == fields.end())
           pr.Add(at + ".of", "'" + e.of + "' is not a double or double-array parameter");
@@ -226,6 +230,12 @@ StabilityParams ParameterSpace::Decode(const std::vector<double>& u, const Stabi
     const double ui = i < u.size() ? u[i] : 0.5;
     FieldRef& f = fields.at(e.key);
     const FieldRef& bf = base_fields.at(e.key);
+    if (f.array && e.index >= static_cast<int>(f.array->size())) {
+      if (problems)
+        problems->Add(e.Label(), "the base set's array has only " +
+                                     std::to_string(f.array->size()) + " elements");
+      continue;
+    }
     const bool relative = e.transform == Transform::kOffset || e.transform == Transform::kRatio;
     const double ref = relative ? RefValue(fields.at(e.of), e.of_index) : 0.0;
 
