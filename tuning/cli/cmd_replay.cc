@@ -5,12 +5,16 @@
 #include <memory>
 #include <string>
 #include <system_error>
+#include <utility>
 
 #include "controller/stability/stability_controller.h"
 #include "params/io/load.h"
 #include "params/schema/stability_params.h"
+#include "params/schema/vehicle_params.h"
 #include "tuning/cli/command.h"
+#include "tuning/replay/log_setup.h"
 #include "tuning/replay/replay.h"
+#include "tuning/scenario.h"
 
 namespace scw::cli {
 namespace {
@@ -20,8 +24,11 @@ struct ReplayOptions {
   std::string params;
   std::string compare;
   std::string out;
+  std::string vehicle;
   std::string node = params::kStabilityNodeKey;
   bool release_compat = false;
+  bool no_log_setup = false;
+  bool estimate_loads = false;
   bool columns = false;
 };
 
@@ -40,16 +47,74 @@ int RunReplay(const ReplayOptions& o) {
   if (o.params.empty()) throw CLI::RequiredError("--params");
   if (!o.out.empty() && SameFile(o.out, o.log))
     throw ConfigError(o.out, "-o", "the output would overwrite the log; choose another file");
+
+  // What the recorded controller used besides its params file (tuning/replay/log_setup.h).
+  const std::string setup_path = tuning::SetupPathFor(o.log);
+  std::error_code ec;
+  const bool use_setup = !o.no_log_setup && std::filesystem::exists(setup_path, ec);
+  tuning::ControllerLogSetup setup;
+  if (use_setup) {
+    setup = tuning::LoadSetup(setup_path);
+    tuning::CheckSetupMatchesLog(setup, setup_path, o.log);
+  }
+  params::VehicleParams vehicle;
+  if (!o.vehicle.empty()) vehicle = params::LoadPlainFile<params::VehicleParams>(o.vehicle);
+
   params::StabilityOptions options;
-  options.release_compat = o.release_compat;
-  const controller::StabilityController a(
-      params::LoadRosFile<params::StabilityParams>(o.params, o.node), options);
+  options.release_compat = o.release_compat || (use_setup && setup.subsystems.release_compat);
+  // A params file with the vehicle constants and switches of the recorded run, as the closed
+  // loop gives them to its controller (keys the file sets win).
+  auto load = [&](const std::string& file) {
+    params::LoadReport report;
+    params::StabilityParams p = params::LoadRosFile<params::StabilityParams>(file, o.node, &report);
+    std::string source = file;
+    if (!o.vehicle.empty()) {
+      tuning::InjectVehicleConstants(vehicle, report.present, &p);
+      source += " with the vehicle constants of " + o.vehicle;
+    } else if (use_setup) {
+      p = tuning::WithRecordedVehicle(std::move(p), report.present, setup);
+      source += " with the vehicle constants of " + setup_path;
+    }
+    if (use_setup) p = tuning::WithSwitches(std::move(p), setup.subsystems);
+    params::ValidateOrThrow(p, source);
+    return controller::StabilityController(p, options);
+  };
+  const controller::StabilityController a = load(o.params);
+
+  // Say where the vehicle constants come from: a wrong source silently changes every output.
+  if (!o.vehicle.empty())
+    std::cerr << "vehicle constants: from " << o.vehicle
+              << " (as the closed loop injects them) for the vehicle.*/tires.* keys the params "
+                 "file does not set\n";
+  else if (use_setup)
+    std::cerr << "vehicle constants: recorded with the log (" << setup_path << ", " << setup.source
+              << ") for the vehicle.*/tires.* keys the params file does not set; "
+                 "--no-log-setup to ignore them\n";
+  else
+    std::cerr << "vehicle constants: the params file's vehicle.*/tires.* keys, else the node's "
+                 "code defaults ("
+              << (o.no_log_setup ? "--no-log-setup" : "no " + setup_path)
+              << "; --vehicle FILE to inject a vehicle's as the closed loop does)\n";
+  if (use_setup) {
+    const auto& sw = setup.subsystems;
+    std::string off;
+    for (const auto& [on, name] : {std::pair{sw.esc, "ESC"}, std::pair{sw.cs, "countersteer"},
+                                   std::pair{sw.abs, "ABS"}, std::pair{sw.tc, "TC"}})
+      if (!on) off += std::string(off.empty() ? "" : ", ") + name;
+    if (!off.empty())
+      std::cerr << "subsystems switched off in the recorded run, and here: " << off << "\n";
+    if (sw.release_compat && !o.release_compat)
+      std::cerr << "release_compat: on in the recorded run, and here\n";
+  }
+  tuning::ReplayInputOptions input;
+  input.estimate_loads = o.estimate_loads;
 
   if (o.compare.empty()) {
-    const tuning::ReplaySummary s = tuning::ReplayLog(o.log, a, o.out);
+    const tuning::ReplaySummary s = tuning::ReplayLog(o.log, a, o.out, input);
     if (o.out.empty()) {
       std::cout << tuning::FormatSummary(s);
-      if (o.release_compat) std::cout << "(release_compat: long_fx ignored, TC cannot activate)\n";
+      if (options.release_compat)
+        std::cout << "(release_compat: long_fx ignored, TC cannot activate)\n";
     } else {
       std::cerr << "wrote " << o.out << " (" << s.rows << " rows, " << s.invalid_rows
                 << " invalid)\n";
@@ -57,11 +122,11 @@ int RunReplay(const ReplayOptions& o) {
     return kExitOk;
   }
 
-  const controller::StabilityController b(
-      params::LoadRosFile<params::StabilityParams>(o.compare, o.node), options);
-  const tuning::ComparisonSummary c = tuning::CompareOnLog(o.log, a, b, o.out);
+  const controller::StabilityController b = load(o.compare);
+  const tuning::ComparisonSummary c = tuning::CompareOnLog(o.log, a, b, o.out, input);
   std::cout << tuning::FormatComparison(c, o.params, o.compare);
-  if (o.release_compat) std::cout << "(release_compat: long_fx ignored, TC cannot activate)\n";
+  if (options.release_compat)
+    std::cout << "(release_compat: long_fx ignored, TC cannot activate)\n";
   if (!o.out.empty()) std::cerr << "wrote " << o.out << " (outputs of " << o.params << ")\n";
   return kExitOk;
 }
@@ -78,8 +143,8 @@ void AddReplay(CLI::App& app) {
       "arguments (the message names the line and column).");
   cmd->add_option("LOG", o->log, "Controller log (CSV, one row per controller step; required)");
   cmd->add_option("--params", o->params,
-                  "Stability params file, the car's ROS 2 layout (required); vehicle constants "
-                  "from its optional vehicle.* and tires.* keys");
+                  "Stability params file, the car's ROS 2 layout (required); its vehicle.* and "
+                  "tires.* keys win over the recorded or injected vehicle constants");
   cmd->add_option("--compare", o->compare,
                   "Second params file: print where its outputs differ from --params");
   cmd->add_option("-o,--output", o->out,
@@ -87,6 +152,16 @@ void AddReplay(CLI::App& app) {
                   "of --params)");
   cmd->add_flag("--release-compat", o->release_compat,
                 "Behave like the released node: long_fx ignored (TC never activates)");
+  cmd->add_option("--vehicle", o->vehicle,
+                  "Vehicle file (params/vehicles/*.yaml): inject its constants into the params "
+                  "files as the closed loop does, instead of those recorded with the log");
+  cmd->add_flag("--no-log-setup", o->no_log_setup,
+                "Ignore LOG.setup.yaml (the vehicle constants and subsystem switches recorded "
+                "by scw simulate): vehicle constants from the params file or the node's code "
+                "defaults");
+  cmd->add_flag("--estimate-loads", o->estimate_loads,
+                "Ignore the log's vertical loads (fz_* columns): the controller estimates its own "
+                "from its vehicle constants");
   cmd->add_option("--node", o->node, "Node key in the params files")->capture_default_str();
   cmd->add_flag("--columns", o->columns,
                 "Print the tables of the log's input columns and the output columns (Markdown) "

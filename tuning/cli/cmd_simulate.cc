@@ -1,5 +1,7 @@
 // scw simulate — one closed-loop run of a scenario with a trace and a summary.
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -7,9 +9,11 @@
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "tuning/cli/command.h"
+#include "tuning/cli/progress.h"
 #include "tuning/closed_loop.h"
 #include "tuning/csv_writer.h"
 #include "tuning/replay/controller_log.h"
+#include "tuning/replay/log_setup.h"
 #include "tuning/report.h"
 #include "tuning/scenario.h"
 
@@ -20,7 +24,16 @@ struct SimulateOptions {
   std::string scenario, stability, trace, summary, controller_log;
   std::vector<std::string> overrides;
   bool print = false;
+  std::string progress = "auto";
 };
+
+/// "926×" for fast runs, "0.84×" for slow ones.
+std::string RealTimeFactor(double simulated_s, double wall_s) {
+  char buf[32];
+  const double f = wall_s > 0.0 ? simulated_s / wall_s : 0.0;
+  std::snprintf(buf, sizeof buf, f >= 10.0 ? "%.0f×" : "%.2g×", f);
+  return buf;
+}
 
 int RunSimulate(const SimulateOptions& o) {
   namespace fs = std::filesystem;
@@ -33,6 +46,8 @@ int RunSimulate(const SimulateOptions& o) {
     std::cout << params::ToPlainYaml(spec);
     return kExitOk;
   }
+  ProgressLine progress(o.progress);
+  progress.Update({"prepare", 0, 1, "scenario (racing line, velocity profile)", "", -1.0});
   const auto t0 = std::chrono::steady_clock::now();
   const tuning::ResolvedScenario sc =
       tuning::Resolve(spec, base, o.scenario.empty() ? "built-in" : o.scenario);
@@ -44,20 +59,49 @@ int RunSimulate(const SimulateOptions& o) {
     log = std::make_unique<tuning::ControllerLogWriter>(o.controller_log);
   tuning::RunOptions ro;
   ro.trace = trace.get();
-  if (log) ro.on_controller_input = [&](const controller::StabilityInput& in) { log->Write(in); };
+  controller::StabilityInput log_row;  // written with the loads the controller used
+  if (log) {
+    ro.on_controller_input = [&](const controller::StabilityInput& in) { log_row = in; };
+    ro.on_controller_output = [&](const controller::StabilityOutput& out) {
+      log->Write(log_row, out);
+    };
+  }
+  if (progress.enabled()) {
+    // By simulated time; the laps at the reference pace are the expected total.
+    auto inner = std::move(ro.on_controller_input);
+    const double lap_s = sc.ideal_lap_time;
+    const int laps = spec.laps;
+    double next_t = 0.0;
+    ro.on_controller_input = [&progress, inner, lap_s, laps,
+                              next_t](const controller::StabilityInput& in) mutable {
+      if (inner) inner(in);
+      if (in.t < next_t) return;
+      next_t = in.t + 0.5;
+      const int lap = std::min(laps, 1 + static_cast<int>(in.t / std::max(lap_s, 1e-3)));
+      progress.Update({"simulate", in.t, lap_s * laps, "s simulated",
+                       "lap " + std::to_string(lap) + "/" + std::to_string(laps), -1.0});
+    };
+  }
   const tuning::RunMetrics m = tuning::RunClosedLoop(sc, sc.stability, ro);
   const auto t2 = std::chrono::steady_clock::now();
+  progress.Finish();
   if (trace) trace->Commit();
-  if (log) log->Commit();
+  if (log && tuning::CommitWithSetup(*log, tuning::ClosedLoopSetup(sc, sc.stability)).empty())
+    std::cerr << "note: no setup file for a controller log written to " << o.controller_log
+              << " (scw replay needs --vehicle FILE to reproduce the run's vehicle constants)\n";
   if (!o.summary.empty()) params::WriteFileAtomic(o.summary, tuning::RunSummaryYaml(spec.name, m));
   std::cout << tuning::FormatRunSummary(spec.name, m);
   const double sim_s = std::chrono::duration<double>(t2 - t1).count();
-  std::cerr << "reference: ideal lap " << sc.ideal_lap_time << " s at GG " << spec.gg_scale
-            << " x limit fraction " << spec.limit_fraction
-            << " (at the plant's full limits: " << sc.limit_lap_time << " s)"
-            << " (prepared in " << std::chrono::duration<double>(t1 - t0).count()
-            << " s); run: " << m.time << " s simulated in " << sim_s << " s ("
-            << (sim_s > 0 ? m.time / sim_s : 0.0) << "x real time)\n";
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "reference: ideal lap %.2f s at GG %s × limit fraction %s (at the plant's full "
+                "limits: %.2f s), prepared in %.2f s; run: %.2f s simulated in %.2f s (%s real "
+                "time)\n",
+                sc.ideal_lap_time, params::FormatNumber(spec.gg_scale).c_str(),
+                params::FormatNumber(spec.limit_fraction).c_str(), sc.limit_lap_time,
+                std::chrono::duration<double>(t1 - t0).count(), m.time, sim_s,
+                RealTimeFactor(m.time, sim_s).c_str());
+  std::cerr << line;
   return m.aborted() ? kExitFailed : kExitOk;
 }
 
@@ -75,10 +119,12 @@ void AddSimulate(CLI::App& app) {
   cmd->add_option("--trace", o->trace, "Write the trace CSV (one column per signal)");
   cmd->add_option("--summary", o->summary, "Write the run summary (YAML)");
   cmd->add_option("--controller-log", o->controller_log,
-                  "Write the stability controller's inputs in the replay log format "
+                  "Write the stability controller's inputs in the replay log format, and next to "
+                  "it CSV.setup.yaml with the vehicle constants and subsystem switches it used "
                   "(docs/replay.md); scw replay reproduces the run's controller outputs");
   cmd->add_flag("--print-scenario", o->print,
                 "Print the scenario (with the overrides applied) as YAML and exit");
+  AddProgressOption(cmd, &o->progress);
   cmd->callback([o] { SetExitCode(RunSimulate(*o)); });
 }
 

@@ -9,24 +9,26 @@
 #include <stdexcept>
 #include <utility>
 
+#include "params/io/suggest.h"
+
 namespace scw::tuning {
 
 using controller::StabilityInput;
 
 namespace {
 
-constexpr LogColumn Real(std::string_view name, std::string_view unit, bool required,
-                         double StabilityInput::*member, std::string_view doc) {
-  return LogColumn{name, unit, required, member, nullptr, 0, nullptr, doc};
+constexpr LogColumn Real(std::string_view name, std::string_view alias, std::string_view unit,
+                         bool required, double StabilityInput::*member, std::string_view doc) {
+  return LogColumn{name, unit, required, member, nullptr, 0, nullptr, doc, alias};
 }
-constexpr LogColumn Wheel(std::string_view name, std::string_view unit, bool required,
-                          PerWheel<double> StabilityInput::*member, std::size_t wheel,
-                          std::string_view doc) {
-  return LogColumn{name, unit, required, nullptr, member, wheel, nullptr, doc};
+constexpr LogColumn Wheel(std::string_view name, std::string_view alias, std::string_view unit,
+                          bool required, PerWheel<double> StabilityInput::*member,
+                          std::size_t wheel, std::string_view doc) {
+  return LogColumn{name, unit, required, nullptr, member, wheel, nullptr, doc, alias};
 }
 constexpr LogColumn Integer(std::string_view name, int StabilityInput::*member,
                             std::string_view doc) {
-  return LogColumn{name, "-", true, nullptr, nullptr, 0, member, doc};
+  return LogColumn{name, "-", true, nullptr, nullptr, 0, member, doc, ""};
 }
 
 constexpr bool kRequired = true;
@@ -36,42 +38,42 @@ constexpr bool kOptional = false;
 
 // clang-format off
 const std::array<LogColumn, 36> kInputColumns = {
-    Real("t", "s", kRequired, &StabilityInput::t, "controller time stamp (finite, never decreasing)"),
-    Real("vx", "m/s", kRequired, &StabilityInput::v_x, "longitudinal speed at the CoG, body frame"),
-    Real("vy", "m/s", kRequired, &StabilityInput::v_y, "lateral speed at the CoG, body frame, > 0 left"),
-    Real("yaw_rate", "rad/s", kRequired, &StabilityInput::yaw_rate, "yaw rate, > 0 left"),
-    Real("ax", "m/s^2", kRequired, &StabilityInput::a_x, "longitudinal acceleration"),
-    Real("ay", "m/s^2", kRequired, &StabilityInput::a_y, "lateral acceleration, > 0 left"),
-    Real("steer_meas", "rad", kOptional, &StabilityInput::steering_measured, "steering report (tyre angle), > 0 left"),
-    Real("steer_req", "rad", kRequired, &StabilityInput::steering_request, "requested tyre angle, > 0 left"),
-    Real("ay_req", "m/s^2", kOptional, &StabilityInput::ay_request, "ESC target lateral acceleration"),
-    Real("yaw_rate_req", "rad/s", kOptional, &StabilityInput::yaw_rate_request, "ESC target yaw rate"),
-    Real("beta_req", "rad", kOptional, &StabilityInput::beta_request, "ESC target sideslip angle"),
-    Wheel("p_req_fl", "bar", kRequired, &StabilityInput::brake_request_bar, kFL, "requested brake pressure"),
-    Wheel("p_req_fr", "bar", kRequired, &StabilityInput::brake_request_bar, kFR, "requested brake pressure"),
-    Wheel("p_req_rl", "bar", kRequired, &StabilityInput::brake_request_bar, kRL, "requested brake pressure"),
-    Wheel("p_req_rr", "bar", kRequired, &StabilityInput::brake_request_bar, kRR, "requested brake pressure"),
-    Real("throttle_req", "0..1", kRequired, &StabilityInput::throttle_request, "requested throttle"),
+    Real("t_s", "t", "s", kRequired, &StabilityInput::t, "controller time stamp (finite, never decreasing)"),
+    Real("vx_mps", "vx", "m/s", kRequired, &StabilityInput::v_x, "longitudinal speed at the CoG, body frame"),
+    Real("vy_mps", "vy", "m/s", kRequired, &StabilityInput::v_y, "lateral speed at the CoG, body frame, > 0 left"),
+    Real("yaw_rate_radps", "yaw_rate", "rad/s", kRequired, &StabilityInput::yaw_rate, "yaw rate, > 0 left"),
+    Real("ax_mps2", "ax", "m/s^2", kRequired, &StabilityInput::a_x, "longitudinal acceleration"),
+    Real("ay_mps2", "ay", "m/s^2", kRequired, &StabilityInput::a_y, "lateral acceleration, > 0 left"),
+    Real("steer_meas_rad", "steer_meas", "rad", kOptional, &StabilityInput::steering_measured, "steering report (tyre angle), > 0 left"),
+    Real("steer_req_rad", "steer_req", "rad", kRequired, &StabilityInput::steering_request, "requested tyre angle, > 0 left"),
+    Real("ay_req_mps2", "ay_req", "m/s^2", kOptional, &StabilityInput::ay_request, "ESC target lateral acceleration"),
+    Real("yaw_rate_req_radps", "yaw_rate_req", "rad/s", kOptional, &StabilityInput::yaw_rate_request, "ESC target yaw rate"),
+    Real("beta_req_rad", "beta_req", "rad", kOptional, &StabilityInput::beta_request, "ESC target sideslip angle"),
+    Wheel("p_req_fl_bar", "p_req_fl", "bar", kRequired, &StabilityInput::brake_request_bar, kFL, "requested brake pressure"),
+    Wheel("p_req_fr_bar", "p_req_fr", "bar", kRequired, &StabilityInput::brake_request_bar, kFR, "requested brake pressure"),
+    Wheel("p_req_rl_bar", "p_req_rl", "bar", kRequired, &StabilityInput::brake_request_bar, kRL, "requested brake pressure"),
+    Wheel("p_req_rr_bar", "p_req_rr", "bar", kRequired, &StabilityInput::brake_request_bar, kRR, "requested brake pressure"),
+    Real("throttle_req", "", "0..1", kRequired, &StabilityInput::throttle_request, "requested throttle"),
     Integer("gear_req", &StabilityInput::gear_request, "requested gear (integer)"),
     Integer("gear", &StabilityInput::gear, "engaged gear (integer)"),
-    Real("engine_speed", "rad/s", kRequired, &StabilityInput::engine_speed, "engine speed (virtual slips only)"),
-    Wheel("omega_fl", "rad/s", kRequired, &StabilityInput::wheel_speed, kFL, "wheel speed"),
-    Wheel("omega_fr", "rad/s", kRequired, &StabilityInput::wheel_speed, kFR, "wheel speed"),
-    Wheel("omega_rl", "rad/s", kRequired, &StabilityInput::wheel_speed, kRL, "wheel speed"),
-    Wheel("omega_rr", "rad/s", kRequired, &StabilityInput::wheel_speed, kRR, "wheel speed"),
-    Wheel("p_meas_fl", "bar", kRequired, &StabilityInput::brake_measured_bar, kFL, "measured brake pressure"),
-    Wheel("p_meas_fr", "bar", kRequired, &StabilityInput::brake_measured_bar, kFR, "measured brake pressure"),
-    Wheel("p_meas_rl", "bar", kRequired, &StabilityInput::brake_measured_bar, kRL, "measured brake pressure"),
-    Wheel("p_meas_rr", "bar", kRequired, &StabilityInput::brake_measured_bar, kRR, "measured brake pressure"),
-    Real("long_fx", "N", kRequired, &StabilityInput::long_fx, "requested total longitudinal force, drive > 0 (ignored with release_compat)"),
-    Wheel("fz_fl", "N", kOptional, &StabilityInput::fz_external, kFL, "external vertical load (all four replace the internal estimate)"),
-    Wheel("fz_fr", "N", kOptional, &StabilityInput::fz_external, kFR, "external vertical load"),
-    Wheel("fz_rl", "N", kOptional, &StabilityInput::fz_external, kRL, "external vertical load"),
-    Wheel("fz_rr", "N", kOptional, &StabilityInput::fz_external, kRR, "external vertical load"),
-    Wheel("brake_temp_fl", "degC", kOptional, &StabilityInput::brake_temperature_degc, kFL, "brake temperature (pad friction map)"),
-    Wheel("brake_temp_fr", "degC", kOptional, &StabilityInput::brake_temperature_degc, kFR, "brake temperature"),
-    Wheel("brake_temp_rl", "degC", kOptional, &StabilityInput::brake_temperature_degc, kRL, "brake temperature"),
-    Wheel("brake_temp_rr", "degC", kOptional, &StabilityInput::brake_temperature_degc, kRR, "brake temperature"),
+    Real("engine_speed_radps", "engine_speed", "rad/s", kRequired, &StabilityInput::engine_speed, "engine speed (virtual slips only)"),
+    Wheel("omega_fl_radps", "omega_fl", "rad/s", kRequired, &StabilityInput::wheel_speed, kFL, "wheel speed"),
+    Wheel("omega_fr_radps", "omega_fr", "rad/s", kRequired, &StabilityInput::wheel_speed, kFR, "wheel speed"),
+    Wheel("omega_rl_radps", "omega_rl", "rad/s", kRequired, &StabilityInput::wheel_speed, kRL, "wheel speed"),
+    Wheel("omega_rr_radps", "omega_rr", "rad/s", kRequired, &StabilityInput::wheel_speed, kRR, "wheel speed"),
+    Wheel("p_meas_fl_bar", "p_meas_fl", "bar", kRequired, &StabilityInput::brake_measured_bar, kFL, "measured brake pressure"),
+    Wheel("p_meas_fr_bar", "p_meas_fr", "bar", kRequired, &StabilityInput::brake_measured_bar, kFR, "measured brake pressure"),
+    Wheel("p_meas_rl_bar", "p_meas_rl", "bar", kRequired, &StabilityInput::brake_measured_bar, kRL, "measured brake pressure"),
+    Wheel("p_meas_rr_bar", "p_meas_rr", "bar", kRequired, &StabilityInput::brake_measured_bar, kRR, "measured brake pressure"),
+    Real("long_fx_N", "long_fx", "N", kRequired, &StabilityInput::long_fx, "requested total longitudinal force, drive > 0 (ignored with release_compat)"),
+    Wheel("fz_fl_N", "fz_fl", "N", kOptional, &StabilityInput::fz_external, kFL, "vertical load: all four given replace the controller's own estimate (scw simulate writes the loads its controller used)"),
+    Wheel("fz_fr_N", "fz_fr", "N", kOptional, &StabilityInput::fz_external, kFR, "vertical load"),
+    Wheel("fz_rl_N", "fz_rl", "N", kOptional, &StabilityInput::fz_external, kRL, "vertical load"),
+    Wheel("fz_rr_N", "fz_rr", "N", kOptional, &StabilityInput::fz_external, kRR, "vertical load"),
+    Wheel("brake_temp_fl_degC", "brake_temp_fl", "degC", kOptional, &StabilityInput::brake_temperature_degc, kFL, "brake temperature (pad friction map)"),
+    Wheel("brake_temp_fr_degC", "brake_temp_fr", "degC", kOptional, &StabilityInput::brake_temperature_degc, kFR, "brake temperature"),
+    Wheel("brake_temp_rl_degC", "brake_temp_rl", "degC", kOptional, &StabilityInput::brake_temperature_degc, kRL, "brake temperature"),
+    Wheel("brake_temp_rr_degC", "brake_temp_rr", "degC", kOptional, &StabilityInput::brake_temperature_degc, kRR, "brake temperature"),
 };
 // clang-format on
 
@@ -121,27 +123,16 @@ bool ParseInteger(std::string_view s, int* out) {
   return true;
 }
 
-std::size_t EditDistance(std::string_view a, std::string_view b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diag = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return row[b.size()];
-}
-
 std::string Suggest(std::string_view unknown) {
   std::string best;
   std::size_t best_d = 3;  // suggest only close names
   for (const auto& c : kInputColumns) {
-    const std::size_t d = EditDistance(unknown, c.name);
+    const std::size_t d = params::EditDistance(unknown, c.name, best_d);
     if (d < best_d) best_d = d, best = std::string(c.name);
+    // A misspelt old name: suggest the current one.
+    if (c.alias.empty()) continue;
+    const std::size_t da = params::EditDistance(unknown, c.alias, best_d);
+    if (da < best_d) best_d = da, best = std::string(c.name);
   }
   return best;
 }
@@ -198,6 +189,7 @@ struct ControllerLogWriter::Impl {
   detail::AtomicFile file;
   std::string row;
   std::int64_t rows = 0;
+  std::int64_t bytes = 0;
   double last_t = -std::numeric_limits<double>::infinity();
 };
 
@@ -210,6 +202,7 @@ ControllerLogWriter::ControllerLogWriter(const std::string& path)
   }
   h += '\n';
   impl_->file.Append(h);
+  impl_->bytes += static_cast<std::int64_t>(h.size());
 }
 
 ControllerLogWriter::~ControllerLogWriter() = default;
@@ -237,14 +230,29 @@ void ControllerLogWriter::Write(const StabilityInput& in) {
   }
   r += '\n';
   impl_->file.Append(r);
+  impl_->bytes += static_cast<std::int64_t>(r.size());
   impl_->last_t = in.t;
   ++impl_->rows;
+}
+
+void ControllerLogWriter::Write(const StabilityInput& in, const controller::StabilityOutput& out) {
+  if (!out.valid) {
+    Write(in);
+    return;
+  }
+  StabilityInput with_loads = in;
+  with_loads.fz_external = out.fz;
+  Write(with_loads);
 }
 
 void ControllerLogWriter::Commit() { impl_->file.Commit(); }
 
 const std::string& ControllerLogWriter::path() const noexcept { return impl_->file.path(); }
 std::int64_t ControllerLogWriter::rows() const noexcept { return impl_->rows; }
+std::int64_t ControllerLogWriter::bytes() const noexcept { return impl_->bytes; }
+bool ControllerLogWriter::is_file() const noexcept {
+  return impl_->file.mode() == detail::AtomicFile::Mode::kReplace;
+}
 
 // ---------------------------------------------------------------------------------------------
 // ControllerLogReader
@@ -272,14 +280,17 @@ ControllerLogReader::ControllerLogReader(const std::string& path) : path_(path) 
     problems.push_back({LinePath(1, column), message});
   };
   std::vector<bool> seen(kInputColumns.size(), false);
+  std::vector<std::string> seen_as(kInputColumns.size());  // spelling in the header
   std::size_t pos = 0;
   while (true) {
     const std::size_t comma = text.find(',', pos);
     const std::string name(Trim(
         text.substr(pos, comma == std::string_view::npos ? std::string_view::npos : comma - pos)));
     header_.push_back(name);
-    const auto it = std::find_if(kInputColumns.begin(), kInputColumns.end(),
-                                 [&](const LogColumn& c) { return c.name == name; });
+    const auto it =
+        std::find_if(kInputColumns.begin(), kInputColumns.end(), [&](const LogColumn& c) {
+          return c.name == name || (!c.alias.empty() && c.alias == name);
+        });
     if (it == kInputColumns.end()) {
       std::string msg =
           name.empty() ? "empty column name in the header" : "unknown column " + Quote(name);
@@ -289,8 +300,15 @@ ControllerLogReader::ControllerLogReader(const std::string& path) : path_(path) 
       column_of_cell_.push_back(-1);
     } else {
       const auto idx = static_cast<std::size_t>(it - kInputColumns.begin());
-      if (seen[idx]) add(name, "column given twice in the header");
+      if (seen[idx])
+        add(name, seen_as[idx] == name
+                      ? "column given twice in the header"
+                      : "column given twice in the header (as " + seen_as[idx] + " and as " + name +
+                            ", " + std::string(it->alias) + " being the old name of " +
+                            std::string(it->name) + ")");
       seen[idx] = true;
+      seen_as[idx] = name;
+      if (it->real == &StabilityInput::t) t_column_ = name;
       column_of_cell_.push_back(static_cast<int>(idx));
     }
     if (comma == std::string_view::npos) break;
@@ -300,7 +318,10 @@ ControllerLogReader::ControllerLogReader(const std::string& path) : path_(path) 
     if (kInputColumns[i].required && !seen[i])
       add(std::string(kInputColumns[i].name),
           "required column is missing from the header (write nan in its cells if the signal "
-          "was not recorded)");
+          "was not recorded" +
+              (kInputColumns[i].alias.empty()
+                   ? std::string(")")
+                   : "; the old name " + std::string(kInputColumns[i].alias) + " is read too)"));
   if (!problems.empty()) throw LogFormatError(path, std::move(problems), first_column);
 }
 
@@ -358,28 +379,28 @@ bool ControllerLogReader::Next(StabilityInput* in) {
     const LogColumn& c = kInputColumns[static_cast<std::size_t>(column_of_cell_[k])];
     if (c.integer != nullptr) {
       if (!ParseInteger(cell, &(in->*c.integer)))
-        Fail(std::string(c.name), cell.empty() || IsNanText(cell)
-                                      ? "missing value; gear columns need an integer in every row"
-                                      : "expected an integer, got " + Quote(cell));
+        Fail(header_[k], cell.empty() || IsNanText(cell)
+                             ? "missing value; gear columns need an integer in every row"
+                             : "expected an integer, got " + Quote(cell));
       continue;
     }
     double v = 0.0;
     if (!ParseReal(cell, &v))
-      Fail(std::string(c.name), "not a number: " + Quote(cell) +
-                                    " (write nan or leave the cell "
-                                    "empty for a missing value)");
+      Fail(header_[k], "not a number: " + Quote(cell) +
+                           " (write nan or leave the cell "
+                           "empty for a missing value)");
     if (c.wheel != nullptr)
       (in->*c.wheel)[c.wheel_index] = v;
     else
       in->*c.real = v;
   }
-  if (!std::isfinite(in->t)) Fail("t", "the time stamp must be a finite number in every row");
+  if (!std::isfinite(in->t)) Fail(t_column_, "the time stamp must be a finite number in every row");
   if (rows_ > 0 && in->t < last_t_) {
     std::string a, b;
     detail::AppendNumber(&a, in->t);
     detail::AppendNumber(&b, last_t_);
-    Fail("t", "time goes backwards: t = " + a + " s after t = " + b + " s on line " +
-                  std::to_string(line_no_ - 1));
+    Fail(t_column_, "time goes backwards: t = " + a + " s after t = " + b + " s on line " +
+                        std::to_string(line_no_ - 1));
   }
   last_t_ = in->t;
   ++rows_;

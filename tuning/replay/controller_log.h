@@ -5,21 +5,27 @@
 // Format:
 //  * UTF-8/ASCII text, comma separated, '\n' (or "\r\n") line ends, one header row with the column
 //    names, then one row per controller step. Column order is free; every name at most once.
+//  * Column names carry their unit as the trace of `scw simulate --trace` does (`vx_mps`,
+//    `p_req_fl_bar`, `fz_fl_N`); the names without units of the first version (`vx`, `p_req_fl`)
+//    are still read (LogColumn::alias), so older logs stay readable.
 //  * Cells are numbers. Real cells are decimal or scientific text (`0.01`, `-3.5e-05`, `inf`);
 //    `nan` (any case) or an empty cell = signal not available. Integer columns (`gear_req`,
 //    `gear`) hold integer literals and can not be unavailable.
 //  * Required columns must be in the header (their cells may still be `nan`: the controller then
 //    treats the signal as missing, and a missing essential signal makes the step a pass-through).
 //    Optional columns may be left out entirely (= not available in every row).
-//  * `t` must be finite in every row and never decrease. It is the controller time stamp [s]
+//  * `t_s` must be finite in every row and never decrease. It is the controller time stamp [s]
 //    (durations inside the controller are measured with it; filters assume the period tS).
 //  * Written numbers use shortest round-trip formatting (std::to_chars), so reading a log back
 //    gives bit-identical doubles and a replay reproduces the recorded run exactly.
 //
 // Columns (SI units; `_bar` = bar; wheel order fl, fr, rl, rr): see kInputColumns below.
-// `long_fx` is read always; with StabilityOptions::release_compat the controller ignores it.
-// `brake_temp_*` [°C] are an optional extension of the column list so that a log written
-// from a simulation that feeds brake temperatures is lossless.
+// `long_fx_N` is read always; with StabilityOptions::release_compat the controller ignores it.
+// `brake_temp_*_degC` are an optional extension of the column list so that a log written
+// from a simulation that feeds brake temperatures is lossless. The closed loop writes the vertical
+// loads its controller used (its own estimate) into `fz_*_N` (ControllerLogWriter::Write with the
+// output), and what else the controller used besides its params file (the vehicle constants, the
+// scenario's subsystem switches) into a setup file next to the log (log_setup.h).
 #pragma once
 
 #include <array>
@@ -47,6 +53,8 @@ struct LogColumn {
   std::size_t wheel_index = 0;
   int controller::StabilityInput::*integer = nullptr;
   std::string_view doc;
+  /// Older name of the column, still accepted by the reader (empty: none). Never written.
+  std::string_view alias;
 };
 
 /// Every column of the log, in the order ControllerLogWriter writes them.
@@ -100,12 +108,24 @@ class ControllerLogWriter {
   /// be called after Commit().
   void Write(const controller::StabilityInput& in);
 
+  /// Appends the row of one controller step with the vertical loads the controller used
+  /// (`out.fz`, its own estimate unless the input brought valid loads) in the `fz_*` columns, so
+  /// that the log is complete: replaying it uses these loads, bit for bit the same. For a
+  /// pass-through step (`!out.valid`) the input's loads are written as they are. Throws like
+  /// Write(in).
+  void Write(const controller::StabilityInput& in, const controller::StabilityOutput& out);
+
   /// Flushes, closes and renames the temporary file onto the target. Throws std::runtime_error
   /// naming the path on failure (the target is then unchanged and the temporary file removed).
   void Commit();
 
   const std::string& path() const noexcept;
   std::int64_t rows() const noexcept;
+  /// Bytes written so far (header included).
+  std::int64_t bytes() const noexcept;
+  /// Whether the log goes to a file that can have a setup file next to it (a regular file or a
+  /// symlink's target; not `-`, a FIFO or a character device).
+  bool is_file() const noexcept;
 
  private:
   struct Impl;
@@ -115,8 +135,9 @@ class ControllerLogWriter {
 /// Reads a controller log row by row, validating as it goes: the header at construction
 /// (unknown, duplicate or missing required column; empty file), each row in Next() (wrong number
 /// of cells, non-numeric cell, non-integer gear, t missing or going backwards) and the end of the
-/// file (no data row). Every problem throws LogFormatError with the line and the column. Only one
-/// line is held in memory.
+/// file (no data row). Every problem throws LogFormatError with the line and the column (spelled
+/// as in the file's header: a column read through its old name is named so). Only one line is
+/// held in memory.
 class ControllerLogReader {
  public:
   /// Opens `path` and reads the header. Throws LogFormatError (also when the file cannot be
@@ -143,6 +164,7 @@ class ControllerLogReader {
   std::string buffer_;
   std::vector<std::string> header_;
   std::vector<int> column_of_cell_;  ///< header position → index into kInputColumns
+  std::string t_column_ = "t_s";     ///< the time column as spelled in the header
   std::int64_t line_no_ = 0;
   std::int64_t rows_ = 0;
   double last_t_ = 0.0;

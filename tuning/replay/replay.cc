@@ -49,12 +49,12 @@ double AlphaOut(const StabilityOutput& o) noexcept {
 // The one list of output columns: name, unit, meaning and value.
 // clang-format off
 constexpr std::array<OutputColumnDef, 27> kOutputDefs = {{
-    {"t", "s", "time stamp of the input row", nullptr},
-    {"steer_out", "rad", "steering command after countersteer (clamped to the steering limits)", [](const StabilityOutput& o) noexcept { return o.steering; }},
-    {"p_out_fl", "bar", "brake pressure command after ESC and ABS/TC", &PressureOut<kFL>},
-    {"p_out_fr", "bar", "brake pressure command", &PressureOut<kFR>},
-    {"p_out_rl", "bar", "brake pressure command", &PressureOut<kRL>},
-    {"p_out_rr", "bar", "brake pressure command", &PressureOut<kRR>},
+    {"t_s", "s", "time stamp of the input row", nullptr},
+    {"steer_out_rad", "rad", "steering command after countersteer (clamped to the steering limits)", [](const StabilityOutput& o) noexcept { return o.steering; }},
+    {"p_out_fl_bar", "bar", "brake pressure command after ESC and ABS/TC", &PressureOut<kFL>},
+    {"p_out_fr_bar", "bar", "brake pressure command", &PressureOut<kFR>},
+    {"p_out_rl_bar", "bar", "brake pressure command", &PressureOut<kRL>},
+    {"p_out_rr_bar", "bar", "brake pressure command", &PressureOut<kRR>},
     {"throttle_out", "0..1", "throttle command (request x TC throttle cut)", [](const StabilityOutput& o) noexcept { return o.throttle; }},
     {"esc_active", "0/1", "ESC intervening", [](const StabilityOutput& o) noexcept { return Flag(o.esc_active); }},
     {"cs_active", "0/1", "countersteer intervening", [](const StabilityOutput& o) noexcept { return Flag(o.cs_active); }},
@@ -67,15 +67,15 @@ constexpr std::array<OutputColumnDef, 27> kOutputDefs = {{
     {"tc_state_fr", "0..3", "TC phase", &TcState<kFR>},
     {"tc_state_rl", "0..3", "TC phase", &TcState<kRL>},
     {"tc_state_rr", "0..3", "TC phase", &TcState<kRR>},
-    {"yaw_moment", "N*m", "ESC yaw-moment demand, > 0 turns left (0 when inactive)", [](const StabilityOutput& o) noexcept { return o.yaw_moment; }},
-    {"slip_fl", "%", "longitudinal slip (< 0 braking), with the low-speed fade", &SlipOut<kFL>},
-    {"slip_fr", "%", "longitudinal slip", &SlipOut<kFR>},
-    {"slip_rl", "%", "longitudinal slip", &SlipOut<kRL>},
-    {"slip_rr", "%", "longitudinal slip", &SlipOut<kRR>},
-    {"alpha_fl", "rad", "tyre slip angle (> 0 gives a leftward force), with the low-speed fade", &AlphaOut<kFL>},
-    {"alpha_fr", "rad", "tyre slip angle", &AlphaOut<kFR>},
-    {"alpha_rl", "rad", "tyre slip angle", &AlphaOut<kRL>},
-    {"alpha_rr", "rad", "tyre slip angle", &AlphaOut<kRR>},
+    {"yaw_moment_Nm", "N*m", "ESC yaw-moment demand, > 0 turns left (0 when inactive)", [](const StabilityOutput& o) noexcept { return o.yaw_moment; }},
+    {"slip_fl_pct", "%", "longitudinal slip as the controller estimates it (< 0 braking), with the low-speed fade", &SlipOut<kFL>},
+    {"slip_fr_pct", "%", "longitudinal slip", &SlipOut<kFR>},
+    {"slip_rl_pct", "%", "longitudinal slip", &SlipOut<kRL>},
+    {"slip_rr_pct", "%", "longitudinal slip", &SlipOut<kRR>},
+    {"alpha_fl_rad", "rad", "tyre slip angle as the controller estimates it (> 0 gives a leftward force), with the low-speed fade", &AlphaOut<kFL>},
+    {"alpha_fr_rad", "rad", "tyre slip angle", &AlphaOut<kFR>},
+    {"alpha_rl_rad", "rad", "tyre slip angle", &AlphaOut<kRL>},
+    {"alpha_rr_rad", "rad", "tyre slip angle", &AlphaOut<kRR>},
 }};
 // clang-format on
 
@@ -216,8 +216,14 @@ ReplaySummary ReplaySummaryBuilder::Finish() const {
 
 // ---------------------------------------------------------------------------------------------
 
+namespace {
+void ApplyInputOptions(const ReplayInputOptions& o, StabilityInput* in) {
+  if (o.estimate_loads) in->fz_external = StabilityInput{}.fz_external;
+}
+}  // namespace
+
 ReplaySummary ReplayLog(const std::string& log_path, const StabilityController& controller,
-                        const std::string& output_path) {
+                        const std::string& output_path, const ReplayInputOptions& input) {
   ControllerLogReader reader(log_path);
   std::optional<ReplayOutputWriter> writer;
   if (!output_path.empty()) writer.emplace(output_path);
@@ -225,6 +231,7 @@ ReplaySummary ReplayLog(const std::string& log_path, const StabilityController& 
   StabilityController::State state;
   StabilityInput in;
   while (reader.Next(&in)) {
+    ApplyInputOptions(input, &in);
     const StabilityOutput out = controller.Step(in, &state);
     summary.Add(in.t, out);
     if (writer) writer->Write(in.t, out);
@@ -234,7 +241,8 @@ ReplaySummary ReplayLog(const std::string& log_path, const StabilityController& 
 }
 
 ComparisonSummary CompareOnLog(const std::string& log_path, const StabilityController& a,
-                               const StabilityController& b, const std::string& output_path) {
+                               const StabilityController& b, const std::string& output_path,
+                               const ReplayInputOptions& input) {
   ControllerLogReader reader(log_path);
   std::optional<ReplayOutputWriter> writer;
   if (!output_path.empty()) writer.emplace(output_path);
@@ -245,6 +253,7 @@ ComparisonSummary CompareOnLog(const std::string& log_path, const StabilityContr
   ComparisonSummary c;
   StabilityInput in;
   while (reader.Next(&in)) {
+    ApplyInputOptions(input, &in);
     const StabilityOutput oa = a.Step(in, &state_a);
     const StabilityOutput ob = b.Step(in, &state_b);
     sum_a.Add(in.t, oa);
@@ -287,14 +296,15 @@ std::string ColumnsMarkdown() {
     return e;
   };
   std::string r =
-      "Input columns (controller log):\n\n| Column | Unit | Required | Meaning |\n"
-      "| --- | --- | --- | --- |\n";
+      "Input columns (controller log):\n\n| Column | Unit | Required | Old name (read) | Meaning "
+      "|\n| --- | --- | --- | --- | --- |\n";
   for (const auto& c : kInputColumns)
     r += "| `" + std::string(c.name) + "` | " + std::string(c.unit) + " | " +
          (c.integer    ? "yes (integer)"
           : c.required ? "yes"
                        : "no") +
-         " | " + escape(c.doc) + " |\n";
+         " | " + (c.alias.empty() ? std::string() : "`" + std::string(c.alias) + "`") + " | " +
+         escape(c.doc) + " |\n";
   r += "\nOutput columns (`-o`):\n\n| Column | Unit | Meaning |\n| --- | --- | --- |\n";
   for (const auto& c : kOutputColumns)
     r +=

@@ -10,10 +10,12 @@
 // the log length. The output file is written atomically (temporary file, renamed at the end): a
 // bad log leaves no partial output behind.
 //
-// Output columns (one row per input row): t [s]; steer_out [rad]; p_out_fl..rr [bar];
-// throttle_out [0..1]; esc_active, cs_active, slip_control_active (0/1); abs_state_fl..rr,
-// tc_state_fl..rr (0 inactive, 1 reduce, 2 hold, 3 increase); yaw_moment [N·m];
-// slip_fl..rr [%]; alpha_fl..rr [rad].
+// Output columns (one row per input row), named with their units like the trace of
+// `scw simulate --trace` (the same name means the same quantity; the trace's slip_*_pct and
+// alpha_*_rad are the plant's, the replay's the controller's estimates): t_s; steer_out_rad;
+// p_out_fl_bar..rr; throttle_out [0..1]; esc_active, cs_active, slip_control_active (0/1);
+// abs_state_fl..rr, tc_state_fl..rr (0 inactive, 1 reduce, 2 hold, 3 increase); yaw_moment_Nm;
+// slip_fl_pct..rr; alpha_fl_rad..rr.
 //
 // Interventions: a subsystem intervenes while its flag is set (ESC: esc_active, countersteer:
 // cs_active, ABS: any wheel's ABS phase ≠ inactive, TC: any wheel's TC phase ≠ inactive). An
@@ -107,12 +109,21 @@ class ReplaySummaryBuilder {
   std::array<bool, kNumSubsystems> prev_active_{};
 };
 
+/// How the log's rows are fed to the controller.
+struct ReplayInputOptions {
+  /// Ignore the log's vertical loads (`fz_*` columns): the controller estimates its own from
+  /// its vehicle constants. A log of `scw simulate` holds the loads its controller used, so
+  /// without this option a parameter set with other vehicle constants (CoG height, aero) still
+  /// sees the recorded run's loads.
+  bool estimate_loads = false;
+};
+
 /// Replays `log_path` through `controller`. With a non-empty `output_path` the outputs are
 /// written there (atomically). Throws LogFormatError for a bad log (no output is written then),
 /// std::runtime_error when the output cannot be written.
 ReplaySummary ReplayLog(const std::string& log_path,
                         const controller::StabilityController& controller,
-                        const std::string& output_path = "");
+                        const std::string& output_path = "", const ReplayInputOptions& input = {});
 
 /// The largest |difference| of one output between two parameter sets, and where it happened.
 struct MaxDifference {
@@ -139,7 +150,8 @@ struct ComparisonSummary {
 ComparisonSummary CompareOnLog(const std::string& log_path,
                                const controller::StabilityController& a,
                                const controller::StabilityController& b,
-                               const std::string& output_path = "");
+                               const std::string& output_path = "",
+                               const ReplayInputOptions& input = {});
 
 /// Markdown tables of the input and output columns (docs/replay.md, `scw replay --columns`).
 std::string ColumnsMarkdown();

@@ -102,9 +102,9 @@ TEST(ControllerLog, OptionalColumnsMayBeLeftOutAndCellsMayBeEmptyOrNan) {
   for (const auto& c : kInputColumns) {
     if (!c.required) continue;
     header += (header.empty() ? "" : ",") + std::string(c.name);
-    std::string v = c.name == "t" ? "0.5" : c.integer ? "3" : c.name == "vx" ? " 12.5 " : "";
-    if (c.name == "ax") v = "NaN";
-    if (c.name == "ay") v = "-nan";
+    std::string v = c.name == "t_s" ? "0.5" : c.integer ? "3" : c.name == "vx_mps" ? " 12.5 " : "";
+    if (c.name == "ax_mps2") v = "NaN";
+    if (c.name == "ay_mps2") v = "-nan";
     cells += (cells.empty() ? "" : ",") + v;
   }
   const std::string path = dir.File("log.csv");
@@ -122,6 +122,92 @@ TEST(ControllerLog, OptionalColumnsMayBeLeftOutAndCellsMayBeEmptyOrNan) {
   EXPECT_TRUE(std::isnan(in.steering_measured));  // optional column absent
   for (std::size_t i = 0; i < 4; ++i) EXPECT_TRUE(std::isnan(in.fz_external[i]));
   EXPECT_FALSE(reader.Next(&in));
+}
+
+TEST(ControllerLogColumns, NamesCarryTheirUnitLikeTheTrace) {
+  // The trace of `scw simulate --trace` names t_s, vx_mps, p_req_fl_bar, long_fx_N, fz_fl_N ...
+  auto ends_with = [](std::string_view s, std::string_view suffix) {
+    return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
+  };
+  const std::vector<std::pair<std::string_view, std::string_view>> suffixes = {
+      {"s", "_s"},     {"m/s", "_mps"}, {"m/s^2", "_mps2"}, {"rad/s", "_radps"},
+      {"rad", "_rad"}, {"bar", "_bar"}, {"N", "_N"},        {"degC", "_degC"}};
+  for (const auto& c : kInputColumns) {
+    for (const auto& [unit, end] : suffixes) {
+      if (c.unit == unit) {
+        EXPECT_TRUE(ends_with(c.name, end)) << c.name;
+      }
+    }
+    // Every renamed column keeps its old name readable, and no old name is a current name.
+    if (c.name != "throttle_req" && c.integer == nullptr) {
+      EXPECT_FALSE(c.alias.empty()) << c.name;
+    }
+    for (const auto& other : kInputColumns) EXPECT_NE(c.alias, other.name);
+  }
+}
+
+TEST(ControllerLog, OldColumnNamesAreReadBitForBit) {
+  // A log of the first format version (names without units, as the fuzz corpus and the car's
+  // first recordings have them) reads exactly like the same log with the current names.
+  const TempDir dir("scw_log_old_names");
+  const params::StabilityParams p;
+  std::vector<StabilityInput> rows;
+  for (int k = 0; k < 50; ++k) rows.push_back(testing::SyntheticRow(p, 3000 + k));
+  testing::WriteLog(dir.File("new.csv"), rows);
+  std::string text = ReadFile(dir.File("new.csv"));
+  const std::size_t eol = text.find('\n');
+  std::string old_header;
+  for (const auto& c : kInputColumns)
+    old_header += (old_header.empty() ? "" : ",") + std::string(c.alias.empty() ? c.name : c.alias);
+  EXPECT_EQ(old_header.substr(0, 21), "t,vx,vy,yaw_rate,ax,a");
+  std::ofstream(dir.File("old.csv")) << old_header << text.substr(eol);
+  ControllerLogReader reader(dir.File("old.csv"));
+  StabilityInput in;
+  std::size_t n = 0;
+  while (reader.Next(&in)) {
+    ASSERT_LT(n, rows.size());
+    ExpectSameRow(rows[n], in, n);
+    ++n;
+  }
+  EXPECT_EQ(n, rows.size());
+
+  // The fuzz corpus's full log (old names) is still a valid log.
+  ControllerLogReader corpus(std::string(SCW_SOURCE_DIR) + "/test/fuzz/corpus/replay_log/full.csv");
+  EXPECT_TRUE(corpus.Next(&in));
+  EXPECT_EQ(in.wheel_speed[kFL], 140.0);
+}
+
+TEST(ControllerLogWriter, WithTheOutputWritesTheLoadsTheControllerUsed) {
+  const TempDir dir("scw_log_loads");
+  const params::StabilityParams p;
+  const controller::StabilityController c(p);
+  controller::StabilityController::State s;
+  StabilityInput in = testing::SyntheticRow(p, 10);
+  in.fz_external = {kNan, kNan, kNan, kNan};
+  const controller::StabilityOutput out = c.Step(in, &s);
+  ASSERT_TRUE(out.valid);
+  StabilityInput invalid = in;
+  invalid.t += 0.01;
+  invalid.yaw_rate = kNan;  // pass-through: no loads used
+  const controller::StabilityOutput out_invalid = c.Step(invalid, &s);
+  ASSERT_FALSE(out_invalid.valid);
+  {
+    ControllerLogWriter w(dir.File("log.csv"));
+    w.Write(in, out);
+    w.Write(invalid, out_invalid);
+    w.Commit();
+    EXPECT_EQ(w.bytes(), static_cast<std::int64_t>(ReadFile(dir.File("log.csv")).size()));
+    EXPECT_TRUE(w.is_file());
+  }
+  ControllerLogReader r(dir.File("log.csv"));
+  StabilityInput back;
+  ASSERT_TRUE(r.Next(&back));
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_GT(back.fz_external[i], 0.0);
+    EXPECT_TRUE(SameBits(back.fz_external[i], out.fz[i]));
+  }
+  ASSERT_TRUE(r.Next(&back));
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_TRUE(std::isnan(back.fz_external[i]));
 }
 
 TEST(ControllerLog, TrailingBlankLinesAreIgnored) {
@@ -221,24 +307,46 @@ std::vector<BadLog> BadLogs() {
   std::vector<BadLog> v;
   {
     Cells c = GoodLog();
-    const std::size_t i = IndexOf(c, "vy");
+    const std::size_t i = IndexOf(c, "vy_mps");
     for (auto& row : c) row.erase(row.begin() + static_cast<long>(i));
-    v.push_back({"missing_required_column", Join(c), 1, "vy", "required column is missing"});
+    v.push_back({"missing_required_column", Join(c), 1, "vy_mps", "required column is missing"});
   }
   {
     Cells c = GoodLog();
-    c[0][IndexOf(c, "omega_rl")] = "omega_rrl";
-    v.push_back({"unknown_column", Join(c), 1, "omega_rrl", "did you mean omega_rl"});
+    c[0][IndexOf(c, "omega_rl_radps")] = "omega_rrl_radps";
+    v.push_back({"unknown_column", Join(c), 1, "omega_rrl_radps", "did you mean omega_rl_radps"});
   }
   {
     Cells c = GoodLog();
-    c[0][IndexOf(c, "fz_fl")] = "vx";
-    v.push_back({"duplicate_column", Join(c), 1, "vx", "given twice"});
+    c[0][IndexOf(c, "fz_fl_N")] = "vx_mps";
+    v.push_back({"duplicate_column", Join(c), 1, "vx_mps", "given twice"});
   }
   {
     Cells c = GoodLog();
+    c[0][IndexOf(c, "fz_fl_N")] = "vx";  // the old name of vx_mps
+    v.push_back({"old_and_new_name", Join(c), 1, "vx", "vx being the old name of vx_mps"});
+  }
+  {
+    Cells c = GoodLog();
+    c[0][IndexOf(c, "omega_rl_radps")] = "omega_rrl";
+    v.push_back({"misspelt_old_name", Join(c), 1, "omega_rrl", "did you mean omega_rl_radps"});
+  }
+  {
+    Cells c = GoodLog();
+    c[0][IndexOf(c, "yaw_rate_radps")] = "yaw_rate";
     c[3][IndexOf(c, "yaw_rate")] = "0.1x";
-    v.push_back({"non_numeric_cell", Join(c), 4, "yaw_rate", "not a number: '0.1x'"});
+    v.push_back({"old_name_named_in_messages", Join(c), 4, "yaw_rate", "not a number: '0.1x'"});
+  }
+  {
+    Cells c = GoodLog();
+    c[0][IndexOf(c, "t_s")] = "t";
+    c[3][IndexOf(c, "t")] = "0.005";
+    v.push_back({"old_time_column_going_backwards", Join(c), 4, "t", "time goes backwards"});
+  }
+  {
+    Cells c = GoodLog();
+    c[3][IndexOf(c, "yaw_rate_radps")] = "0.1x";
+    v.push_back({"non_numeric_cell", Join(c), 4, "yaw_rate_radps", "not a number: '0.1x'"});
   }
   {
     Cells c = GoodLog();
@@ -252,13 +360,13 @@ std::vector<BadLog> BadLogs() {
   }
   {
     Cells c = GoodLog();
-    c[3][IndexOf(c, "t")] = "0.005";
-    v.push_back({"time_going_backwards", Join(c), 4, "t", "time goes backwards"});
+    c[3][IndexOf(c, "t_s")] = "0.005";
+    v.push_back({"time_going_backwards", Join(c), 4, "t_s", "time goes backwards"});
   }
   {
     Cells c = GoodLog();
-    c[2][IndexOf(c, "t")] = "";
-    v.push_back({"time_missing", Join(c), 3, "t", "finite number"});
+    c[2][IndexOf(c, "t_s")] = "";
+    v.push_back({"time_missing", Join(c), 3, "t_s", "finite number"});
   }
   {
     Cells c = GoodLog();

@@ -68,11 +68,13 @@ TEST(Replay, OversteerEpisodeTriggersEscAndCountersteer) {
   EXPECT_GT(cs.first_active_t, 1.0);
   for (std::size_t k = 0; k < rows.size(); ++k) {
     if (r.out.At(k, "esc_active") == 1.0) {
-      EXPECT_LT(r.out.At(k, "yaw_moment"), 0.0) << "left-hand oversteer needs a clockwise moment";
-      EXPECT_GT(r.out.At(k, "p_out_fr"), rows[k].brake_request_bar[kFR]) << "outer front braked";
+      EXPECT_LT(r.out.At(k, "yaw_moment_Nm"), 0.0)
+          << "left-hand oversteer needs a clockwise moment";
+      EXPECT_GT(r.out.At(k, "p_out_fr_bar"), rows[k].brake_request_bar[kFR])
+          << "outer front braked";
     }
     if (r.out.At(k, "cs_active") == 1.0) {
-      EXPECT_LT(r.out.At(k, "steer_out"), rows[k].steering_request) << "steer into the slide";
+      EXPECT_LT(r.out.At(k, "steer_out_rad"), rows[k].steering_request) << "steer into the slide";
     }
   }
 }
@@ -90,10 +92,12 @@ TEST(Replay, BrakingLockupTriggersAbs) {
   bool front_released = false;
   for (std::size_t k = 0; k < rows.size(); ++k) {
     for (std::size_t w = 0; w < 4; ++w)
-      EXPECT_LE(r.out.At(k, std::string("p_out_") + kWheelNames[w]), rows[k].brake_request_bar[w]);
+      EXPECT_LE(r.out.At(k, std::string("p_out_") + kWheelNames[w] + "_bar"),
+                rows[k].brake_request_bar[w]);
     if (r.out.At(k, "abs_state_fl") != 0.0) {
       EXPECT_EQ(r.out.At(k, "slip_control_active"), 1.0);
-      front_released = front_released || r.out.At(k, "p_out_fl") < rows[k].brake_request_bar[kFL];
+      front_released =
+          front_released || r.out.At(k, "p_out_fl_bar") < rows[k].brake_request_bar[kFL];
     }
   }
   EXPECT_TRUE(front_released);
@@ -108,7 +112,7 @@ TEST(Replay, RearSpinTriggersTcUnlessReleaseCompat) {
   EXPECT_EQ(on.summary[Subsystem::kAbs].interventions, 0);
   bool rear_braked = false;
   for (std::size_t k = 0; k < rows.size(); ++k)
-    if (on.out.At(k, "tc_state_rl") != 0.0) rear_braked |= on.out.At(k, "p_out_rl") > 0.0;
+    if (on.out.At(k, "tc_state_rl") != 0.0) rear_braked |= on.out.At(k, "p_out_rl_bar") > 0.0;
   EXPECT_TRUE(rear_braked);
 
   const Replayed compat =
@@ -247,6 +251,14 @@ TEST(Replay, CompareReportsMoreEscInterventionsWithHalvedThresholds) {
   EXPECT_EQ(same.steering.value, 0.0);
 }
 
+TEST(ReplayDocs, ColumnTablesOfTheDocsAreCurrent) {
+  const std::string docs = testing::ReadFile(std::string(SCW_SOURCE_DIR) + "/docs/replay.md");
+  ASSERT_FALSE(docs.empty());
+  EXPECT_NE(docs.find(ColumnsMarkdown()), std::string::npos)
+      << "docs/replay.md is out of date: replace its generated part with the output of "
+         "`scw replay --columns`";
+}
+
 // ---------------------------------------------------------------------------------------------
 // The command.
 
@@ -288,7 +300,7 @@ TEST(ReplayCommand, SummaryCompareOutputAndExitCodes) {
   std::ofstream(dir.File("bad.csv")) << text;
   EXPECT_EQ(RunScw("replay " + dir.File("bad.csv") + " --params " + Shipped(), txt), 2);
   s = testing::ReadFile(txt);
-  EXPECT_NE(s.find("line 4, column vx"), std::string::npos) << s;
+  EXPECT_NE(s.find("line 4, column vx_mps"), std::string::npos) << s;
 
   // Bad params file, missing log, missing --params: bad input too.
   std::ofstream(dir.File("bad.yaml")) << "/core/control/StabilityController:\n"
@@ -299,7 +311,7 @@ TEST(ReplayCommand, SummaryCompareOutputAndExitCodes) {
   EXPECT_NE(testing::ReadFile(txt).find("--params"), std::string::npos);
   EXPECT_EQ(RunScw("replay --params " + Shipped(), txt), 2);
   EXPECT_EQ(RunScw("replay --columns", txt), 0);
-  EXPECT_NE(testing::ReadFile(txt).find("| `long_fx` | N |"), std::string::npos);
+  EXPECT_NE(testing::ReadFile(txt).find("| `long_fx_N` | N |"), std::string::npos);
   EXPECT_EQ(RunScw("replay " + log + " --params " + Shipped() + " -o " + log, txt), 2);
   // Output folder missing: the run failed (1).
   EXPECT_EQ(
