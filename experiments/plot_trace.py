@@ -1,14 +1,30 @@
 #!/usr/bin/env python3
 """Turns trace CSVs (scw simulate --trace, scw sweep --trace-dir) into the paper's time-series
-figure (Fig. "first lap at GG = 1.4"): lateral error, speed, heading error and sideslip over the
-distance driven (or time), with the stability interventions shaded.
+figure (Fig. "first lap at GG = 1.4"), over the distance driven (or time):
 
-One trace: ESC, CS, ABS and TC activity shaded in every panel. Several traces (overlaid, e.g.
-the four configurations of study 2): one extra panel with a row of intervention bars per trace
-(ESC dark, CS light).
+  speed (actual, and the target speed of the reference dashed), lateral error, heading error,
+  sideslip β, longitudinal wheel slip, brake pressure (requested dashed, applied solid) and the
+  interventions of all four subsystems (ESC, CS, ABS, TC);
+
+with lap boundaries and, where the run aborted, the abort point and its reason. The title names
+the scenario and the parameter set.
+
+One trace: every wheel's slip and pressure, one row per subsystem in the intervention panel.
+Several traces (overlaid, e.g. the four configurations of study 2): one colour per trace; the
+slip panel shows the wheel with the largest |slip| at each instant and the pressure panel the sum
+over the four wheels; one row per trace in the intervention panel with a lane per subsystem.
+
+How a run ended is not in the trace: it comes from the run summary (scw simulate --summary
+S.yaml), given with --summary or found beside the trace as <trace>.yaml, <trace>_summary.yaml or
+<trace>.summary.yaml. Without one the figure says the end is unknown. The parameter set is not
+recorded either: name it with --params (e.g. --params "tuned (stability_tuned.yaml)").
 
     python3 experiments/plot_trace.py TRACE.csv [TRACE2.csv ...] -o FIG.png
-        [--labels a,b,...] [--x distance|time] [--lap N] [--title TEXT]
+        [--summary S.yaml ...] [--params NAME] [--labels a,b,...] [--x distance|time]
+        [--lap N] [--title TEXT]
+
+Exit codes: 0 written; 2 bad arguments or a file that is not a scw trace (with a message, no
+traceback).
 """
 
 import argparse
@@ -22,135 +38,371 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.lines import Line2D  # noqa: E402
+from matplotlib.patches import Patch  # noqa: E402
 import numpy as np  # noqa: E402
 
-PANELS = [
-    ("lateral_error_m", "lateral error [m]"),
-    ("vx_mps", "speed [m/s]"),
-    ("heading_error_deg", "heading error [deg]"),
-    ("beta_deg", "sideslip β [deg]"),
-]
+# Columns every scw trace has (tuning/closed_loop.cc: TraceHeader); the rest are optional.
+REQUIRED = ["t_s", "lap", "s_m", "vx_mps", "lateral_error_m", "heading_error_deg", "beta_deg"]
+WHEELS = [("fl", "front left", "tab:blue"), ("fr", "front right", "tab:cyan"),
+          ("rl", "rear left", "tab:red"), ("rr", "rear right", "tab:orange")]
 INTERVENTIONS = [("esc_active", "ESC", "tab:red"), ("cs_active", "CS", "tab:blue"),
                  ("abs_active", "ABS", "tab:orange"), ("tc_active", "TC", "tab:green")]
+REASONS = {
+    "sideslip": "|β| above the abort threshold",
+    "lateral_error": "lateral error above the abort threshold",
+    "wheel_lock": "a wheel locked",
+    "wheel_spin": "a wheel spun",
+    "off_track": "left the track",
+    "non_finite": "NaN/inf in the simulation",
+    "timeout": "simulated time limit reached",
+    "invalid_params": "parameter set rejected",
+}
+
+
+FIG_H = 15.5  # figure height [in]
+
+
+class TraceError(ValueError):
+    """A file that is not a usable scw trace or summary (reported without a traceback)."""
 
 
 def load(path):
-    with open(path, newline="") as f:
-        reader = csv.reader(f)
-        header = next(reader)
-        data = [[float(x) if x not in ("", "nan") else math.nan for x in row] for row in reader]
+    """The trace's columns as float arrays; TraceError for anything that is not a scw trace."""
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            reader = csv.reader(f)
+            header = next(reader, None)
+            if not header:
+                raise TraceError(f"{path} is empty, not a scw trace (scw simulate --trace)")
+            missing = [c for c in REQUIRED if c not in header]
+            if missing:
+                shown = ", ".join(header[:6]) + (", ..." if len(header) > 6 else "")
+                raise TraceError(
+                    f"{path} is not a scw trace (scw simulate --trace): it lacks the column(s) "
+                    f"{', '.join(missing)}; its header is: {shown}")
+            data = []
+            for line, row in enumerate(reader, start=2):
+                if not row:
+                    continue
+                if len(row) != len(header):
+                    raise TraceError(f"{path} line {line}: {len(row)} fields, the header has "
+                                     f"{len(header)} (a truncated or foreign file?)")
+                try:
+                    data.append([float(x) if x not in ("", "nan") else math.nan for x in row])
+                except ValueError:
+                    bad = next(x for x in row if not _is_number(x))
+                    raise TraceError(f"{path} line {line}: '{bad[:40]}' is not a number "
+                                     "(not a scw trace?)") from None
+    except UnicodeDecodeError:
+        raise TraceError(f"{path} is not a text file, not a scw trace") from None
+    except csv.Error as e:
+        raise TraceError(f"{path} is not a CSV file ({e})") from None
+    except OSError as e:
+        raise TraceError(f"cannot read {path}: {e.strerror or e}") from None
     if not data:
-        raise SystemExit(f"error: {path} has no rows")
+        raise TraceError(f"{path} has a trace header but no rows")
     arr = np.array(data, dtype=float)
-    cols = {name: arr[:, i] for i, name in enumerate(header)}
-    missing = [c for c, _ in PANELS if c not in cols] + [c for c in ("t_s", "s_m") if c not in cols]
-    if missing:
-        raise SystemExit(f"error: {path} lacks the columns {', '.join(missing)} (not a scw trace?)")
-    return cols
+    return {name: arr[:, i] for i, name in enumerate(header)}
+
+
+def _is_number(x):
+    try:
+        float(x)
+        return True
+    except ValueError:
+        return x in ("", "nan")
+
+
+def load_summary(path):
+    """The flat `key: value` run summary of scw simulate --summary as a dict of strings."""
+    out = {}
+    try:
+        with open(path, encoding="utf-8") as f:
+            for line in f:
+                if ":" not in line or line.startswith((" ", "#")):
+                    continue
+                k, v = line.split(":", 1)
+                v = v.strip()
+                if len(v) >= 2 and v[0] == v[-1] and v[0] in "\"'":
+                    v = v[1:-1]
+                out[k.strip()] = v
+    except (OSError, UnicodeDecodeError) as e:
+        raise TraceError(f"cannot read the summary {path}: {e}") from None
+    if "status" not in out:
+        raise TraceError(f"{path} is not a run summary (scw simulate --summary): no status")
+    return out
+
+
+def find_summary(trace):
+    stem = os.path.splitext(trace)[0]
+    for cand in (stem + ".yaml", stem + "_summary.yaml", stem + ".summary.yaml"):
+        if os.path.isfile(cand):
+            return cand
+    return None
+
+
+def readable(path):
+    """Legend label from a file name: sweep traces 'config__key-value' → 'config, key = value'."""
+    stem = os.path.splitext(os.path.basename(path))[0]
+    parts = stem.split("__")
+    out = [parts[0]]
+    for p in parts[1:]:
+        k, sep, v = p.rpartition("-")
+        out.append(f"{k} = {v}" if sep and k else p)
+    return ", ".join(out)
 
 
 def distance(cols):
     """Distance driven [m]: the track position unwrapped at each new lap."""
     s = cols["s_m"]
-    if "lap" in cols and len(s):
-        lap = cols["lap"]
-        length = np.nanmax(s)
-        return s - s[0] + (lap - lap[0]) * length
-    return s - s[0]
+    lap = cols["lap"]
+    length = np.nanmax(s)
+    return s - s[0] + (lap - lap[0]) * length
 
 
-def spans(t, active):
+def spans(x, active):
     """(start, end) of the intervals where `active` is set."""
     out, start = [], None
     for i, a in enumerate(active > 0.5):
         if a and start is None:
-            start = t[i]
+            start = x[i]
         if not a and start is not None:
-            out.append((start, t[i]))
+            out.append((start, x[i]))
             start = None
     if start is not None:
-        out.append((start, t[-1]))
+        out.append((start, x[-1]))
     return out
 
 
 def select_lap(cols, lap):
-    if lap is None or "lap" not in cols:
+    if lap is None:
         return cols
     keep = cols["lap"] == lap
     if not keep.any():
-        raise SystemExit(f"error: the trace has no lap {lap}")
+        raise TraceError(f"the trace has no lap {lap} (laps {int(np.nanmin(cols['lap']))}-"
+                         f"{int(np.nanmax(cols['lap']))}, 0-based)")
     return {k: v[keep] for k, v in cols.items()}
 
 
-def plot(paths, out, labels=None, x="distance", lap=None, title=None):
-    traces = [select_lap(load(p), lap) for p in paths]
-    labels = labels or [os.path.splitext(os.path.basename(p))[0] for p in paths]
+def wheel_cols(cols, pattern):
+    names = [pattern.format(w) for w, _, _ in WHEELS]
+    return [cols[n] for n in names] if all(n in cols for n in names) else None
+
+
+def end_text(summary):
+    """'completed' or 'abort: <reason> (status) at t = … s, lap …' from a run summary."""
+    if summary is None:
+        return None, "end of the run unknown (no --summary)"
+    status = summary.get("status", "?")
+    if status == "completed":
+        laps = summary.get("lap_times_s", "").strip("[] ")
+        times = ", ".join("%.2f s" % float(t) for t in laps.split(",") if t.strip())
+        return False, "completed" + (f" (laps: {times})" if times else "")
+    where = []
+    if "time_s" in summary:
+        where.append("t = %.2f s" % float(summary["time_s"]))
+    if "end_lap" in summary:
+        where.append("lap %d" % (int(float(summary["end_lap"])) + 1))
+    reason = REASONS.get(status, status)
+    return True, "abort: %s (%s)%s" % (reason, status, (" at " + ", ".join(where)) if where else "")
+
+
+def plot(paths, out, labels=None, x="distance", lap=None, title=None, summaries=None,
+         params=None):
+    """Draws the figure into `out` (PNG). `summaries`: per trace a summary path, a dict (keys of
+    scw simulate --summary: status, time_s, end_lap, scenario) or None; by default the summary
+    found beside each trace. `params`: the parameter set's name for the title."""
+    traces = [load(p) for p in paths]
+    if summaries is None:
+        summaries = [find_summary(p) for p in paths]
+    summaries = [load_summary(s) if isinstance(s, str) else s for s in summaries]
+    for cols in traces:  # the x axis of the whole run, before a lap is selected
+        cols["_x"] = distance(cols) if x == "distance" else cols["t_s"]
+    ends_at = [cols["t_s"][-1] for cols in traces]
+    traces = [select_lap(c, lap) for c in traces]
     multi = len(traces) > 1
-    n_rows = len(PANELS) + (1 if multi else 0)
-    heights = [1] * len(PANELS) + ([0.25 * len(traces) + 0.2] if multi else [])
-    fig, axes = plt.subplots(n_rows, 1, figsize=(9, 2.0 * len(PANELS) + (0.6 if multi else 0)),
-                             sharex=True, gridspec_kw={"height_ratios": heights})
+    if not labels:
+        labels = [s["scenario"] if s and "scenario" in s and not multi else readable(p)
+                  for p, s in zip(paths, summaries)]
+    ends = [end_text(s) for s in summaries]
+
+    panels = [("speed", 1.0), ("lateral", 0.8), ("heading", 0.8), ("beta", 1.0), ("slip", 1.0),
+              ("brake", 1.0), ("int", 0.2 + (0.35 if multi else 0.16) * (len(traces) if multi else
+                                                                          len(INTERVENTIONS)))]
+    fig, axes = plt.subplots(len(panels), 1, figsize=(10, FIG_H), sharex=True,
+                             gridspec_kw={"height_ratios": [h for _, h in panels]})
+    ax = {name: a for (name, _), a in zip(panels, axes)}
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for k, (cols, label) in enumerate(zip(traces, labels)):
-        xs = distance(cols) if x == "distance" else cols["t_s"]
-        color = colors[k % len(colors)] if multi else "k"
-        for ax, (col, _) in zip(axes, PANELS):
-            ax.plot(xs, cols[col], color=color, lw=1.0, label=label)
-        if not multi:
-            for col, name, c in INTERVENTIONS:
-                if col not in cols:
-                    continue
-                first = True
-                for a, b in spans(xs, cols[col]):
-                    for ax in axes[:len(PANELS)]:
-                        ax.axvspan(a, b, color=c, alpha=0.15, lw=0,
-                                   label=name if first and ax is axes[0] else None)
-                    first = False
-        else:
-            bar = axes[-1]
-            y = len(traces) - 1 - k
-            for col, shade in (("esc_active", 0.9), ("cs_active", 0.35)):
-                if col in cols:
-                    for a, b in spans(xs, cols[col]):
-                        bar.axvspan(a, b, ymin=(y + 0.15) / len(traces),
-                                    ymax=(y + 0.85) / len(traces), color=color, alpha=shade, lw=0)
-    for ax, (_, ylabel) in zip(axes, PANELS):
-        ax.set_ylabel(ylabel, fontsize=9)
-        ax.grid(True, alpha=0.3)
-    axes[0].legend(fontsize=8, ncol=4, loc="upper right")
+    xlabel = "distance driven [m]" if x == "distance" else "time [s]"
+
+    for k, (cols, label, (aborted, _)) in enumerate(zip(traces, labels, ends)):
+        xs = cols["_x"]
+        color = colors[k % len(colors)] if multi else "black"
+        ax["speed"].plot(xs, cols["vx_mps"], color=color, lw=1.0,
+                         label=label if multi else "actual")
+        if "v_target_mps" in cols:
+            ax["speed"].plot(xs, cols["v_target_mps"], color=color if multi else "tab:green",
+                             lw=0.9, ls="--", label=None if multi else "target (reference)")
+        ax["lateral"].plot(xs, cols["lateral_error_m"], color=color, lw=1.0)
+        ax["heading"].plot(xs, cols["heading_error_deg"], color=color, lw=1.0)
+        ax["beta"].plot(xs, cols["beta_deg"], color=color, lw=1.0)
+
+        slip = wheel_cols(cols, "slip_{}_pct")
+        req, app = wheel_cols(cols, "p_req_{}_bar"), wheel_cols(cols, "p_out_{}_bar")
+        if slip is not None:
+            if multi:
+                s = np.vstack(slip)
+                idx = np.nanargmax(np.abs(np.nan_to_num(s)), axis=0)
+                ax["slip"].plot(xs, s[idx, np.arange(s.shape[1])], color=color, lw=0.9)
+            else:
+                for (w, name, c), v in zip(WHEELS, slip):
+                    ax["slip"].plot(xs, v, color=c, lw=0.9, label=name)
+        if req is not None and app is not None:
+            if multi:
+                ax["brake"].plot(xs, np.sum(req, axis=0), color=color, lw=0.9, ls="--")
+                ax["brake"].plot(xs, np.sum(app, axis=0), color=color, lw=1.0)
+            else:
+                for (w, name, c), r, a in zip(WHEELS, req, app):
+                    ax["brake"].plot(xs, r, color=c, lw=0.8, ls="--")
+                    ax["brake"].plot(xs, a, color=c, lw=1.0, label=name)
+
+        # Interventions: one row per subsystem (one trace) or one row per trace, four lanes.
+        n_rows = len(traces) if multi else len(INTERVENTIONS)
+        for j, (col, name, c) in enumerate(INTERVENTIONS):
+            if col not in cols:
+                continue
+            if multi:
+                row = n_rows - 1 - k
+                lo = row + 0.1 + 0.2 * (len(INTERVENTIONS) - 1 - j)  # ESC on top
+                ymin, ymax = lo / n_rows, (lo + 0.18) / n_rows
+            else:
+                row = n_rows - 1 - j
+                ymin, ymax = (row + 0.15) / n_rows, (row + 0.85) / n_rows
+            for a, b in spans(xs, cols[col]):
+                ax["int"].axvspan(a, b, ymin=ymin, ymax=ymax, color=c, lw=0)
+
+        # Lap boundaries.
+        laps = cols["lap"]
+        starts = [0] + [i + 1 for i in np.nonzero(np.diff(laps) > 0)[0]]
+        for i in starts:
+            if i > 0:
+                for a in axes:
+                    a.axvline(xs[i], color="0.45", ls=":", lw=0.9)
+            if k == 0:
+                ax["speed"].text(xs[i], 0.97, f" lap {int(laps[i]) + 1}", fontsize=8,
+                                 color="0.3", va="top", transform=ax["speed"].get_xaxis_transform())
+        # The abort point: where the trace ends, with the reason from the summary.
+        if aborted and cols["t_s"][-1] == ends_at[k]:
+            for a in axes:
+                a.axvline(xs[-1], color=color if multi else "darkred", lw=1.2)
+            ax["beta"].plot([xs[-1]], [cols["beta_deg"][-1]], "x", color="darkred", ms=8,
+                            mew=2)
+            if not multi:
+                short = "abort: " + (summaries[k] or {}).get("status", "?").replace("_", " ")
+                ax["speed"].annotate(short, xy=(xs[-1], 1.0), xycoords=("data", "axes fraction"),
+                                     xytext=(-4, -4), textcoords="offset points", ha="right",
+                                     va="top", fontsize=8.5, color="darkred",
+                                     bbox=dict(boxstyle="round,pad=0.25", fc="white",
+                                               ec="darkred", lw=0.8))
+
+    units = [("speed", "speed [m/s]"), ("lateral", "lateral error [m]"),
+             ("heading", "heading error [deg]"), ("beta", "sideslip β [deg]"),
+             ("slip", "longitudinal slip [%]" + ("\n(largest |slip| of\nthe four wheels)"
+                                                if multi else "")),
+             ("brake", "brake pressure [bar]" + ("\n(sum of the four\nwheels)" if multi else ""))]
+    for name, ylabel in units:
+        ax[name].set_ylabel(ylabel, fontsize=9)
+        ax[name].grid(True, alpha=0.3)
+    for name in ("slip", "brake"):
+        if not ax[name].lines:
+            ax[name].text(0.5, 0.5, "not in this trace", ha="center", va="center",
+                          transform=ax[name].transAxes, color="0.4")
+    ax["int"].set_ylim(0, 1)
     if multi:
-        bar = axes[-1]
-        bar.set_yticks([(len(traces) - 1 - k + 0.5) / len(traces) for k in range(len(traces))])
-        bar.set_yticklabels(labels, fontsize=8)
-        bar.set_ylim(0, 1)
-        bar.set_ylabel("ESC (dark)\nCS (light)", fontsize=8)
-    axes[-1].set_xlabel("distance driven [m]" if x == "distance" else "time [s]")
-    if title:
-        axes[0].set_title(title)
-    fig.tight_layout()
+        n = len(traces)
+        ax["int"].set_yticks([(n - 1 - k + 0.5) / n for k in range(n)])
+        ax["int"].set_yticklabels(labels, fontsize=8)
+        ax["int"].set_ylabel("interventions\n(lanes: ESC, CS,\nABS, TC)", fontsize=9)
+    else:
+        n = len(INTERVENTIONS)
+        ax["int"].set_yticks([(n - 1 - j + 0.5) / n for j in range(n)])
+        ax["int"].set_yticklabels([name for _, name, _ in INTERVENTIONS], fontsize=8)
+        ax["int"].set_ylabel("active", fontsize=9)
+    ax["int"].grid(True, axis="x", alpha=0.3)
+
+    if title is None:
+        scen = sorted({s["scenario"] for s in summaries if s and "scenario" in s})
+        what = ("scenario " + ", ".join(scen)) if scen else "scenario: not recorded (--summary)"
+        title = f"{what} — parameters: {params or 'not given (--params)'}"
+        if not multi:
+            title += "\n" + ends[0][1]
+        if lap is not None:
+            title += f" — lap {lap + 1} only"
+    elif params:
+        title += f" — parameters: {params}"
+    # Legends in words: lines of each panel (one trace) or the traces once (several).
+    style = [Line2D([], [], color="0.3", ls="--", lw=0.9, label="requested"),
+             Line2D([], [], color="0.3", lw=1.0, label="applied")]
+    if multi:
+        handles = [Line2D([], [], color=colors[k % len(colors)], lw=1.2,
+                          label=lab + ("" if ends[k][0] is None else f" — {ends[k][1]}"))
+                   for k, lab in enumerate(labels)]
+        handles.append(Line2D([], [], color="0.3", ls="--", lw=0.9, label="target speed"))
+        handles += [Patch(color=c, label=nm + " active") for _, nm, c in INTERVENTIONS]
+        below_title = 1.0 - (0.15 + 0.22 * (1 + title.count("\n"))) / FIG_H
+        fig.legend(handles=handles[:len(labels) + 1], fontsize=8, loc="upper left",
+                   frameon=False, bbox_to_anchor=(0.08, below_title))
+        fig.legend(handles=handles[len(labels) + 1:], fontsize=8, loc="upper right",
+                   frameon=False, ncol=2, bbox_to_anchor=(0.98, below_title))
+        ax["brake"].legend(handles=style, fontsize=8, loc="upper right", ncol=2)
+    else:
+        ax["speed"].legend(fontsize=8, loc="lower left", ncol=2, framealpha=0.9)
+        ax["slip"].legend(fontsize=8, loc="lower left", ncol=4, framealpha=0.9)
+        ax["brake"].legend(handles=[Line2D([], [], color=c, lw=1.0, label=nm)
+                                    for _, nm, c in WHEELS] + style,
+                           fontsize=8, loc="upper right", ncol=3, framealpha=0.9)
+    axes[-1].set_xlabel(xlabel)
+
+    fig.suptitle(title, fontsize=11, y=1.0 - 0.1 / FIG_H, va="top")
+    # Room at the top for the title (and the legends of several traces), in inches.
+    header = 0.1 + 0.18 * (1 + title.count("\n")) + (0.16 * (len(labels) + 1) if multi else 0)
+    fig.tight_layout(rect=(0, 0, 1, 1.0 - header / FIG_H))
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
-    fig.savefig(out, dpi=120)
+    fig.savefig(out, dpi=110, metadata={"Software": None})
     plt.close(fig)
     return out
 
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("traces", nargs="+", help="trace CSV files")
+    p.add_argument("traces", nargs="+", help="trace CSV files (scw simulate --trace)")
     p.add_argument("-o", "--out", help="output PNG (default: the first trace with .png)")
-    p.add_argument("--labels", help="comma-separated labels (default: file names)")
+    p.add_argument("--summary", action="append",
+                   help="run summary of a trace (scw simulate --summary), once per trace in "
+                        "order (default: <trace>.yaml, <trace>_summary.yaml or "
+                        "<trace>.summary.yaml beside it)")
+    p.add_argument("--params", help="name of the stability parameter set, for the title")
+    p.add_argument("--labels", help="comma-separated legend labels (default: from the summary "
+                                    "or the sweep's file name)")
     p.add_argument("--x", choices=["distance", "time"], default="distance")
     p.add_argument("--lap", type=int, help="only this lap (0-based, the trace's lap column)")
-    p.add_argument("--title")
+    p.add_argument("--title", help="title instead of scenario, parameters and end of the run")
     args = p.parse_args(argv)
     labels = args.labels.split(",") if args.labels else None
     if labels and len(labels) != len(args.traces):
         p.error(f"--labels has {len(labels)} names for {len(args.traces)} traces")
-    for t in args.traces:
+    if args.summary and len(args.summary) != len(args.traces):
+        p.error(f"--summary given {len(args.summary)} times for {len(args.traces)} traces")
+    for t in args.traces + (args.summary or []):
         if not os.path.isfile(t):
-            p.error(f"no such trace file: {t}")
+            p.error(f"no such file: {t}" if not os.path.exists(t) else f"not a regular file: {t}")
     out = args.out or os.path.splitext(args.traces[0])[0] + ".png"
-    plot(args.traces, out, labels, args.x, args.lap, args.title)
+    try:
+        plot(args.traces, out, labels, args.x, args.lap, args.title, args.summary, args.params)
+    except TraceError as e:
+        print(f"plot_trace.py: error: {e}", file=sys.stderr)
+        return 2
     print(f"wrote {out}")
     return 0
 

@@ -7,8 +7,14 @@
 //
 // Thread safety: an evaluator is immutable after construction; Evaluate may be called from one
 // thread at a time (it owns the worker threads of its call).
+//
+// Progress: FromEntries and Evaluate optionally report (jobs done, jobs in the call) after every
+// finished job, from the worker threads but never two calls at once, with `done` increasing by 1
+// from 1 to the total. The callback only observes: the results do not depend on it (or on its
+// timing), so they stay bit-identical for any thread count.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -28,17 +34,23 @@ struct SetEvaluation {
   std::string invalid;               ///< non-empty: the set was rejected (first problem)
 };
 
+/// Progress of one batch: (jobs finished, jobs in the batch). See the header comment.
+using BatchProgress = std::function<void(int done, int total)>;
+
 class BatchEvaluator {
  public:
   BatchEvaluator(std::vector<ResolvedScenario> scenarios, std::vector<double> weights,
                  params::CostWeights cost, int threads = 0);
 
-  /// Resolves the entries of a set (training or held-out) in parallel.
+  /// Resolves the entries of a set (training or held-out) in parallel; `progress` counts the
+  /// resolved scenarios.
   static BatchEvaluator FromEntries(const std::vector<ScenarioEntry>& entries,
                                     const std::string& base_dir, const params::CostWeights& cost,
-                                    int threads = 0);
+                                    int threads = 0, const BatchProgress& progress = {});
 
-  std::vector<SetEvaluation> Evaluate(const std::vector<params::StabilityParams>& sets) const;
+  /// Every set on every scenario (sets.size() × scenarios jobs); `progress` counts the runs.
+  std::vector<SetEvaluation> Evaluate(const std::vector<params::StabilityParams>& sets,
+                                      const BatchProgress& progress = {}) const;
   SetEvaluation Evaluate(const params::StabilityParams& set) const;
 
   const std::vector<ResolvedScenario>& scenarios() const { return scenarios_; }

@@ -14,24 +14,30 @@ namespace scw::params {
 #endif
 
 namespace {
-// Two rows of the table over b. Stops as soon as a whole row reaches the limit: every later cell
-// can only be larger.
+// Three rows of the table over b (the transposition looks two rows back). Stops as soon as no
+// later cell can fall below the limit: every cell of row i+1 comes from row i (+0 or +1) or, by a
+// transposition, from row i-1 (+1).
 template <class Row>
 SCW_NO_FUZZ_COVERAGE std::size_t Distance(std::string_view a, std::string_view b, std::size_t limit,
-                                          Row& prev, Row& cur) {
+                                          Row& back, Row& prev, Row& cur) {
   const std::size_t lb = b.size();
   for (std::size_t j = 0; j <= lb; ++j) prev[j] = j;
+  std::size_t prev_min = 0;
   for (std::size_t i = 1; i <= a.size(); ++i) {
     cur[0] = i;
     std::size_t row_min = i;
     for (std::size_t j = 1; j <= lb; ++j) {
       const std::size_t del = prev[j] + 1, ins = cur[j - 1] + 1;
       const std::size_t rep = prev[j - 1] + (a[i - 1] != b[j - 1] ? 1u : 0u);
-      const std::size_t d = del < ins ? (del < rep ? del : rep) : (ins < rep ? ins : rep);
+      std::size_t d = del < ins ? (del < rep ? del : rep) : (ins < rep ? ins : rep);
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] && back[j - 2] + 1 < d)
+        d = back[j - 2] + 1;
       cur[j] = d;
       if (d < row_min) row_min = d;
     }
-    if (row_min >= limit) return limit;
+    if (row_min >= limit && prev_min + 1 >= limit) return limit;
+    prev_min = row_min;
+    std::swap(back, prev);
     std::swap(prev, cur);
   }
   return prev[lb];
@@ -43,11 +49,11 @@ std::size_t EditDistance(std::string_view a, std::string_view b, std::size_t lim
   if ((la > lb ? la - lb : lb - la) >= limit) return limit;  // at least the length difference
   constexpr std::size_t kSmall = 128;
   if (lb < kSmall) {
-    std::array<std::size_t, kSmall> prev, cur;
-    return Distance(a, b, limit, prev, cur);
+    std::array<std::size_t, kSmall> back, prev, cur;
+    return Distance(a, b, limit, back, prev, cur);
   }
-  std::vector<std::size_t> prev(lb + 1), cur(lb + 1);
-  return Distance(a, b, limit, prev, cur);
+  std::vector<std::size_t> back(lb + 1), prev(lb + 1), cur(lb + 1);
+  return Distance(a, b, limit, back, prev, cur);
 }
 
 std::string ClosestWord(std::string_view word, const std::vector<std::string_view>& candidates,

@@ -10,9 +10,10 @@
 
 namespace scw::params {
 
-/// Levenshtein distance of a and b (insertions, deletions, substitutions) when it is below
-/// `limit`; otherwise some value ≥ `limit` (the search stops early). Allocation-free for words of
-/// up to 127 characters.
+/// Edit distance of a and b counting insertions, deletions, substitutions and swaps of two
+/// neighbouring characters (optimal string alignment: "tnue" is one edit from "tune") when it is
+/// below `limit`; otherwise some value ≥ `limit` (the search stops early). Allocation-free for
+/// words of up to 127 characters.
 std::size_t EditDistance(std::string_view a, std::string_view b,
                          std::size_t limit = std::numeric_limits<std::size_t>::max());
 

@@ -1,5 +1,5 @@
 // Ctrl-C during `scw tune`, end to end with the built program: SIGINT once the evaluation log has
-// rows → the process exits by itself (0: an interrupted run is a result), the log is a valid CSV
+// rows → the process exits by itself (130, after writing its outputs), the log is a valid CSV
 // of whole rows, the best-so-far params files exist and pass `scw params check`; then
 // `--resume DIR/evaluations.csv` with the same options completes in a fresh folder and its log
 // starts with exactly the interrupted run's rows.
@@ -119,7 +119,7 @@ TEST(TuneInterruptTest, CtrlCKeepsLogAndBestAndResumeContinues) {
   const int status = Wait(pid, std::chrono::seconds(300));
   ASSERT_NE(status, -1) << "scw tune did not exit after SIGINT";
   ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
-  EXPECT_EQ(WEXITSTATUS(status), 0) << Slurp((dir / "run1.out").string());
+  EXPECT_EQ(WEXITSTATUS(status), 130) << Slurp((dir / "run1.out").string());
 
   // The log: header + whole rows, fewer than the budget.
   const std::string text1 = Slurp(log1);

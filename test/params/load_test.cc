@@ -224,15 +224,19 @@ TEST(LoadTest, OptionalKeysKeepDefaultsAndAreTracked) {
 namespace scw::params {
 namespace {
 
-// Full Levenshtein table: the reference the bounded search in SuggestKey must agree with.
+// Full table (Levenshtein plus swaps of neighbours): the reference the bounded search in SuggestKey
+// must agree with.
 std::size_t FullEditDistance(const std::string& a, const std::string& b) {
   std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
   for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
   for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
   for (std::size_t i = 1; i <= a.size(); ++i)
-    for (std::size_t j = 1; j <= b.size(); ++j)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
       d[i][j] = std::min(
           {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0u : 1u)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
   return d[a.size()][b.size()];
 }
 
@@ -304,6 +308,8 @@ TEST(LoadTest, EditDistanceStopsAtItsLimitAndIsExactBelowIt) {
   EXPECT_EQ(EditDistance("abc", "abc"), 0u);
   EXPECT_GE(EditDistance("kitten", "sitting", 2), 2u);
   EXPECT_EQ(EditDistance("kitten", "sitting", 4), 3u);
+  EXPECT_EQ(EditDistance("tnue", "tune"), 1u);  // a swap of neighbours is one edit
+  EXPECT_EQ(EditDistance("ca", "abc"), 3u);
   const std::string long_a(300, 'a'), long_b = std::string(299, 'a') + "b";
   EXPECT_EQ(EditDistance(long_a, long_b), 1u);  // beyond the stack rows
   EXPECT_EQ(ClosestWord("tnue", {"simulate", "tune", "sweep"}, 3), "tune");

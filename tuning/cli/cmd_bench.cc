@@ -13,6 +13,7 @@
 #include "plant/vehicle/maneuver.h"
 #include "plant/vehicle/vehicle.h"
 #include "tuning/cli/command.h"
+#include "tuning/cli/options.h"
 #include "tuning/closed_loop.h"
 #include "tuning/evaluator.h"
 #include "tuning/scenario.h"
@@ -128,14 +129,12 @@ void AddBench(CLI::App& app) {
                 "The plant alone driving its reference manoeuvre; prints 'real-time factor: N'");
   cmd->add_flag("--evaluator", o->evaluator,
                 "Tuning evaluations per second with 1 and 2 threads (default training set)");
-  cmd->add_option("--evaluations", o->evaluations, "Evaluations per measurement (--evaluator)")
-      ->check(CLI::Range(1, 1000));
-  cmd->add_option("--vehicle", o->vehicle, "Vehicle file (default: built-in EAV24 set)")
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--duration", o->duration, "Simulated time per run [s]")
-      ->check(CLI::Range(1.0, 1e6));
-  cmd->add_option("--repeat", o->repeat, "Runs; the fastest is reported")
-      ->check(CLI::Range(1, 100));
+  WholeNumberIn(
+      cmd->add_option("--evaluations", o->evaluations, "Evaluations per measurement (--evaluator)"),
+      1, 1000);
+  cmd->add_option("--vehicle", o->vehicle, "Vehicle file (default: built-in EAV24 set)");
+  NumberIn(cmd->add_option("--duration", o->duration, "Simulated time per run [s]"), 1.0, 1e6);
+  WholeNumberIn(cmd->add_option("--repeat", o->repeat, "Runs; the fastest is reported"), 1, 100);
   cmd->callback([o] {
     if (o->plant) return SetExitCode(BenchPlant(*o));
     if (o->evaluator) return SetExitCode(BenchEvaluator(*o));

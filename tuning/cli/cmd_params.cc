@@ -2,6 +2,7 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "params/io/docs.h"
 #include "params/io/load.h"
@@ -15,6 +16,7 @@
 #include "params/schema/tracking_params.h"
 #include "params/schema/vehicle_params.h"
 #include "tuning/cli/command.h"
+#include "tuning/cli/options.h"
 
 namespace scw::cli {
 namespace {
@@ -129,7 +131,19 @@ int Check(const ParamsOptions& o) {
         for (const auto& pr : e.problems()) rep.findings.push_back({true, pr.path, pr.message, 0});
     }
   }
-  std::cout << rep.Format(o.file);
+  // The format of every bad-input message (as `params validate`): errors under
+  // "error: invalid input" as `file: key: rule (line N)`; warnings as `warning: file: ...`.
+  std::vector<std::string> errors;
+  for (const auto& f : rep.findings) {
+    std::string line = o.file + ": " + (f.key.empty() ? "" : f.key + ": ") + f.message;
+    if (f.line > 0 && f.message.find("(line ") == std::string::npos)
+      line += " (line " + std::to_string(f.line) + ")";
+    if (f.error)
+      errors.push_back(line);
+    else
+      std::cerr << "warning: " << line << '\n';
+  }
+  if (!errors.empty()) PrintBadInput(std::cerr, errors);
   std::cout << o.file << ": " << rep.errors() << " error(s), " << rep.warnings() << " warning(s)\n";
   return rep.ok() ? kExitOk : kExitBadInput;
 }
@@ -153,7 +167,8 @@ int Diff(const ParamsOptions& o) {
               << " [" << std::get<2>(va[i]) << "]\n";
   }
   std::cerr << changed << " key(s) differ\n";
-  return kExitOk;
+  constexpr int kExitDiffer = 1;  // as diff(1): 0 same, 1 different, 2 trouble
+  return changed == 0 ? kExitOk : kExitDiffer;
 }
 
 template <class P>
@@ -268,7 +283,10 @@ void AddParams(CLI::App& app) {
   AddKindOption(chk, o.get());
   chk->callback([o] { SetExitCode(Dispatch<CheckAction>(*o)); });
 
-  auto* dif = cmd->add_subcommand("diff", "Print the keys whose values differ, with units");
+  auto* dif = cmd->add_subcommand(
+      "diff",
+      "Print the keys whose values differ, with units (exit 0: same values, 1: values differ, "
+      "2: a file is unreadable or invalid; as diff)");
   dif->add_option("A", o->file, "First params file")->required();
   dif->add_option("B", o->file_b, "Second params file")->required();
   AddKindOption(dif, o.get());

@@ -1,4 +1,5 @@
 // scw sweep — a scenario over a grid of overrides and named configurations (tuning/sweep/sweep.h).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -8,6 +9,8 @@
 
 #include "params/io/write.h"
 #include "tuning/cli/command.h"
+#include "tuning/cli/options.h"
+#include "tuning/cli/progress.h"
 #include "tuning/motion_factory.h"
 #include "tuning/sweep/sweep.h"
 
@@ -19,6 +22,7 @@ struct SweepOptions {
   std::vector<std::string> overrides, vary, configs, trace_at;
   bool stop_at_first_abort = false, list_controllers = false;
   int threads = 0, processes = 0, worker_fd = 0;
+  std::string progress = "auto";
 };
 
 std::string Fixed(double x, int digits) {
@@ -65,24 +69,44 @@ int RunSweepCommand(const SweepOptions& o) {
   exec.threads = o.threads;
   exec.processes = o.processes;
   exec.worker_command = {"/proc/self/exe", "sweep"};
+  ProgressLine progress(o.progress);
+  if (progress.enabled())
+    exec.on_progress = [&progress](const tuning::SweepProgress& p) {
+      progress.Update({p.phase == "run" ? "sweep" : p.phase, static_cast<double>(p.done),
+                       static_cast<double>(p.total), "runs", "", -1.0});
+    };
   const tuning::SweepResult r = tuning::RunSweep(d, exec, to);
+  progress.Finish();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!o.out.empty()) tuning::WriteSweepCsv(o.out, r);
 
+  // The table, its text columns as wide as their longest entry.
+  std::size_t w_config = 0, w_status = 0;
+  std::vector<std::size_t> w_axis(r.axes.size(), 0);
+  for (const auto& run : r.runs) {
+    if (!run.reported) continue;
+    w_config =
+        std::max(w_config, r.configs[static_cast<std::size_t>(run.point.config)].name.size());
+    w_status = std::max(w_status, std::string(tuning::RunStatusName(run.metrics.status)).size());
+    for (std::size_t i = 0; i < r.axes.size(); ++i)
+      w_axis[i] = std::max(w_axis[i],
+                           r.axes[i].values[static_cast<std::size_t>(run.point.value[i])].size());
+  }
   int reported = 0;
   for (const auto& run : r.runs) {
     if (!run.reported) continue;
     ++reported;
     const auto& m = run.metrics;
-    std::cout << std::left << std::setw(14)
+    std::cout << std::left << std::setw(static_cast<int>(w_config))
               << r.configs[static_cast<std::size_t>(run.point.config)].name;
     for (std::size_t i = 0; i < r.axes.size(); ++i)
-      std::cout << ' ' << r.axes[i].key << '='
+      std::cout << "  " << r.axes[i].key << '=' << std::setw(static_cast<int>(w_axis[i]))
                 << r.axes[i].values[static_cast<std::size_t>(run.point.value[i])];
-    std::cout << "  " << std::setw(13) << tuning::RunStatusName(m.status) << " mean lap "
-              << std::right << std::setw(7) << Fixed(m.MeanLapTime(), 3) << " s  max|beta| "
-              << std::setw(5) << Fixed(m.max_abs_sideslip * 180.0 / M_PI, 2) << " deg  slip f/r "
-              << Fixed(m.max_slip_front, 1) << '/' << Fixed(m.max_slip_rear, 1) << " %\n";
+    std::cout << "  " << std::setw(static_cast<int>(w_status)) << tuning::RunStatusName(m.status)
+              << "  mean lap " << std::right << std::setw(7) << Fixed(m.MeanLapTime(), 3)
+              << " s  max|beta| " << std::setw(5) << Fixed(m.max_abs_sideslip * 180.0 / M_PI, 2)
+              << " deg  slip f/r " << std::setw(5) << Fixed(m.max_slip_front, 1) << '/'
+              << std::setw(5) << Fixed(m.max_slip_rear, 1) << " %\n";
   }
   std::cout << std::flush;
   std::cerr << "sweep: " << r.runs.size() << " runs (" << reported << " reported), " << r.resolves
@@ -130,23 +154,25 @@ void AddSweep(CLI::App& app) {
                 "Report each series only up to and including its first abort (the paper)");
   cmd->add_option("--stability", o->stability,
                   "Stability params file (car's ROS 2 layout); overrides the scenario's");
-  cmd->add_option("-o,--out", o->out, "Write the results table (CSV, one row per reported run)");
+  cmd->add_option("-o,--output", o->out, "Write the results table (CSV, one row per reported run)");
+  AddHiddenAlias(cmd, "--out", o->out);
   cmd->add_option("--trace-dir", o->trace_dir, "Write the traces of the selected runs here");
   cmd->add_option("--trace-at", o->trace_at,
                   "Select runs to trace: key=value with key config or a varied key (repeatable; "
                   "different keys: all must match; default: every reported run)")
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")
-      ->check(CLI::Range(0, 1024));
-  cmd->add_option("--processes", o->processes,
-                  "Run the jobs in N worker processes (copies of this scw) instead of threads: "
-                  "use for pmpc/nmpc, whose Ipopt calls are serialised within a process; same "
-                  "table as with threads (0: threads)")
-      ->check(CLI::Range(0, 256));
-  cmd->add_option("--worker-fd", o->worker_fd, "(internal) run as a worker of --processes")
-      ->group("")
-      ->check(CLI::Range(3, 1024));
+  WholeNumberIn(cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)"), 0, 1024);
+  WholeNumberIn(cmd->add_option("--processes", o->processes,
+                                "Run the jobs in N worker processes (copies of this scw) instead "
+                                "of threads: use for pmpc/nmpc, whose Ipopt calls are serialised "
+                                "within a process; same table as with threads (0: threads)"),
+                0, 256);
+  WholeNumberIn(
+      cmd->add_option("--worker-fd", o->worker_fd, "(internal) run as a worker of --processes"), 3,
+      1024)
+      ->group("");
+  AddProgressOption(cmd, &o->progress);
   cmd->add_flag("--list-controllers", o->list_controllers,
                 "Print the motion controllers (motion.controller values) and exit");
   cmd->callback([o] { SetExitCode(RunSweepCommand(*o)); });

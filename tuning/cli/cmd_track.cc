@@ -12,6 +12,7 @@
 #include "plant/track/track_csv.h"
 #include "plant/track/yas_north.h"
 #include "tuning/cli/command.h"
+#include "tuning/cli/options.h"
 #include "tuning/trajectory/racing_line.h"
 #include "tuning/trajectory/velocity_profile.h"
 
@@ -25,6 +26,12 @@ struct TrackOptions {
   double margin = 2.0;
   double v_max = 90.0;
 };
+
+std::string Fixed(double x, int digits) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(digits) << x;
+  return s.str();
+}
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() &&
@@ -106,7 +113,8 @@ int Line(const TrackOptions& o) {
   }();
   if (o.raceline.empty())
     std::cerr << "racing line: minimum curvature, " << rl.offset.size() << " offsets, "
-              << rl.evaluations << " evaluations, " << rl.seconds << " s (" << rl.status << ")\n";
+              << rl.evaluations << " evaluations, " << Fixed(rl.seconds, 2) << " s (" << rl.status
+              << ")\n";
   tuning::VelocityProfileOptions vo;
   vo.gg_scale = o.gg_scale;
   vo.v_max = o.v_max;
@@ -130,9 +138,9 @@ int Line(const TrackOptions& o) {
     vmin = std::min(vmin, v);
     vmax = std::max(vmax, v);
   }
-  std::cout << std::fixed << std::setprecision(3) << "ideal lap time: " << r.lap_time << " s (GG "
-            << o.gg_scale << ", line " << std::setprecision(1) << r.length << " m, v " << vmin
-            << " - " << vmax << " m/s)\nwrote " << o.out << '\n';
+  std::cout << std::fixed << std::setprecision(2) << "ideal lap time: " << r.lap_time << " s (GG "
+            << params::FormatNumber(o.gg_scale) << ", line " << std::setprecision(1) << r.length
+            << " m, v " << vmin << " - " << vmax << " m/s)\nwrote " << o.out << '\n';
   return kExitOk;
 }
 
@@ -155,19 +163,24 @@ void AddTrack(CLI::App& app) {
       "Minimum-curvature racing line and forward-backward g-g-v velocity profile; writes a CSV "
       "(s_m,x_m,y_m,psi_rad,kappa_radpm,v_mps,ax_mps2,ay_mps2,t_s) and prints the ideal lap time");
   line->add_option("--track", o->track, track_help);
-  line->add_option("--gg-scale", o->gg_scale, "Acceleration scaling GG (multiplies every limit)")
-      ->check(CLI::Range(0.05, 5.0));
+  // The scenario key's name (gg_scale in scenario files, --set and --vary); --gg-scale is the
+  // old spelling.
+  NumberIn(line->add_option("--gg_scale", o->gg_scale,
+                            "Acceleration scaling GG (multiplies every limit; the scenario key "
+                            "gg_scale)"),
+           0.05, 5.0);
+  NumberIn(AddHiddenAlias(line, "--gg-scale", o->gg_scale), 0.05, 5.0);
   line->add_option("--ggv", o->ggv,
                    "g-g-v table CSV: v_mps,ay_max_mps2,ax_drive_max_mps2,ax_brake_max_mps2 "
                    "(default: a representative AV-21/EAV table)");
-  line->add_option("--ggv-exponent", o->ggv_exponent,
-                   "Combination exponent p of --ggv (1 diamond, 2 ellipse)")
-      ->check(CLI::Range(1.0, 10.0));
+  NumberIn(line->add_option("--ggv-exponent", o->ggv_exponent,
+                            "Combination exponent p of --ggv (1 diamond, 2 ellipse)"),
+           1.0, 10.0);
   line->add_option("--raceline", o->raceline,
                    "Use this raceline instead of optimising (x_m,y_m or s_opt,n_opt CSV)");
-  line->add_option("--margin", o->margin, "Distance kept from each track edge [m]")
-      ->check(CLI::Range(0.0, 20.0));
-  line->add_option("--v-max", o->v_max, "Top speed [m/s]")->check(CLI::Range(5.0, 150.0));
+  NumberIn(line->add_option("--margin", o->margin, "Distance kept from each track edge [m]"), 0.0,
+           20.0);
+  NumberIn(line->add_option("--v-max", o->v_max, "Top speed [m/s]"), 5.0, 150.0);
   line->add_option("-o,--output", o->out, "Output CSV")->required();
   line->callback([o] { SetExitCode(Line(*o)); });
 }

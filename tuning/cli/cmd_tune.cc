@@ -1,14 +1,14 @@
 // scw tune — the main job: tune the stability parameters against the scenario set, compare the
 // tuned set with the starting set on training and held-out scenarios, export the car's params
 // files. scw evaluate — compare given parameter files side by side.
-#include <unistd.h>
-
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -19,9 +19,14 @@
 #include "params/io/ros2_check.h"
 #include "params/io/write.h"
 #include "tuning/cli/command.h"
+#include "tuning/cli/console.h"
+#include "tuning/cli/options.h"
+#include "tuning/cli/progress.h"
 #include "tuning/evaluator.h"
+#include "tuning/io/sha256.h"
 #include "tuning/optim/space.h"
 #include "tuning/optim/tuner.h"
+#include "tuning/plots/tune_plots.h"
 #include "tuning/report.h"
 #include "tuning/scenario_set.h"
 
@@ -36,6 +41,7 @@ extern "C" void OnSigint(int) { g_stop = true; }
 struct TuneOptions {
   std::string space, scenarios, base, algorithm = "crs2+sbplx", out, resume, node;
   std::string base_outside = "grow";
+  bool force = false;  // --out-dir may name an existing folder
   int max_evals = 180;
   double max_time = 0.0;  // opt-in: a wall-time limit makes the result depend on the machine
   int threads = 0;
@@ -43,32 +49,81 @@ struct TuneOptions {
   std::string progress = "auto";
   bool print_set = false;
   std::vector<std::string> params_files;  // evaluate
+  std::vector<std::string> labels;        // evaluate
   std::string csv;                        // evaluate
 };
 
-std::uint64_t Fnv1a(const std::string& s) {
-  std::uint64_t h = 1469598103934665603ull;
-  for (unsigned char c : s) h = (h ^ c) * 1099511628211ull;
-  return h;
-}
-std::string Hex(std::uint64_t h) {
-  char buf[17];
-  std::snprintf(buf, sizeof(buf), "%016llx", static_cast<unsigned long long>(h));
+/// "9.6 s" / "0.42 s": wall times as a person reads them.
+std::string Seconds(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, s >= 10.0 ? "%.1f s" : "%.2f s", s);
   return buf;
+}
+
+std::string Cost(double c) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", c);
+  return buf;
+}
+
+/// Reports the runs of the final comparison (or of `scw evaluate`) as one phase over several
+/// batches: `offset` runs of earlier batches are done.
+tuning::BatchProgress PhaseProgress(ProgressLine& line, const std::string& phase, int offset,
+                                    int total, const std::string& unit) {
+  if (!line.enabled()) return {};
+  return [&line, phase, offset, total, unit](int done, int) {
+    line.Update(
+        {phase, static_cast<double>(offset + done), static_cast<double>(total), unit, "", -1.0});
+  };
+}
+
+/// SHA-256 of a file's bytes, as `sha256sum` prints it ("unreadable" if it cannot be read).
+std::string FileSha256(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "unreadable";
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  return tuning::Sha256Hex(bytes.str());
+}
+
+void CreateFolder(const std::string& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create the output folder " + dir + ": " + ec.message());
+}
+
+/// Refuses, before anything is prepared or written, an --out-dir that would mix two runs: an
+/// existing file, or an existing folder that is not empty, unless the run resumes (its log is
+/// there) or --force says so.
+void CheckRunFolder(const TuneOptions& o) {
+  if (o.out.empty()) return;
+  std::error_code ec;
+  const auto st = fs::status(o.out, ec);
+  if (!fs::exists(st)) return;
+  if (!fs::is_directory(st))
+    throw ConfigError("scw tune", "--out-dir", "'" + o.out + "' exists and is not a folder");
+  if (o.resume.empty() && !o.force && !fs::is_empty(o.out, ec))
+    throw ConfigError("scw tune", "--out-dir",
+                      "the folder '" + o.out +
+                          "' already holds files (an earlier run?): choose a new folder, "
+                          "continue that run with --resume " +
+                          (fs::path(o.out) / "evaluations.csv").string() +
+                          ", or overwrite its files with --force");
 }
 
 std::string FreshRunFolder(const std::string& requested) {
   if (!requested.empty()) {
-    fs::create_directories(requested);
+    CreateFolder(requested);
     return requested;
   }
   const std::time_t now = std::time(nullptr);
   char stamp[32];
   std::strftime(stamp, sizeof(stamp), "%Y%m%d-%H%M%S", std::localtime(&now));
   std::string dir = std::string("scw-runs/tune-") + stamp;
-  for (int k = 2; fs::exists(dir); ++k)
+  std::error_code ec;
+  for (int k = 2; fs::exists(dir, ec); ++k)
     dir = std::string("scw-runs/tune-") + stamp + "-" + std::to_string(k);
-  fs::create_directories(dir);
+  CreateFolder(dir);
   return dir;
 }
 
@@ -111,6 +166,15 @@ int RunTune(const TuneOptions& o) {
     std::cout << set.ToYaml();
     return kExitOk;
   }
+  // Every argument problem is found before a folder is created or a scenario prepared.
+  try {
+    tuning::CheckTunerAlgorithm(o.algorithm);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError("scw tune", "--algorithm", e.what());
+  }
+  if (!o.resume.empty() && !std::ifstream(o.resume))
+    throw ConfigError(o.resume, "", "cannot open the resume log for reading");
+  CheckRunFolder(o);
   const tuning::ParameterSpace loaded = o.space.empty() ? tuning::ParameterSpace::Default()
                                                         : tuning::ParameterSpace::FromFile(o.space);
   std::set<std::string> present;
@@ -132,11 +196,18 @@ int RunTune(const TuneOptions& o) {
             << "\n";
   for (const auto& g : grown) std::cerr << "  note: " << g << "\n";
 
-  const auto training =
-      tuning::BatchEvaluator::FromEntries(set.training, set.base_dir, set.cost, o.threads);
-  std::cerr << "  scenarios prepared in "
-            << std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count()
-            << " s (" << training.threads() << " threads)\n";
+  const auto training = [&] {
+    ProgressLine prepare(o.progress);
+    const int n = static_cast<int>(set.training.size());
+    prepare.Update({"prepare", 0, static_cast<double>(n), "scenarios", "", -1.0});
+    return tuning::BatchEvaluator::FromEntries(
+        set.training, set.base_dir, set.cost, o.threads,
+        PhaseProgress(prepare, "prepare", 0, n, "scenarios"));
+  }();
+  std::cerr
+      << "  scenarios prepared in "
+      << Seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count())
+      << " (" << training.threads() << " threads)\n";
 
   // Objective: decode, reject invalid sets with a graded penalty, evaluate the training set.
   std::vector<std::string> extra;
@@ -184,16 +255,14 @@ int RunTune(const TuneOptions& o) {
   for (const auto& e : space.entries()) to.dimension_names.push_back("u:" + e.Label());
   to.stop = &g_stop;
   to.failure_cost = invalid_cost;
-  const bool show = o.progress == "always" || (o.progress == "auto" && ::isatty(2));
-  if (show)
+  ProgressLine progress(o.progress);
+  if (progress.enabled())
     to.on_progress = [&](const tuning::Progress& p) {
-      const double eta = p.evals > 0 ? p.elapsed_s / p.evals * (p.max_evals - p.evals) : 0.0;
-      const double eta_shown = o.max_time > 0.0 ? std::min(eta, o.max_time - p.elapsed_s) : eta;
-      std::fprintf(stderr, "\r  %-6s eval %4d/%d  best cost %.3f  elapsed %4.0f s  eta %4.0f s%s  ",
-                   p.phase.c_str(), p.evals, p.max_evals, p.best_cost, p.elapsed_s,
-                   std::max(0.0, eta_shown),
-                   o.max_time > 0.0 && eta > o.max_time - p.elapsed_s ? " (time limit)" : "");
-      std::fflush(stderr);
+      const double eta = p.evals > 0 ? p.elapsed_s / p.evals * (p.max_evals - p.evals) : -1.0;
+      const bool limited = o.max_time > 0.0 && eta > o.max_time - p.elapsed_s;
+      progress.Update({p.phase, static_cast<double>(p.evals), static_cast<double>(p.max_evals),
+                       "evals", "best cost " + Cost(p.best_cost) + (limited ? " (time limit)" : ""),
+                       limited ? std::max(0.0, o.max_time - p.elapsed_s) : eta});
     };
   g_stop = false;
   auto previous = std::signal(SIGINT, OnSigint);
@@ -205,9 +274,9 @@ int RunTune(const TuneOptions& o) {
     throw;
   }
   std::signal(SIGINT, previous);
-  if (show) std::fprintf(stderr, "\n");
+  progress.Finish();
   std::cerr << "  optimisation: " << r.evals << " evaluations (" << r.replayed
-            << " replayed), stop: " << r.stop_reason << ", best cost " << r.best_cost
+            << " replayed), stop: " << r.stop_reason << ", best cost " << Cost(r.best_cost)
             << " at evaluation " << r.best_eval << "\n";
   if (r.stop_reason == "max_time")
     std::cerr << "  note: the --max-time limit of " << o.max_time << " s stopped the run after "
@@ -223,7 +292,11 @@ int RunTune(const TuneOptions& o) {
   const std::set<std::string> changed = params::DifferingKeys(tuned, base);
   const std::vector<std::string> labels = {"baseline", "tuned"};
   const std::vector<params::StabilityParams> both = {base, tuned};
-  const auto train_res = training.Evaluate(both);
+  const int n_compare =
+      static_cast<int>(both.size() * set.training.size() + (both.size() + 1) * set.held_out.size());
+  progress.Update({"compare", 0, static_cast<double>(n_compare), "jobs", "", -1.0});
+  const auto train_res =
+      training.Evaluate(both, PhaseProgress(progress, "compare", 0, n_compare, "jobs"));
   std::string md =
       "# scw tune: comparison\n\nbaseline = " +
       (o.base.empty() ? std::string("the car's shipped parameters (built-in)") : o.base) +
@@ -232,18 +305,24 @@ int RunTune(const TuneOptions& o) {
   md += tuning::ComparisonMarkdown("Training scenarios", training, labels, train_res);
   std::string csv = tuning::ComparisonCsv("training", training, labels, train_res, true);
   std::vector<tuning::SetEvaluation> held_res;
+  const tuning::SetChange train_change = tuning::CompareSets(training, train_res[0], train_res[1]);
+  md += "\n" + tuning::SetChangeMarkdown("Training", train_change);
+  tuning::SetChange held_change;
   if (!set.held_out.empty()) {
-    const auto held =
-        tuning::BatchEvaluator::FromEntries(set.held_out, set.base_dir, set.cost, o.threads);
-    held_res = held.Evaluate(both);
+    const int n_train = static_cast<int>(both.size() * set.training.size());
+    const auto held = tuning::BatchEvaluator::FromEntries(
+        set.held_out, set.base_dir, set.cost, o.threads,
+        PhaseProgress(progress, "compare", n_train, n_compare, "jobs"));
+    held_res = held.Evaluate(
+        both, PhaseProgress(progress, "compare", n_train + static_cast<int>(set.held_out.size()),
+                            n_compare, "jobs"));
     md += tuning::ComparisonMarkdown("Held-out scenarios (not used for tuning)", held, labels,
                                      held_res);
     csv += tuning::ComparisonCsv("held_out", held, labels, held_res, false);
-    md += held_res[1].total <= held_res[0].total
-              ? "Held-out: the tuned set improves the cost.\n"
-              : "Held-out: the tuned set does NOT improve the cost (possible over-fitting to the "
-                "training scenarios); review before using it on the car.\n";
+    held_change = tuning::CompareSets(held, held_res[0], held_res[1]);
+    md += "\n" + tuning::SetChangeMarkdown("Held-out", held_change);
   }
+  progress.Finish();
   // Outputs (each atomically), with a provenance header.
   const std::string full = (fs::path(dir) / "stability_tuned.yaml").string();
   const std::string over = (fs::path(dir) / "stability_overrides.yaml").string();
@@ -280,8 +359,16 @@ int RunTune(const TuneOptions& o) {
   CheckExport(over_text, false, over);
   params::WriteFileAtomic(full, full_text);
   params::WriteFileAtomic(over, over_text);
-  params::WriteFileAtomic((fs::path(dir) / "comparison.md").string(), md);
+  // The plots read comparison.csv and evaluations.csv; comparison.md embeds them.
   params::WriteFileAtomic((fs::path(dir) / "comparison.csv").string(), csv);
+  std::string plot_message;
+  const bool plots = tuning::WriteTunePlots(dir, &plot_message);
+  if (plots)
+    md += tuning::TunePlotsMarkdown();
+  else
+    std::cerr << "  note: no plots (" << plot_message
+              << "); the run's other outputs are complete\n";
+  params::WriteFileAtomic((fs::path(dir) / "comparison.md").string(), md);
 
   std::string cmdline;
   for (const auto& a : CommandLine()) cmdline += (cmdline.empty() ? "" : " ") + a;
@@ -293,14 +380,19 @@ int RunTune(const TuneOptions& o) {
       << nlopt::version_bugfix() << "\n"
       << "command_line: " << params::QuoteString(cmdline) << "\n"
       << "base: " << params::QuoteString(o.base.empty() ? "built-in" : o.base) << "\n"
-      << "base_hash: " << Hex(Fnv1a(params::ToRosYaml(base, params::kStabilityNodeKey))) << "\n"
+      << "base_hash: "
+      << (o.base.empty() ? tuning::Sha256Hex(params::ToRosYaml(base, params::kStabilityNodeKey))
+                         : FileSha256(o.base))
+      << "\n"
       << "space: " << params::QuoteString(o.space.empty() ? "built-in default" : o.space) << "\n"
-      << "space_hash: " << Hex(Fnv1a(space.ToYaml())) << "\n"
+      << "space_hash: "
+      << (o.space.empty() ? tuning::Sha256Hex(space.ToYaml()) : FileSha256(o.space)) << "\n"
       << "base_outside_space: " << o.base_outside << "\n"
       << "grown_ranges: " << grown.size() << "\n"
       << "scenarios: "
       << params::QuoteString(o.scenarios.empty() ? "built-in default" : o.scenarios) << "\n"
-      << "scenarios_hash: " << Hex(Fnv1a(set.ToYaml())) << "\n"
+      << "scenarios_hash: "
+      << (o.scenarios.empty() ? tuning::Sha256Hex(set.ToYaml()) : FileSha256(o.scenarios)) << "\n"
       << "algorithm: " << o.algorithm << "\n"
       << "seed: " << o.seed << "\n"
       << "max_evals: " << o.max_evals << "\n"
@@ -314,47 +406,100 @@ int RunTune(const TuneOptions& o) {
       << "best_evaluation: " << r.best_eval << "\n"
       << "baseline_cost: " << params::FormatDouble(train_res[0].total) << "\n"
       << "tuned_cost: " << params::FormatDouble(train_res[1].total) << "\n";
+  man << "training_verdict: " << tuning::VerdictName(train_change.verdict) << "\n";
   if (!held_res.empty())
     man << "held_out_baseline_cost: " << params::FormatDouble(held_res[0].total) << "\n"
-        << "held_out_tuned_cost: " << params::FormatDouble(held_res[1].total) << "\n";
+        << "held_out_tuned_cost: " << params::FormatDouble(held_res[1].total) << "\n"
+        << "held_out_verdict: " << tuning::VerdictName(held_change.verdict) << "\n";
+  man << "hash_algorithm: sha256\n";
   man << "changed_keys: " << changed.size() << "\n"
-      << "tuned_hash: " << Hex(Fnv1a(params::ToRosYaml(tuned, params::kStabilityNodeKey, present)))
-      << "\n"
       << "wall_time_s: "
       << params::FormatDouble(
              std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count())
       << "\n";
+  // SHA-256 of the files as written (`sha256sum FILE` prints the same); the inputs above are
+  // hashed as files when given, as their printed form when built in.
+  man << "files_sha256:\n";
+  for (const char* f : {"evaluations.csv", "stability_tuned.yaml", "stability_overrides.yaml",
+                        "comparison.md", "comparison.csv", "convergence.png", "comparison.png"})
+    if (fs::exists(fs::path(dir) / f))
+      man << "  " << f << ": " << FileSha256((fs::path(dir) / f).string()) << "\n";
   params::WriteFileAtomic((fs::path(dir) / "manifest.yaml").string(), man.str());
-  std::cout << md;
+  std::cout << AlignMarkdownTables(md);
   std::cout << "outputs: " << dir << "/{evaluations.csv, stability_tuned.yaml, "
-            << "stability_overrides.yaml, comparison.md, comparison.csv, manifest.yaml}\n";
-  return r.stop_reason == "resume_mismatch" ? kExitBadInput : kExitOk;
+            << "stability_overrides.yaml, comparison.md, comparison.csv, "
+            << (plots ? "convergence.png, comparison.png, " : "") << "manifest.yaml}\n";
+  if (r.stop_reason == "resume_mismatch") return kExitBadInput;
+  // Ctrl-C: the outputs of the best set so far are written; exit as an interrupted program does.
+  return r.stop_reason == "interrupted" ? kExitInterrupted : kExitOk;
+}
+
+/// The column names of `scw evaluate`: --labels, else the file names (the paths as given where
+/// two files share a name). Throws ConfigError for labels that cannot name the sets.
+std::vector<std::string> EvaluateLabels(const TuneOptions& o) {
+  const std::size_t n = std::max<std::size_t>(1, o.params_files.size());
+  std::vector<std::string> labels = o.labels;
+  if (labels.empty()) {
+    if (o.params_files.empty()) return {"built-in"};
+    for (const auto& f : o.params_files) labels.push_back(fs::path(f).filename().string());
+    const auto distinct = [](const std::vector<std::string>& v) {
+      for (std::size_t i = 0; i < v.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+          if (v[i] == v[j]) return false;
+      return true;
+    };
+    if (distinct(labels)) return labels;
+    if (distinct(o.params_files)) return o.params_files;
+    throw ConfigError("scw evaluate", "PARAMS",
+                      "a file is given twice: name the sets with --labels A,B,...");
+  }
+  Problems problems;
+  if (labels.size() != n)
+    problems.Add("--labels", std::to_string(labels.size()) + " label(s) for " + std::to_string(n) +
+                                 " parameter set(s): give one label per PARAMS file, in order" +
+                                 (o.params_files.empty() ? " (none: the built-in set)" : ""));
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    if (labels[i].empty() || labels[i].find_first_of("|\n\r") != std::string::npos)
+      problems.Add("--labels", "'" + labels[i] +
+                                   "' is not a usable label (empty, or with | or a "
+                                   "line break)");
+    for (std::size_t j = 0; j < i; ++j)
+      if (labels[i] == labels[j]) problems.Add("--labels", "'" + labels[i] + "' is given twice");
+  }
+  if (!problems.empty()) throw ConfigError("scw evaluate", problems.items());
+  return labels;
 }
 
 int RunEvaluate(const TuneOptions& o) {
+  const std::vector<std::string> labels = EvaluateLabels(o);
   const tuning::ScenarioSet set = LoadSet(o.scenarios);
   std::vector<params::StabilityParams> sets;
-  std::vector<std::string> labels;
-  for (const auto& f : o.params_files) {
-    sets.push_back(LoadBase(f, nullptr));
-    labels.push_back(fs::path(f).filename().string());
-  }
-  if (sets.empty()) {
-    sets.push_back(params::StabilityParams{});
-    labels.push_back("built-in");
-  }
+  for (const auto& f : o.params_files) sets.push_back(LoadBase(f, nullptr));
+  if (sets.empty()) sets.push_back(params::StabilityParams{});
+  // One progress phase: each scenario's preparation and every run are a job.
+  ProgressLine progress(o.progress);
+  const int n_scenarios = static_cast<int>(set.training.size() + set.held_out.size());
+  const int total = n_scenarios * static_cast<int>(sets.size() + 1);
+  progress.Update({"evaluate", 0, static_cast<double>(total), "jobs", "", -1.0});
+  int done = 0;
   std::string md, csv;
   bool header = true;
   for (const auto* group : {&set.training, &set.held_out}) {
     if (group->empty()) continue;
-    const auto ev = tuning::BatchEvaluator::FromEntries(*group, set.base_dir, set.cost, o.threads);
-    const auto res = ev.Evaluate(sets);
+    const int n = static_cast<int>(group->size());
+    const auto ev = tuning::BatchEvaluator::FromEntries(
+        *group, set.base_dir, set.cost, o.threads,
+        PhaseProgress(progress, "evaluate", done, total, "jobs"));
+    done += n;
+    const auto res = ev.Evaluate(sets, PhaseProgress(progress, "evaluate", done, total, "jobs"));
+    done += n * static_cast<int>(sets.size());
     const std::string name = group == &set.training ? "training" : "held_out";
     md += tuning::ComparisonMarkdown(name, ev, labels, res);
     csv += tuning::ComparisonCsv(name, ev, labels, res, header);
     header = false;
   }
-  std::cout << md;
+  progress.Finish();
+  std::cout << AlignMarkdownTables(md);
   if (!o.csv.empty()) params::WriteFileAtomic(o.csv, csv);
   return kExitOk;
 }
@@ -364,7 +509,7 @@ void AddTune(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "tune",
       "Tune the stability parameters on the scenario set (no arguments: the built-in "
-      "space and scenarios, about 3 minutes on 2 cores) and export the car's params files");
+      "space and scenarios, about half a minute on 2 cores) and export the car's params files");
   cmd->add_option("--space", o->space, "Search space file (params/spaces/*.yaml)");
   cmd->add_option("--scenarios", o->scenarios, "Scenario set file (params/scenarios/*.yaml)");
   cmd->add_option("--base", o->base, "Starting stability params file (car's ROS 2 layout)");
@@ -376,23 +521,27 @@ void AddTune(CLI::App& app) {
                   "NLopt algorithm: crs2, isres, esch, direct_l, sbplx, neldermead, bobyqa, "
                   "cobyla, or A+B (global A, then local B)")
       ->capture_default_str();
-  cmd->add_option("--max-evals", o->max_evals, "Evaluation budget (the default run stops here)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 1000000));
-  cmd->add_option("--max-time", o->max_time,
-                  "Wall-time limit [s], opt-in (0: none; with a limit the result depends on the "
-                  "machine's speed and the final message says when it stopped the run)")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 1e7));
-  cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 1024));
-  cmd->add_option("--seed", o->seed, "Optimizer seed")->capture_default_str();
-  cmd->add_option("--out", o->out, "Output folder (default: a fresh scw-runs/tune-<time>)");
+  WholeNumberIn(cmd->add_option("--max-evals", o->max_evals,
+                                "Evaluation budget (the default run stops here)"),
+                1, 1000000)
+      ->capture_default_str();
+  NumberIn(cmd->add_option("--max-time", o->max_time,
+                           "Wall-time limit [s], opt-in (0: none; with a limit the result depends "
+                           "on the machine's speed and the final message says when it stopped "
+                           "the run)"),
+           0.0, 1e7)
+      ->capture_default_str();
+  WholeNumberIn(cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)"), 0, 1024)
+      ->capture_default_str();
+  SeedOption(cmd->add_option("--seed", o->seed, "Optimizer seed (a whole number >= 0)"))
+      ->capture_default_str();
+  cmd->add_option("--out-dir", o->out, "Output folder (default: a fresh scw-runs/tune-<time>)");
+  AddHiddenAlias(cmd, "--out", o->out);
+  cmd->add_flag("--force", o->force,
+                "Write into an --out-dir that already holds files (default: refuse, exit 2)");
   cmd->add_option("--resume", o->resume,
                   "Continue an interrupted run from its evaluations.csv (same options)");
-  cmd->add_option("--progress", o->progress, "Progress line on stderr: auto, always, never")
-      ->check(CLI::IsMember({"auto", "always", "never"}));
+  AddProgressOption(cmd, &o->progress);
   cmd->add_flag("--print-scenarios", o->print_set, "Print the scenario set as YAML and exit");
   cmd->callback([o] { SetExitCode(RunTune(*o)); });
 
@@ -401,10 +550,17 @@ void AddTune(CLI::App& app) {
       "evaluate",
       "Evaluate stability params files side by side on the training and held-out "
       "scenarios");
-  ev->add_option("PARAMS", e->params_files, "Stability params files (car's ROS 2 layout)");
+  ev->add_option("PARAMS", e->params_files,
+                 "Stability params files (car's ROS 2 layout; none: the built-in set)");
+  ev->add_option("--labels", e->labels,
+                 "Names of the sets in the table, one per PARAMS file in order (comma-separated; "
+                 "default: the file names)")
+      ->delimiter(',');
   ev->add_option("--scenarios", e->scenarios, "Scenario set file (default: built-in)");
-  ev->add_option("--threads", e->threads, "Worker threads (0: all cores)");
-  ev->add_option("--csv", e->csv, "Also write the table as CSV");
+  WholeNumberIn(ev->add_option("--threads", e->threads, "Worker threads (0: all cores)"), 0, 1024);
+  ev->add_option("-o,--output", e->csv, "Also write the table as CSV");
+  AddHiddenAlias(ev, "--csv", e->csv);
+  AddProgressOption(ev, &e->progress);
   ev->callback([e] { SetExitCode(RunEvaluate(*e)); });
 }
 

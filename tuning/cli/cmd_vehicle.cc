@@ -13,6 +13,7 @@
 #include "plant/vehicle/ggv.h"
 #include "plant/vehicle/quasi_steady.h"
 #include "tuning/cli/command.h"
+#include "tuning/cli/options.h"
 #include "tuning/plant_envelope.h"
 #include "tuning/scenario.h"
 
@@ -33,13 +34,16 @@ params::VehicleParams LoadVehicle(const std::string& path) {
                       : params::LoadPlainFile<params::VehicleParams>(path);
 }
 
-int Gg(const VehicleOptions& o) {
+void CheckSpeeds(const std::vector<double>& speeds, const std::string& cmd) {
+  for (double v : speeds)
+    if (!(v > 0.5 && v < 200.0))
+      throw ConfigError(cmd, "--speeds",
+                        params::FormatNumber(v) + " m/s is outside (0.5, 200) m/s");
+}
+
+int Gg(const VehicleOptions& o, const std::string& cmd) {
   const params::VehicleParams p = LoadVehicle(o.vehicle);
-  for (double v : o.speeds)
-    if (!(v > 0.5 && v < 200.0)) {
-      std::cerr << "error: --speeds: " << v << " m/s is outside (0.5, 200)\n";
-      return kExitBadInput;
-    }
+  CheckSpeeds(o.speeds, cmd);
   const auto table = plant::ComputeGgv(p, o.speeds);
   if (o.csv) {
     std::cout
@@ -68,13 +72,9 @@ int Gg(const VehicleOptions& o) {
   return kExitOk;
 }
 
-int Balance(const VehicleOptions& o) {
+int Balance(const VehicleOptions& o, const std::string& cmd) {
   const params::VehicleParams p = LoadVehicle(o.vehicle);
-  for (double v : o.speeds)
-    if (!(v > 0.5 && v < 200.0)) {
-      std::cerr << "error: --speeds: " << v << " m/s is outside (0.5, 200)\n";
-      return kExitBadInput;
-    }
+  CheckSpeeds(o.speeds, cmd);
   const plant::QuasiSteadyModel qs(p);
   const auto& tf = p.tires.front;
   const auto& tr = p.tires.rear;
@@ -200,50 +200,48 @@ void AddVehicle(CLI::App& app) {
       "Print the steady-state g-g-v limits the plant reaches (max lateral, braking and traction "
       "acceleration per speed), found by simulating the plant");
   gg->add_option("--vehicle", o->vehicle,
-                 "Vehicle file (params/vehicles/*.yaml); default: the built-in EAV24 set")
-      ->check(CLI::ExistingFile);
+                 "Vehicle file (params/vehicles/*.yaml); default: the built-in EAV24 set");
   gg->add_option("--speeds", o->speeds, "Speeds [m/s] (default 10 20 ... 80)")
+      ->check(FiniteNumber())
       ->delimiter(',')
       ->expected(1, -1);
   gg->add_flag("--csv", o->csv, "CSV output (speed_mps, lateral/braking/traction in m/s^2)");
-  gg->callback([o] { SetExitCode(Gg(*o)); });
+  gg->callback([o] { SetExitCode(Gg(*o, "scw vehicle gg")); });
 
   auto* bal = cmd->add_subcommand(
       "balance",
       "Print the quasi-steady balance (understeer gradient) and the combined-slip limits of the "
       "plant per speed, and the tyres' friction at nominal load");
   bal->add_option("--vehicle", o->vehicle,
-                  "Vehicle file (params/vehicles/*.yaml); default: the built-in EAV24 set")
-      ->check(CLI::ExistingFile);
+                  "Vehicle file (params/vehicles/*.yaml); default: the built-in EAV24 set");
   bal->add_option("--speeds", o->speeds, "Speeds [m/s] (default 10 20 ... 80)")
+      ->check(FiniteNumber())
       ->delimiter(',')
       ->expected(1, -1);
   bal->add_flag("--csv", o->csv, "CSV output");
-  bal->callback([o] { SetExitCode(Balance(*o)); });
+  bal->callback([o] { SetExitCode(Balance(*o, "scw vehicle balance")); });
 
   auto* env = cmd->add_subcommand(
       "envelope",
       "Print the plant's combined g-g-v envelope (drive and brake at each lateral level, from "
       "quasi-steady evaluations of the plant) and the planner's law fitted inside it");
   env->add_option("--vehicle", o->vehicle,
-                  "Vehicle file (params/vehicles/*.yaml); default: the built-in EAV24 set")
-      ->check(CLI::ExistingFile);
+                  "Vehicle file (params/vehicles/*.yaml); default: the built-in EAV24 set");
   env->add_option("--speeds", o->speeds, "Speeds [m/s] (default 10 20 ... 80)")
+      ->check(FiniteNumber())
       ->delimiter(',')
       ->expected(1, -1);
-  env->add_option("--brake-bias", o->brake_bias_front, "Front share of the braking force")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+  NumberIn(env->add_option("--brake-bias", o->brake_bias_front, "Front share of the braking force"),
+           0.0, 1.0)
+      ->capture_default_str();
   env->add_flag("--csv", o->csv, "CSV output");
   env->callback([o] { SetExitCode(Envelope(*o)); });
 
   auto* lap = cmd->add_subcommand(
       "lap", "Print the minimum-time lap at the plant's full combined limits (default track)");
   lap->add_option("--vehicle", o->vehicle,
-                  "Vehicle file (params/vehicles/*.yaml); default: the built-in EAV24 set")
-      ->check(CLI::ExistingFile);
-  lap->add_option("--track", o->track, "Track file (.yaml or .csv); default: Yas Marina North")
-      ->check(CLI::ExistingFile);
+                  "Vehicle file (params/vehicles/*.yaml); default: the built-in EAV24 set");
+  lap->add_option("--track", o->track, "Track file (.yaml or .csv); default: Yas Marina North");
   lap->callback([o] { SetExitCode(Lap(*o)); });
 
   auto* init =
@@ -267,7 +265,7 @@ void AddVehicle(CLI::App& app) {
   });
 
   auto* val = cmd->add_subcommand("validate", "Strictly load a vehicle file (exit 2 on problems)");
-  val->add_option("FILE", o->vehicle, "Vehicle file")->required()->check(CLI::ExistingFile);
+  val->add_option("FILE", o->vehicle, "Vehicle file")->required();
   val->callback([o] {
     const auto p = LoadVehicle(o->vehicle);
     std::cout << o->vehicle << ": ok (" << p.name << ")\n";

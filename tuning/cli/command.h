@@ -3,7 +3,8 @@
 // central list.
 //
 // Exit codes (all commands): 0 success, 1 a run failed (simulation aborted, optimisation error,
-// I/O failure while writing), 2 bad input (unreadable or invalid file, bad arguments).
+// I/O failure while writing), 2 bad input (unreadable or invalid file, bad arguments), 130
+// interrupted by Ctrl-C (scw tune: after writing the outputs of the best set so far).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -16,6 +17,8 @@ namespace scw::cli {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailed = 1;
 inline constexpr int kExitBadInput = 2;
+/// Stopped by Ctrl-C (128 + SIGINT, as a shell reports it) after writing what was done so far.
+inline constexpr int kExitInterrupted = 130;
 
 /// Adds one sub-command (with its options and callback) to the top-level app.
 using AddCommandFn = void (*)(CLI::App& app);

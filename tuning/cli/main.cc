@@ -1,12 +1,15 @@
 #include <algorithm>
 #include <exception>
+#include <filesystem>
 #include <iostream>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "params/io/atomic_writer.h"
 #include "params/schema/field.h"
 #include "tuning/cli/command.h"
+#include "tuning/cli/options.h"
 
 namespace scw::cli {
 namespace {
@@ -16,6 +19,125 @@ std::vector<std::pair<int, AddCommandFn>>& Registry() {
 }
 int g_exit_code = kExitOk;
 std::vector<std::string> g_command_line;
+
+std::vector<CLI::App*> Subcommands(CLI::App* app) {
+  return app->get_subcommands([](CLI::App*) { return true; });
+}
+
+std::vector<std::string> SubcommandNames(CLI::App* app) {
+  std::vector<std::string> names;
+  for (auto* s : Subcommands(app)) names.push_back(s->get_name());
+  return names;
+}
+
+std::string Join(const std::vector<std::string>& items, const std::string& sep) {
+  std::string out;
+  for (const auto& s : items) out += (out.empty() ? "" : sep) + s;
+  return out;
+}
+
+/// The commands named on the command line, outermost first (the words before the first option).
+/// Stops at the first word that is not a command of a group: `unknown` is set to it.
+struct CommandWalk {
+  std::vector<CLI::App*> path;  ///< path.front() = the program
+  std::string unknown;          ///< a word that names no command of path.back()
+  bool bare = false;            ///< path.back() is a group and nothing follows
+};
+
+CommandWalk Walk(CLI::App* app, int argc, char** argv) {
+  CommandWalk w;
+  w.path.push_back(app);
+  int i = 1;
+  for (; i < argc; ++i) {
+    const std::string a = argv[i];
+    CLI::App* node = w.path.back();
+    const auto subs = Subcommands(node);
+    if (subs.empty() || (!a.empty() && a[0] == '-')) break;
+    const auto it =
+        std::find_if(subs.begin(), subs.end(), [&](CLI::App* s) { return s->check_name(a); });
+    if (it == subs.end()) {
+      w.unknown = a;
+      return w;
+    }
+    w.path.push_back(*it);
+  }
+  w.bare = i == argc && !Subcommands(w.path.back()).empty();
+  return w;
+}
+
+std::string CommandName(const CommandWalk& w) {
+  std::string name = "scw";
+  for (std::size_t k = 1; k < w.path.size(); ++k) name += " " + w.path[k]->get_name();
+  return name;
+}
+
+std::vector<std::string> LongOptionNames(const CLI::App* app) {
+  std::vector<std::string> names;
+  for (const CLI::Option* o : app->get_options())
+    if (!o->get_group().empty())
+      for (const auto& l : o->get_lnames()) names.push_back("--" + l);
+  return names;
+}
+
+/// CLI11's message, said the way the other errors are said (`--key: rule`, lower case).
+std::vector<std::string> ArgumentProblems(const CLI::ParseError& e, const CommandWalk& w) {
+  const std::string cmd = CommandName(w);
+  std::string what = e.what();
+  std::vector<std::string> out;
+  for (const char* prefix :
+       {"The following argument was not expected: ", "The following arguments were not expected: "})
+    if (what.rfind(prefix, 0) == 0) {
+      // CLI11 lists them last first.
+      const std::string rest = what.substr(std::string(prefix).size());
+      std::vector<std::string> args;
+      std::size_t at = 0;
+      while (at < rest.size()) {
+        const std::size_t sp = rest.find(' ', at);
+        const std::string arg = rest.substr(at, sp == std::string::npos ? sp : sp - at);
+        at = sp == std::string::npos ? rest.size() : sp + 1;
+        if (!arg.empty()) args.insert(args.begin(), arg);
+      }
+      for (const auto& arg : args)
+        if (arg[0] == '-') {
+          const std::string name = arg.substr(0, arg.find('='));
+          const std::string hint = DidYouMean(name, LongOptionNames(w.path.back()));
+          out.push_back(cmd + ": unknown option '" + name + "'" +
+                        (hint.empty() ? "" : " (did you mean " + hint + "?)"));
+        }
+      // Words after an unknown option are most likely its values: name only the option then.
+      if (out.empty())
+        for (const auto& arg : args) out.push_back(cmd + ": unexpected argument '" + arg + "'");
+      return out;
+    }
+  if (what == "A subcommand is required")
+    return {cmd + ": a command is required: " + Join(SubcommandNames(w.path.back()), ", ")};
+  const std::string conv = "Could not convert: ";
+  if (what.rfind(conv, 0) == 0) {
+    const std::string rest = what.substr(conv.size());
+    const auto eq = rest.find(" = ");
+    if (eq != std::string::npos)
+      return {cmd + ": " + rest.substr(0, eq) + ": cannot read '" + rest.substr(eq + 3) + "'"};
+  }
+  if (!what.empty() && what[0] >= 'A' && what[0] <= 'Z' && what.size() > 1 && what[1] >= 'a' &&
+      what[1] <= 'z')
+    what[0] = static_cast<char>(what[0] - 'A' + 'a');
+  return {cmd + ": " + what};
+}
+
+/// "cannot create directories /x/y: Permission denied" from libstdc++'s
+/// "filesystem error: cannot create directories: Permission denied [/x/y]".
+std::string FilesystemMessage(const std::filesystem::filesystem_error& e) {
+  std::string what = e.what();
+  const std::string prefix = "filesystem error: ";
+  if (what.rfind(prefix, 0) == 0) what = what.substr(prefix.size());
+  const std::string reason = e.code().message();
+  const auto at = what.find(": " + reason);
+  std::string op = at == std::string::npos ? what.substr(0, what.find(':')) : what.substr(0, at);
+  std::string paths = e.path1().string();
+  if (!e.path2().empty()) paths += " and " + e.path2().string();
+  return op + (paths.empty() ? "" : " " + paths) + ": " + reason;
+}
+
 }  // namespace
 
 const std::vector<std::string>& CommandLine() { return g_command_line; }
@@ -36,21 +158,49 @@ int main(int argc, char** argv) {
   g_command_line.assign(argv, argv + argc);
   CLI::App app{
       "scw - stability-control workspace: design, tune and export the stability control\n"
-      "(ESC, ABS/TC slip control, countersteer) of an autonomous race car."};
-  app.set_version_flag("--version", std::string("scw ") + SCW_VERSION);
+      "(ESC, ABS/TC slip control, countersteer) of an autonomous race car.",
+      "scw"};
+  app.set_version_flag(
+      "--version", std::string("scw ") + SCW_VERSION + " (git revision " + SCW_GIT_REVISION + ")");
   app.require_subcommand(1, 1);
+  app.footer(
+      "Exit codes: 0 success, 1 a run failed (simulation aborted, optimisation error, a file\n"
+      "could not be written), 2 bad input (unreadable or invalid file, bad arguments).");
   auto commands = Registry();
   std::stable_sort(commands.begin(), commands.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
   for (const auto& [order, add] : commands) add(app);
+
+  // Command words first: an unknown one gets a suggestion, a bare group lists its commands.
+  const CommandWalk walk = Walk(&app, argc, argv);
+  if (!walk.unknown.empty()) {
+    const std::string hint = DidYouMean(walk.unknown, SubcommandNames(walk.path.back()));
+    PrintBadInput(std::cerr,
+                  {CommandName(walk) + ": unknown command '" + walk.unknown + "'" +
+                   (hint.empty() ? "" : " (did you mean " + hint + "?)")},
+                  "commands: " + Join(SubcommandNames(walk.path.back()), ", "));
+    return kExitBadInput;
+  }
+  if (walk.bare) {
+    CommandWalk parent = walk;
+    parent.path.pop_back();
+    std::cout << walk.path.back()->help(parent.path.empty() ? "" : CommandName(parent));
+    return kExitOk;
+  }
   try {
     app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? kExitOk : kExitBadInput;
+    PrintBadInput(std::cerr, ArgumentProblems(e, walk),
+                  "run '" + CommandName(walk) + " --help' for the options");
+    return kExitBadInput;
   } catch (const scw::ConfigError& e) {
     std::cerr << "error: invalid input\n" << e.what() << '\n';
     return kExitBadInput;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::cerr << "error: " << FilesystemMessage(e) << '\n';
+    return kExitFailed;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << '\n';
     return kExitFailed;

@@ -276,6 +276,12 @@ std::vector<std::string> TunerAlgorithms() {
   return out;
 }
 
+void CheckTunerAlgorithm(const std::string& spec) {
+  const auto plus = spec.find('+');
+  (void)FindAlgorithm(spec.substr(0, plus));
+  if (plus != std::string::npos) (void)FindAlgorithm(spec.substr(plus + 1));
+}
+
 TuneResult Tune(const std::vector<double>& u0, const Objective& f, const TunerOptions& o) {
   if (u0.empty()) throw std::invalid_argument("the search space has no dimension");
   if (o.max_evals <= 0) throw std::invalid_argument("max_evals must be positive");

@@ -83,5 +83,8 @@ TuneResult Tune(const std::vector<double>& u0, const Objective& f, const TunerOp
 
 /// Names accepted in TunerOptions::algorithm.
 std::vector<std::string> TunerAlgorithms();
+/// Throws std::invalid_argument (naming the known algorithms) unless `spec` is an algorithm name
+/// or A+B of two; Tune() applies the same rule.
+void CheckTunerAlgorithm(const std::string& spec);
 
 }  // namespace scw::tuning

@@ -18,6 +18,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 
 #include "params/io/write.h"
@@ -753,6 +754,17 @@ SweepResult RunSweep(const SweepDefinition& d, const SweepExecution& exec,
   const int threads = exec.threads;
   Resolutions resolutions(plan);
 
+  // Progress (reporting only): runs computed so far of the runs that will be computed.
+  std::mutex progress_mutex;
+  SweepProgress progress{"run", 0, n};
+  const auto report = [&](int more_done) {
+    if (!exec.on_progress) return;
+    const std::lock_guard<std::mutex> lock(progress_mutex);
+    progress.done += more_done;
+    exec.on_progress(progress);
+  };
+  report(0);
+
   // How a batch of runs is computed: threads of this process (resolutions first, in parallel),
   // or worker processes (each resolves what it needs).
   std::unique_ptr<WorkerPool> pool;
@@ -771,6 +783,7 @@ SweepResult RunSweep(const SweepDefinition& d, const SweepExecution& exec,
         if (!DecodeRun(payload, &run.metrics, &run.ideal_lap_time))
           throw std::runtime_error("sweep worker sent unreadable results for " + RunLabel(r, i));
         run.computed = true;
+        report(1);
       });
     };
   } else {
@@ -790,6 +803,7 @@ SweepResult RunSweep(const SweepDefinition& d, const SweepExecution& exec,
         run.metrics = RunClosedLoop(sc, sc.stability);
         run.ideal_lap_time = sc.ideal_lap_time;
         run.computed = true;
+        report(1);
       });
     };
   }
@@ -827,6 +841,16 @@ SweepResult RunSweep(const SweepDefinition& d, const SweepExecution& exec,
           if (r.runs[static_cast<std::size_t>(members[s][next[s]])].metrics.aborted())
             stopped[s] = true;
       }
+      if (exec.on_progress) {
+        // The runs still to come: those after each going series' last computed run.
+        int total = progress.done;
+        for (std::size_t s = 0; s < members.size(); ++s)
+          if (!stopped[s])
+            for (std::size_t k = next[s]; k < members[s].size(); ++k)
+              total += !r.runs[static_cast<std::size_t>(members[s][k])].computed;
+        progress.total = total;
+        report(0);
+      }
     }
   }
   if (pool) {
@@ -852,7 +876,16 @@ SweepResult RunSweep(const SweepDefinition& d, const SweepExecution& exec,
     }
     // Resolutions of the traced runs first (serially: with worker processes none exist here).
     for (int i : selected) (void)resolutions.Get(plan.run_resolve[static_cast<std::size_t>(i)]);
-    fs::create_directories(traces.dir);
+    std::error_code ec;
+    fs::create_directories(traces.dir, ec);
+    if (ec)
+      throw std::runtime_error("cannot create the trace folder " + traces.dir + ": " +
+                               ec.message());
+    {
+      const std::lock_guard<std::mutex> lock(progress_mutex);
+      progress = {"trace", 0, static_cast<int>(selected.size())};
+    }
+    report(0);
     ParallelFor(static_cast<int>(selected.size()), threads, [&](int k) {
       const int i = selected[static_cast<std::size_t>(k)];
       const ResolvedScenario sc = resolutions.Scenario(i);
@@ -863,6 +896,7 @@ SweepResult RunSweep(const SweepDefinition& d, const SweepExecution& exec,
       ro.trace = &w;
       (void)RunClosedLoop(sc, sc.stability, ro);
       w.Commit();
+      report(1);
     });
   }
   return std::move(plan.r);

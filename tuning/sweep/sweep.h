@@ -46,6 +46,7 @@
 // written then. Traces are re-run in the parent (threads).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -131,12 +132,24 @@ struct SweepTraceOptions {
   std::vector<std::string> at;
 };
 
+/// Progress of a sweep: phase "run" counts the computed runs (a run's scenario resolution is
+/// part of it), phase "trace" the traced runs. With stop_at_first_abort the run total shrinks
+/// when a series stops (its later runs are never computed).
+struct SweepProgress {
+  std::string phase;
+  int done = 0;
+  int total = 0;
+};
+
 /// Where the runs execute (see the header comment).
 struct SweepExecution {
   int threads = 0;    ///< threads of this process (0 = all cores); with processes: traces only
   int processes = 0;  ///< ≥ 1: worker processes for the runs; 0: threads
   /// Executable and leading arguments of a worker, e.g. {"/proc/self/exe", "sweep"}.
   std::vector<std::string> worker_command;
+  /// Called at the start of each phase (done = 0) and after every finished run, from the worker
+  /// threads but never two calls at once. It only observes: the results do not depend on it.
+  std::function<void(const SweepProgress&)> on_progress;
 };
 
 /// Runs the grid and writes the traces of the selected reported runs (re-run with a trace

@@ -136,5 +136,51 @@ TEST_F(TuneCliTest, RefuseNamesTheKeyOutsideTheSpaceAndSpaceShowWarns) {
   EXPECT_NE(show.find("grows the range to [0.3, 2.02]"), std::string::npos) << show;
 }
 
+TEST_F(TuneCliTest, ArgumentProblemsAreFoundBeforeAnyFolderIsCreated) {
+  const std::string run = Path("never");
+  EXPECT_EQ(RunScw("tune --scenarios " + set_ + " --algorithm crs3 --max-evals 1 --out-dir " + run,
+                   Path("alg.out")),
+            2);
+  const std::string out = Slurp(Path("alg.out"));
+  EXPECT_NE(out.find("unknown algorithm 'crs3'"), std::string::npos) << out;
+  EXPECT_FALSE(fs::exists(run));
+  EXPECT_EQ(RunScw("tune --scenarios " + set_ + " --resume " + Path("missing.csv") +
+                       " --max-evals 1 --out-dir " + run,
+                   Path("resume.out")),
+            2);
+  EXPECT_FALSE(fs::exists(run));
+  std::ofstream(Path("a_file")) << "x\n";
+  EXPECT_EQ(RunScw("tune --scenarios " + set_ + " --max-evals 1 --out-dir " + Path("a_file"),
+                   Path("file.out")),
+            2);
+  EXPECT_NE(Slurp(Path("file.out")).find("is not a folder"), std::string::npos);
+}
+
+TEST_F(TuneCliTest, AnExistingRunFolderIsRefusedUnlessForcedAndTheManifestHashesTheFiles) {
+  const std::string run = Path("run");
+  const std::string args =
+      "tune --scenarios " + set_ + " --max-evals 1 --progress never --out-dir " + run;
+  ASSERT_EQ(RunScw(args, Path("first.out")), 0) << Slurp(Path("first.out"));
+  const std::string log = Slurp(run + "/evaluations.csv");
+  EXPECT_EQ(RunScw(args, Path("second.out")), 2);
+  const std::string second = Slurp(Path("second.out"));
+  EXPECT_NE(second.find("already holds files"), std::string::npos) << second;
+  EXPECT_EQ(Slurp(run + "/evaluations.csv"), log) << "a refused run must not touch the folder";
+  EXPECT_EQ(RunScw(args + " --force", Path("forced.out")), 0) << Slurp(Path("forced.out"));
+
+  // files_sha256 equals sha256sum of each file as written.
+  const std::string manifest = Slurp(run + "/manifest.yaml");
+  for (const std::string f :
+       {"stability_tuned.yaml", "stability_overrides.yaml", "comparison.csv"}) {
+    const auto at = manifest.find("  " + f + ": ");
+    ASSERT_NE(at, std::string::npos) << manifest;
+    const std::string digest = manifest.substr(at + f.size() + 4, 64);
+    if (std::system(("sha256sum " + run + "/" + f + " > " + Path("sum.out")).c_str()) == 0) {
+      EXPECT_EQ(Slurp(Path("sum.out")).substr(0, 64), digest) << f;
+    }
+  }
+  EXPECT_NE(manifest.find("hash_algorithm: sha256"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace scw

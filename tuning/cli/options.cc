@@ -1,0 +1,150 @@
+#include "tuning/cli/options.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "params/io/suggest.h"
+#include "params/io/write.h"
+
+namespace scw::cli {
+namespace {
+
+std::string Quoted(const std::string& s) { return "'" + s + "'"; }
+
+/// Decimal whole number with an optional sign, nothing else ("0x10", "1e3", "1.0" are not).
+bool ParseWhole(const std::string& text, long long* out, bool* overflow) {
+  *overflow = false;
+  const char* b = text.data();
+  const char* e = b + text.size();
+  if (b != e && *b == '+') ++b;
+  if (b == e) return false;
+  const auto r = std::from_chars(b, e, *out);
+  if (r.ec == std::errc::result_out_of_range && r.ptr == e) *overflow = true;
+  return r.ec == std::errc() && r.ptr == e;
+}
+
+bool ParseFinite(const std::string& text, double* out) {
+  const char* b = text.data();
+  const char* e = b + text.size();
+  if (b != e && *b == '+') ++b;
+  if (b == e) return false;
+  const auto r = std::from_chars(b, e, *out);
+  return r.ec == std::errc() && r.ptr == e && std::isfinite(*out);
+}
+
+std::string Range(const std::string& lo, const std::string& hi) {
+  return "[" + lo + ", " + hi + "]";
+}
+
+}  // namespace
+
+CLI::Option* WholeNumberIn(CLI::Option* option, long long lo, long long hi) {
+  const std::string range = Range(std::to_string(lo), std::to_string(hi));
+  return option->type_name("INT in " + range)
+      ->check(CLI::Validator(
+          [lo, hi, range](std::string& text) -> std::string {
+            long long v = 0;
+            bool overflow = false;
+            if (!ParseWhole(text, &v, &overflow)) {
+              double x = 0.0;
+              if (overflow) return text + " is outside " + range;
+              return Quoted(text) +
+                     (ParseFinite(text, &x) ? " is not a whole number" : " is not a number");
+            }
+            if (v < lo || v > hi) return text + " is outside " + range;
+            text = std::to_string(v);  // CLI11 would read a leading 0 as octal
+            return "";
+          },
+          ""));
+}
+
+CLI::Option* NumberIn(CLI::Option* option, double lo, double hi) {
+  const std::string range = Range(params::FormatNumber(lo), params::FormatNumber(hi));
+  return option->type_name("NUMBER in " + range)
+      ->check(CLI::Validator(
+          [lo, hi, range](std::string& text) -> std::string {
+            double v = 0.0;
+            if (!ParseFinite(text, &v)) return Quoted(text) + " is not a number";
+            if (v < lo || v > hi) return text + " is outside " + range;
+            return "";
+          },
+          ""));
+}
+
+CLI::Validator FiniteNumber() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double v = 0.0;
+        return ParseFinite(text, &v) ? "" : Quoted(text) + " is not a number";
+      },
+      "");
+}
+
+CLI::Option* SeedOption(CLI::Option* option) {
+  return option->type_name("UINT")->check(CLI::Validator(
+      [](std::string& text) -> std::string {
+        const char* b = text.data();
+        const char* e = b + text.size();
+        if (b != e && *b == '+') ++b;
+        std::uint64_t v = 0;
+        const auto r = std::from_chars(b, e, v);
+        if (b != e && r.ptr == e && r.ec == std::errc()) {
+          text = std::to_string(v);  // CLI11 would read a leading 0 as octal
+          return "";
+        }
+        if (b != e && *b == '-') {
+          long long neg = 0;
+          bool overflow = false;
+          if (ParseWhole(text, &neg, &overflow) || overflow)
+            return text + " is negative: a seed is a whole number from 0 to " +
+                   std::to_string(std::numeric_limits<std::uint64_t>::max());
+        }
+        if (r.ec == std::errc::result_out_of_range && r.ptr == e)
+          return text + " is too large: a seed is a whole number from 0 to " +
+                 std::to_string(std::numeric_limits<std::uint64_t>::max());
+        double x = 0.0;
+        return Quoted(text) +
+               (ParseFinite(text, &x) ? " is not a whole number" : " is not a number");
+      },
+      ""));
+}
+
+void PrintBadInput(std::ostream& out, const std::vector<std::string>& lines,
+                   const std::string& hint) {
+  out << "error: invalid input\n";
+  for (const auto& l : lines) out << l << '\n';
+  if (!hint.empty()) out << hint << '\n';
+  out.flush();
+}
+
+std::string DidYouMean(const std::string& word, const std::vector<std::string>& candidates) {
+  if (word.empty()) return "";
+  const std::size_t limit = word.size() <= 4 ? 1 : 2;
+  std::string best;
+  std::size_t best_d = limit + 1;
+  for (const auto& c : candidates) {
+    const std::size_t d = params::EditDistance(word, c, best_d);
+    if (d < best_d) {
+      best_d = d;
+      best = c;
+    }
+  }
+  if (!best.empty()) return best;
+  // An unambiguous abbreviation of 3+ characters ("sim" for simulate).
+  if (word.size() >= 3) {
+    std::string only;
+    int n = 0;
+    for (const auto& c : candidates)
+      if (c.rfind(word, 0) == 0) {
+        only = c;
+        ++n;
+      }
+    if (n == 1) return only;
+  }
+  return "";
+}
+
+}  // namespace scw::cli
