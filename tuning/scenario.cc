@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <utility>
 
 #include "params/io/load.h"
 #include "params/io/override.h"
@@ -235,7 +236,11 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
 
 params::StabilityParams PrepareStability(const ResolvedScenario& sc, params::StabilityParams p) {
   InjectVehicleConstants(sc.vehicle, sc.stability_present, &p);
-  const auto& sw = sc.spec.subsystems;
+  return ApplySubsystemSwitches(std::move(p), sc.spec.subsystems);
+}
+
+params::StabilityParams ApplySubsystemSwitches(params::StabilityParams p,
+                                               const params::SubsystemSwitches& sw) {
   p.ESC.enabled = p.ESC.enabled && sw.esc;
   p.countersteer_system.enabled = p.countersteer_system.enabled && sw.cs;
   p.SlipControl.ABS.enabled = p.SlipControl.ABS.enabled && sw.abs;

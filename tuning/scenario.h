@@ -65,6 +65,10 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
 params::StabilityParams PrepareStability(const ResolvedScenario& sc,
                                          params::StabilityParams candidate);
 
+/// `p` with a subsystem enabled only where both the set and the switches enable it.
+params::StabilityParams ApplySubsystemSwitches(params::StabilityParams p,
+                                               const params::SubsystemSwitches& sw);
+
 /// Vehicle constants the car's vehicle handler injects into the stability node (spec §7.2),
 /// taken from the plant's vehicle parameters; keys in `present` are left as they are.
 void InjectVehicleConstants(const params::VehicleParams& vehicle,

@@ -75,7 +75,8 @@ int RunReplay(const ReplayOptions& o) {
       p = tuning::WithRecordedVehicle(std::move(p), report.present, setup);
       source += " with the vehicle constants of " + setup_path;
     }
-    if (use_setup) p = tuning::WithSwitches(std::move(p), setup.subsystems);
+    // release_compat is a controller option, not a key: ORed into the options above.
+    if (use_setup) p = tuning::ApplySubsystemSwitches(std::move(p), setup.subsystems);
     params::ValidateOrThrow(p, source);
     return controller::StabilityController(p, options);
   };

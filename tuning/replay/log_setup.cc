@@ -96,13 +96,4 @@ params::StabilityParams WithRecordedVehicle(params::StabilityParams p,
   return p;
 }
 
-params::StabilityParams WithSwitches(params::StabilityParams p,
-                                     const params::SubsystemSwitches& sw) {
-  p.ESC.enabled = p.ESC.enabled && sw.esc;
-  p.countersteer_system.enabled = p.countersteer_system.enabled && sw.cs;
-  p.SlipControl.ABS.enabled = p.SlipControl.ABS.enabled && sw.abs;
-  p.SlipControl.TC.enabled = p.SlipControl.TC.enabled && sw.tc;
-  return p;
-}
-
 }  // namespace scw::tuning

@@ -104,9 +104,4 @@ params::StabilityParams WithRecordedVehicle(params::StabilityParams p,
                                             const std::set<std::string>& present,
                                             const ControllerLogSetup& setup);
 
-/// `p` with the subsystem switches applied: a subsystem stays enabled only if the switch is on.
-/// (release_compat is a controller option, not a key: the caller ORs it in.)
-params::StabilityParams WithSwitches(params::StabilityParams p,
-                                     const params::SubsystemSwitches& switches);
-
 }  // namespace scw::tuning

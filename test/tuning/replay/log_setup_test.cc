@@ -32,8 +32,8 @@ TEST(ControllerLogSetup, KeysTheParamsFileSetsWinTheOthersAreRecorded) {
   params::StabilityParams file;
   file.vehicle.mass.total = 690.0;  // set by the params file
   file.ESC.kp_psi_dot = 1.25;       // not a vehicle constant: never touched
-  const params::StabilityParams p =
-      WithSwitches(WithRecordedVehicle(file, {"vehicle.mass.total"}, setup), setup.subsystems);
+  const params::StabilityParams p = ApplySubsystemSwitches(
+      WithRecordedVehicle(file, {"vehicle.mass.total"}, setup), setup.subsystems);
   EXPECT_EQ(p.vehicle.mass.total, 690.0);
   EXPECT_EQ(p.vehicle.dimension.wheelbase, 3.1);
   EXPECT_EQ(p.vehicle.drivetrain.gear_ratios, setup.vehicle.drivetrain.gear_ratios);
@@ -49,8 +49,8 @@ TEST(ControllerLogSetup, ClosedLoopSetupIsWhatTheControllerRunsWith) {
   const ControllerLogSetup setup = ClosedLoopSetup(sc, sc.stability);
   const params::StabilityParams used = PrepareStability(sc, sc.stability);
   // The built-in run loads no params file: every key is the recorded one.
-  const params::StabilityParams replayed =
-      WithSwitches(WithRecordedVehicle(params::StabilityParams{}, {}, setup), setup.subsystems);
+  const params::StabilityParams replayed = ApplySubsystemSwitches(
+      WithRecordedVehicle(params::StabilityParams{}, {}, setup), setup.subsystems);
   EXPECT_TRUE(params::DifferingKeys(replayed, used).empty());
   EXPECT_FALSE(replayed.countersteer_system.enabled);
   // ... while the node's code defaults differ from the simulated car.
