@@ -180,6 +180,21 @@ TEST_F(TuneCliTest, AnExistingRunFolderIsRefusedUnlessForcedAndTheManifestHashes
     }
   }
   EXPECT_NE(manifest.find("hash_algorithm: sha256"), std::string::npos);
+
+  // The pictures, embedded in comparison.md (when python3 with matplotlib is installed; without
+  // it the run says so once and still succeeds).
+  const std::string forced = Slurp(Path("forced.out"));
+  if (forced.find("note: no plots") != std::string::npos) {
+    EXPECT_FALSE(fs::exists(run + "/convergence.png"));
+  } else {
+    for (const char* png : {"convergence.png", "comparison.png"}) {
+      ASSERT_TRUE(fs::exists(run + "/" + png)) << png << "\n" << forced;
+      EXPECT_GT(fs::file_size(run + "/" + png), 1000u) << png;
+      EXPECT_NE(Slurp(run + "/comparison.md").find(std::string("](") + png + ")"),
+                std::string::npos)
+          << png;
+    }
+  }
 }
 
 }  // namespace
