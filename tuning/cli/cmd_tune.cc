@@ -29,6 +29,7 @@
 #include "tuning/plots/tune_plots.h"
 #include "tuning/report.h"
 #include "tuning/scenario_set.h"
+#include "tuning/set_check.h"
 
 namespace scw::cli {
 namespace {
@@ -48,6 +49,7 @@ struct TuneOptions {
   unsigned long long seed = 1;
   std::string progress = "auto";
   bool print_set = false;
+  bool check_set = false;  // --check-set: which subsystems the scenario set can see, then exit
   std::vector<std::string> params_files;  // evaluate
   std::vector<std::string> labels;        // evaluate
   std::string csv;                        // evaluate
@@ -159,6 +161,40 @@ void CheckExport(const std::string& text, bool complete, const std::string& path
                              rep.Format(path));
 }
 
+/// `scw tune --check-set`: the base set on every scenario, as it is and with each subsystem off.
+int RunCheckSet(const TuneOptions& o, const tuning::ScenarioSet& set,
+                const params::StabilityParams& base) {
+  ProgressLine progress(o.progress);
+  const int n_scenarios = static_cast<int>(set.training.size() + set.held_out.size());
+  const int total = n_scenarios * 6;  // preparation + 5 runs each
+  progress.Update({"check", 0, static_cast<double>(total), "jobs", "", -1.0});
+  int done = 0;
+  std::string md =
+      "# scw tune --check-set\n\nbase = " +
+      (o.base.empty() ? std::string("the car's shipped parameters (built-in)") : o.base) +
+      "; activations ESC/CS/ABS/TC with the base set; a subsystem decides a scenario when "
+      "switching it off turns a completed run into an abort (or the reverse) or changes the "
+      "scenario's cost by 5 % or more\n\n";
+  for (const auto* group : {&set.training, &set.held_out}) {
+    if (group->empty()) continue;
+    const int n = static_cast<int>(group->size());
+    const auto ev =
+        tuning::BatchEvaluator::FromEntries(*group, set.base_dir, set.cost, o.threads,
+                                            PhaseProgress(progress, "check", done, total, "jobs"));
+    done += n;
+    const auto check =
+        tuning::CheckSet(ev, base, 0.05, PhaseProgress(progress, "check", done, total, "jobs"));
+    done += 5 * n;
+    const bool training = group == &set.training;
+    md += tuning::SetCheckMarkdown(training ? "Training scenarios" : "Held-out scenarios", check,
+                                   training);
+    md += "\n";
+  }
+  progress.Finish();
+  std::cout << AlignMarkdownTables(md);
+  return kExitOk;
+}
+
 int RunTune(const TuneOptions& o) {
   const auto t_start = std::chrono::steady_clock::now();
   const tuning::ScenarioSet set = LoadSet(o.scenarios);
@@ -179,6 +215,7 @@ int RunTune(const TuneOptions& o) {
                                                         : tuning::ParameterSpace::FromFile(o.space);
   std::set<std::string> present;
   const params::StabilityParams base = LoadBase(o.base, &present);
+  if (o.check_set) return RunCheckSet(o, set, base);
   // The base must be exactly representable (evaluation 0 = the base set, keys the tuner leaves
   // alone stay the base values): grow ranges that do not contain it, or refuse.
   std::vector<std::string> grown;
@@ -543,6 +580,10 @@ void AddTune(CLI::App& app) {
                   "Continue an interrupted run from its evaluations.csv (same options)");
   AddProgressOption(cmd, &o->progress);
   cmd->add_flag("--print-scenarios", o->print_set, "Print the scenario set as YAML and exit");
+  cmd->add_flag("--check-set", o->check_set,
+                "Before tuning: run the base set on every scenario as it is and with each "
+                "subsystem off, print which subsystem acts in and decides which scenario, warn "
+                "about subsystems the training set cannot see, and exit");
   cmd->callback([o] { SetExitCode(RunTune(*o)); });
 
   auto e = std::make_shared<TuneOptions>();
