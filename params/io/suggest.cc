@@ -14,12 +14,11 @@ namespace scw::params {
 #endif
 
 namespace {
-// Three rows of the table over b (the transposition looks two rows back). Stops as soon as no
-// later cell can fall below the limit: every cell of row i+1 comes from row i (+0 or +1) or, by a
-// transposition, from row i-1 (+1).
-template <class Row>
+// Three rows of the table over b (the transposition looks two rows back), rotated by pointer.
+// Stops as soon as no later cell can fall below the limit: every cell of row i+1 comes from row i
+// (+0 or +1) or, by a transposition, from row i-1 (+1).
 SCW_NO_FUZZ_COVERAGE std::size_t Distance(std::string_view a, std::string_view b, std::size_t limit,
-                                          Row& back, Row& prev, Row& cur) {
+                                          std::size_t* back, std::size_t* prev, std::size_t* cur) {
   const std::size_t lb = b.size();
   for (std::size_t j = 0; j <= lb; ++j) prev[j] = j;
   std::size_t prev_min = 0;
@@ -37,8 +36,10 @@ SCW_NO_FUZZ_COVERAGE std::size_t Distance(std::string_view a, std::string_view b
     }
     if (row_min >= limit && prev_min + 1 >= limit) return limit;
     prev_min = row_min;
-    std::swap(back, prev);
-    std::swap(prev, cur);
+    std::size_t* oldest = back;
+    back = prev;
+    prev = cur;
+    cur = oldest;
   }
   return prev[lb];
 }
@@ -49,11 +50,11 @@ std::size_t EditDistance(std::string_view a, std::string_view b, std::size_t lim
   if ((la > lb ? la - lb : lb - la) >= limit) return limit;  // at least the length difference
   constexpr std::size_t kSmall = 128;
   if (lb < kSmall) {
-    std::array<std::size_t, kSmall> back, prev, cur;
-    return Distance(a, b, limit, back, prev, cur);
+    std::array<std::size_t, 3 * kSmall> rows;
+    return Distance(a, b, limit, rows.data(), rows.data() + kSmall, rows.data() + 2 * kSmall);
   }
-  std::vector<std::size_t> back(lb + 1), prev(lb + 1), cur(lb + 1);
-  return Distance(a, b, limit, back, prev, cur);
+  std::vector<std::size_t> rows(3 * (lb + 1));
+  return Distance(a, b, limit, rows.data(), rows.data() + lb + 1, rows.data() + 2 * (lb + 1));
 }
 
 std::string ClosestWord(std::string_view word, const std::vector<std::string_view>& candidates,
