@@ -133,7 +133,7 @@ void Vehicle::SlipKinematics(const StateVector& x, double c, double s, PerWheel<
   }
 }
 
-void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, const Environment& env,
+void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, const Environment* env,
                        Eval* e) const noexcept {
   e->fz = WheelLoads(x);
   e->cos_steer = std::cos(u.steer);
@@ -143,10 +143,14 @@ void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, const Environ
   std::array<const params::Mf52Params*, 4> tire_p;
   for (std::size_t i = 0; i < 4; ++i) {
     const double alpha = x[kAlpha + i];
-    // The road's factor multiplies the vehicle's; exactly 1 leaves the scaling bit for bit.
-    const double road = env.mu[i] > 0.0 && env.mu[i] < kMaxRoadFriction ? env.mu[i] : 1.0;
-    tire_in[i] = {e->fz[i], x[kKappa + i], IsLeft(i) ? alpha : -alpha, lambda_x_[i] * road,
-                  lambda_y_[i] * road};
+    tire_in[i] = {e->fz[i], x[kKappa + i], IsLeft(i) ? alpha : -alpha, lambda_x_[i], lambda_y_[i]};
+    if (env) {
+      // The road's factor multiplies the vehicle's; exactly 1 leaves the scaling bit for bit.
+      const double m = env->mu[i];
+      const double road = m > 0.0 && m < kMaxRoadFriction ? m : 1.0;
+      tire_in[i].lambda_mu_x *= road;
+      tire_in[i].lambda_mu_y *= road;
+    }
     tire_p[i] = IsFront(i) ? &p_.tires.front : &p_.tires.rear;
   }
   std::array<TireForce, 4> tire_f;
@@ -208,7 +212,7 @@ void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, const Environ
 
 StateVector Vehicle::Derivatives(const StateVector& x, const PlantInputs& u) const noexcept {
   Eval e;
-  Evaluate(x, u, Environment{}, &e);
+  Evaluate(x, u, nullptr, &e);
   StateVector d;
   const double cp = std::cos(x[kPsi]), sp = std::sin(x[kPsi]);
   d[kX] = x[kVx] * cp - x[kVy] * sp;
@@ -253,7 +257,7 @@ State Vehicle::MakeState(const InitialCondition& ic) const {
   return s;
 }
 
-void Vehicle::Step(const Actuators& u, const Environment& env, State* state) const noexcept {
+void Vehicle::StepOn(const Actuators& u, const Environment* env, State* state) const noexcept {
   State& s = *state;
   const double h = h_;
   if (s.status & kStatusNonFinite) {

@@ -186,9 +186,11 @@ class Vehicle {
   State MakeState(const InitialCondition& ic = {}) const;
 
   /// Advances the state by one step h. noexcept, allocation-free, deterministic.
-  void Step(const Actuators& u, State* s) const noexcept { Step(u, Environment{}, s); }
+  void Step(const Actuators& u, State* s) const noexcept { StepOn(u, nullptr, s); }
   /// The same on the road `env` (a non-finite or non-positive factor counts as 1).
-  void Step(const Actuators& u, const Environment& env, State* s) const noexcept;
+  void Step(const Actuators& u, const Environment& env, State* s) const noexcept {
+    StepOn(u, &env, s);
+  }
 
   /// Continuous right-hand side x' = f(x, u) of the same model (friction torques smoothed over
   /// |omega| < 0.1 rad/s). For linearisation and tests.
@@ -215,7 +217,9 @@ class Vehicle {
 
  private:
   struct Eval;  // forces and accelerations of one evaluation
-  void Evaluate(const StateVector& x, const PlantInputs& u, const Environment& env,
+  // env == nullptr: the nominal road, without touching the tyres' friction scaling at all.
+  void StepOn(const Actuators& u, const Environment* env, State* s) const noexcept;
+  void Evaluate(const StateVector& x, const PlantInputs& u, const Environment* env,
                 Eval* e) const noexcept;
   // c, s: cosine and sine of the road-wheel angle (computed once per evaluation).
   void SlipKinematics(const StateVector& x, double c, double s, PerWheel<double>* kappa,
