@@ -2,27 +2,18 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "tuning/cost.h"
+#include "tuning/scenario.h"
 
 namespace scw::tuning {
 
 params::StabilityParams WithoutSubsystem(params::StabilityParams p, std::size_t k) {
-  switch (k) {
-    case 0:
-      p.ESC.enabled = false;
-      break;
-    case 1:
-      p.countersteer_system.enabled = false;
-      break;
-    case 2:
-      p.SlipControl.ABS.enabled = false;
-      break;
-    default:
-      p.SlipControl.TC.enabled = false;
-      break;
-  }
-  return p;
+  params::SubsystemSwitches sw;  // all on
+  bool* const off[] = {&sw.esc, &sw.cs, &sw.abs, &sw.tc};
+  *off[k < 4 ? k : 3] = false;
+  return ApplySubsystemSwitches(std::move(p), sw);
 }
 
 SetCheck CheckSet(const BatchEvaluator& ev, const params::StabilityParams& base,
