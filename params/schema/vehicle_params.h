@@ -113,12 +113,15 @@ struct ChassisParams {
   }
 };
 
-/// Aerodynamic drag and downforce (no side force, no yaw moment, no ride-height dependence).
+/// Aerodynamic drag, downforce and (in wind only) side force, from the car's velocity relative to
+/// the air (plant/vehicle/vehicle.h). No ride-height or pitch dependence.
 struct AeroParams {
   double air_density = 1.225;
   double drag_area = 1.27;
   double downforce_area_front = 1.681;
   double downforce_area_rear = 2.379;
+  double side_force_area = 1.2;
+  double side_force_arm = -0.3;
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
@@ -131,15 +134,17 @@ struct AeroParams {
                           .unit = "m^2",
                           .lo = 0.0,
                           .hi = 10.0,
-                          .doc = "c_D A: drag F = 1/2 rho c_D A v_x |v_x| at the CoG. EAV24: "
-                                 "1.27 m^2 (EAV25 set, spec §4.4)."});
+                          .doc = "c_D A: drag F = 1/2 rho c_D A u_x |u_x| along the body x-axis at "
+                                 "the CoG; u_x = v_x - w_x is the longitudinal air speed (w_x: "
+                                 "the wind's body-frame component, 0 in still air). EAV24: 1.27 "
+                                 "m^2 (EAV25 set, spec §4.4)."});
     v.Field(s.downforce_area_front,
             {.key = "downforce_area_front",
              .unit = "m^2",
              .lo = 0.0,
              .hi = 20.0,
-             .doc = "-c_Lf A: downforce on the front axle 1/2 rho (-c_Lf A) v_x^2, split equally "
-                    "over both wheels. EAV24: 1.681 m^2 (EAV25 set)."});
+             .doc = "-c_Lf A: downforce on the front axle 1/2 rho (-c_Lf A) u_x^2 (u_x as for "
+                    "drag), split equally over both wheels. EAV24: 1.681 m^2 (EAV25 set)."});
     v.Field(s.downforce_area_rear,
             {.key = "downforce_area_rear",
              .unit = "m^2",
@@ -147,6 +152,32 @@ struct AeroParams {
              .hi = 20.0,
              .doc = "-c_Lr A: downforce on the rear axle. EAV24: 2.379 m^2 (EAV25 set; total "
                     "4.06 m^2, 41 % front)."});
+    v.Field(
+        s.side_force_area,
+        {.key = "side_force_area",
+         .unit = "m^2",
+         .lo = 0.0,
+         .hi = 10.0,
+         .doc = "c_Y A: aerodynamic side force from wind, F_y = 1/2 rho c_Y A w_y |u_r| at "
+                "the centre of pressure (w_y: the wind's body-frame lateral component, u_r: "
+                "the car's velocity relative to the air). Zero without wind: the still-air "
+                "side force of the car's own side slip (~0.1 kN at 50 m/s and 3 deg) is left "
+                "out, as in the still-air model. EAV24: 1.2 m^2, assumption (no public data): "
+                "side area of an open-wheel single-seater ~1.3 m^2 (length ~5 m x ~0.4 m mean "
+                "side height incl. wheels, cockpit and engine cover) times c_Y ~0.8-1.0. Scale: "
+                "a 15 m/s crosswind at 50 m/s gives 0.58 kN (0.08 g).",
+         .optional = true});
+    v.Field(s.side_force_arm,
+            {.key = "side_force_arm",
+             .unit = "m",
+             .lo = -3.0,
+             .hi = 3.0,
+             .doc = "Distance of the side force's centre of pressure ahead of the CoG (negative: "
+                    "behind); yaw moment M_z = F_y * arm. EAV24: -0.3 m, assumption (no public "
+                    "data): slightly behind the CoG because of the engine cover and fin. It lies "
+                    "behind the plant's neutral steer point, so a crosswind first pushes the car "
+                    "downwind, then turns its nose into the wind (at 0 m it turns away).",
+             .optional = true});
   }
 };
 

@@ -77,6 +77,8 @@ Vehicle::Vehicle(const params::VehicleParams& p)
   drag_k_ = 0.5 * p_.aero.air_density * p_.aero.drag_area;
   lift_kf_ = 0.5 * p_.aero.air_density * p_.aero.downforce_area_front;
   lift_kr_ = 0.5 * p_.aero.air_density * p_.aero.downforce_area_rear;
+  side_k_ = 0.5 * p_.aero.air_density * p_.aero.side_force_area;
+  side_arm_ = p_.aero.side_force_arm;
   inv_tau_lt_ = 1.0 / c.load_transfer_time_constant;
   lt_gain_ = 1.0 - std::exp(-h_ * inv_tau_lt_);
   crr_ = p_.wheels.rolling_resistance;
@@ -85,9 +87,12 @@ Vehicle::Vehicle(const params::VehicleParams& p)
 }
 
 PerWheel<double> Vehicle::WheelLoads(const StateVector& x) const noexcept {
-  const double vx2 = x[kVx] * x[kVx];
-  const double down_f = 0.5 * lift_kf_ * vx2;  // per wheel
-  const double down_r = 0.5 * lift_kr_ * vx2;
+  return Loads(x, x[kVx] * x[kVx]);
+}
+
+PerWheel<double> Vehicle::Loads(const StateVector& x, double air_speed_sq) const noexcept {
+  const double down_f = 0.5 * lift_kf_ * air_speed_sq;  // per wheel
+  const double down_r = 0.5 * lift_kr_ * air_speed_sq;
   const double d_long = 0.5 * m_ * hcg_ * x[kAxLoadTransfer] / l_;  // per wheel, to the rear
   const double may_h = m_ * x[kAyLoadTransfer] * hcg_;
   const double d_lat_f = share_f_ * may_h * inv_bf_;  // to the right wheel when a_y > 0
@@ -133,9 +138,27 @@ void Vehicle::SlipKinematics(const StateVector& x, double c, double s, PerWheel<
   }
 }
 
+template <bool kEnv>
 void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, const Environment* env,
                        Eval* e) const noexcept {
-  e->fz = WheelLoads(x);
+  // Air (kEnv only; the nominal path keeps its still-air instructions): u_x is the longitudinal
+  // air speed, w_y the wind's body-frame lateral component. Exactly zero (or non-finite) wind is
+  // still air, bit for bit.
+  double ux = 0.0, wy = 0.0;
+  bool wind = false;
+  if constexpr (kEnv) {
+    ux = x[kVx];
+    const double wx_w = env->wind_x, wy_w = env->wind_y;
+    wind = (wx_w != 0.0 || wy_w != 0.0) && std::isfinite(wx_w) && std::isfinite(wy_w);
+    if (wind) {
+      const double cp = std::cos(x[kPsi]), sp = std::sin(x[kPsi]);
+      ux -= cp * wx_w + sp * wy_w;
+      wy = -sp * wx_w + cp * wy_w;
+    }
+    e->fz = Loads(x, ux * ux);
+  } else {
+    e->fz = WheelLoads(x);
+  }
   e->cos_steer = std::cos(u.steer);
   e->sin_steer = std::sin(u.steer);
   const double c = e->cos_steer, s = e->sin_steer;
@@ -144,7 +167,7 @@ void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, const Environ
   for (std::size_t i = 0; i < 4; ++i) {
     const double alpha = x[kAlpha + i];
     tire_in[i] = {e->fz[i], x[kKappa + i], IsLeft(i) ? alpha : -alpha, lambda_x_[i], lambda_y_[i]};
-    if (env) {
+    if constexpr (kEnv) {
       // The road's factor multiplies the vehicle's; exactly 1 leaves the scaling bit for bit.
       const double m = env->mu[i];
       const double road = m > 0.0 && m < kMaxRoadFriction ? m : 1.0;
@@ -172,7 +195,17 @@ void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, const Environ
     mz += px_[i] * fyv - py_[i] * fxv;
   }
   const double vx = x[kVx], vy = x[kVy], r = x[kYawRate];
-  fx -= drag_k_ * vx * std::abs(vx);
+  if constexpr (kEnv) {
+    fx -= drag_k_ * ux * std::abs(ux);
+    if (wind) {
+      const double uy = vy - wy;
+      const double side = side_k_ * wy * std::sqrt(ux * ux + uy * uy);
+      fy += side;
+      mz += side_arm_ * side;
+    }
+  } else {
+    fx -= drag_k_ * vx * std::abs(vx);
+  }
   e->fx = fx;
   e->fy = fy;
   e->mz = mz;
@@ -212,7 +245,7 @@ void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, const Environ
 
 StateVector Vehicle::Derivatives(const StateVector& x, const PlantInputs& u) const noexcept {
   Eval e;
-  Evaluate(x, u, nullptr, &e);
+  Evaluate<false>(x, u, nullptr, &e);
   StateVector d;
   const double cp = std::cos(x[kPsi]), sp = std::sin(x[kPsi]);
   d[kX] = x[kVx] * cp - x[kVy] * sp;
@@ -257,6 +290,7 @@ State Vehicle::MakeState(const InitialCondition& ic) const {
   return s;
 }
 
+template <bool kEnv>
 void Vehicle::StepOn(const Actuators& u, const Environment* env, State* state) const noexcept {
   State& s = *state;
   const double h = h_;
@@ -276,7 +310,7 @@ void Vehicle::StepOn(const Actuators& u, const Environment* env, State* state) c
 
   // 2. Forces at the start of the step.
   Eval e;
-  Evaluate(s.x, in, env, &e);
+  Evaluate<kEnv>(s.x, in, env, &e);
 
   // 3. Velocities explicit, positions with the new velocities (symplectic Euler).
   StateVector& x = s.x;
@@ -358,6 +392,9 @@ void Vehicle::StepOn(const Actuators& u, const Environment* env, State* state) c
   o.engine_speed = std::max(KinematicEngineSpeed(x, s.gearbox.engaged), clutch_slip_speed_);
   s.time += h;
 }
+
+template void Vehicle::StepOn<false>(const Actuators&, const Environment*, State*) const noexcept;
+template void Vehicle::StepOn<true>(const Actuators&, const Environment*, State*) const noexcept;
 
 Measurement Vehicle::Measure(const State& s, SensorNoiseState* noise) const noexcept {
   Measurement m;

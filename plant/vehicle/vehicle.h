@@ -21,10 +21,27 @@
 // Equations (h = fixed step, see Step):
 //   Body:  v_x' = F_x/m + r v_y,  v_y' = F_y/m - r v_x,  r' = M_z/I_z,
 //          x' = v_x cos psi - v_y sin psi,  y' = v_x sin psi + v_y cos psi,  psi' = r,
-//          F_x = sum F_x,i - 1/2 rho c_D A v_x|v_x|,  F_y = sum F_y,i,
-//          M_z = sum (p_x,i F_y,i - p_y,i F_x,i) with wheel positions p_i = (+-l_f|-l_r, +-b/2).
+//          F_x = sum F_x,i - 1/2 rho c_D A u_x|u_x|,  F_y = sum F_y,i + F_y,aero,
+//          M_z = sum (p_x,i F_y,i - p_y,i F_x,i) + d_Y F_y,aero with wheel positions
+//          p_i = (+-l_f|-l_r, +-b/2).
+//   Aero (the car's velocity relative to the air; Environment::wind_x/_y = w, world frame):
+//          (w_x, w_y) = R(psi)^T w  (the wind in the body frame),
+//          u_x = v_x - w_x,  u_y = v_y - w_y,  |u_r| = sqrt(u_x^2 + u_y^2),
+//          drag along the body x-axis from the longitudinal air speed: -1/2 rho c_D A u_x|u_x|
+//            (not the vector form -1/2 rho c_D A u_x|u_r|, which would change the still-air drag
+//            whenever v_y != 0 and so today's results; the two differ by |u_r|/|u_x| - 1, 4 % in
+//            a 15 m/s crosswind at 50 m/s),
+//          downforce from the longitudinal air speed: 1/2 rho c_L A u_x^2 (see Loads),
+//          side force F_y,aero = -1/2 rho c_Y A (u_y - v_y)|u_r| = 1/2 rho c_Y A w_y |u_r| at the
+//            centre of pressure d_Y = aero.side_force_arm ahead of the CoG (yaw moment
+//            d_Y F_y,aero). Only the wind's share of u_y counts: the still-air side force of the
+//            car's own side slip is left out, as it was before wind existed (~0.1 kN at 50 m/s
+//            and 3 deg side slip). So zero wind gives exactly zero side force and the still-air
+//            model, and a wind equal to the car's velocity (u_r = 0) gives no aero force at all.
+//          In still air u_x = v_x. The side force enters F_y and so the lateral load transfer as
+//          if it acted at CoG height.
 //   Loads (quasi-static, per-axle downforce, lagged transfer):
-//          F_z,i = m g l_{r|f}/(2l) + 1/2 rho c_L,{f|r}A v_x^2 / 2
+//          F_z,i = m g l_{r|f}/(2l) + 1/2 rho c_L,{f|r}A u_x^2 / 2
 //                  -+ m ax_lt h/(2l)                 (front loses, rear gains under drive)
 //                  -+ e_{f|r} m ay_lt h / b_{f|r}    (left loses, right gains when ay > 0)
 //          with e_f = roll_stiffness_share_front, e_r = 1 - e_f, clipped at F_z >= 0 (lift-off);
@@ -185,21 +202,25 @@ class Vehicle {
   /// A state at rest or rolling straight at ic.speed; sizes the delay buffers (allocates).
   State MakeState(const InitialCondition& ic = {}) const;
 
-  /// Advances the state by one step h. noexcept, allocation-free, deterministic.
-  void Step(const Actuators& u, State* s) const noexcept { StepOn(u, nullptr, s); }
-  /// The same on the road `env` (a non-finite or non-positive factor counts as 1).
+  /// Advances the state by one step h on the nominal road in still air. noexcept,
+  /// allocation-free, deterministic.
+  void Step(const Actuators& u, State* s) const noexcept { StepOn<false>(u, nullptr, s); }
+  /// The same on the road and in the wind of `env` (a non-finite or non-positive friction factor
+  /// counts as 1, a non-finite wind as still air). The default Environment gives bit for bit the
+  /// step above.
   void Step(const Actuators& u, const Environment& env, State* s) const noexcept {
-    StepOn(u, &env, s);
+    StepOn<true>(u, &env, s);
   }
 
-  /// Continuous right-hand side x' = f(x, u) of the same model (friction torques smoothed over
-  /// |omega| < 0.1 rad/s). For linearisation and tests.
+  /// Continuous right-hand side x' = f(x, u) of the same model on the nominal road in still air
+  /// (friction torques smoothed over |omega| < 0.1 rad/s). For linearisation and tests.
   StateVector Derivatives(const StateVector& x, const PlantInputs& u) const noexcept;
 
   /// Noise-free measurement of the state; with `noise` (and sensors.noise set) noise is added.
   Measurement Measure(const State& s, SensorNoiseState* noise = nullptr) const noexcept;
 
-  /// Vertical tyre loads [N] for the continuous state x (quasi-static, lagged transfer).
+  /// Vertical tyre loads [N] for the continuous state x (quasi-static, lagged transfer) in still
+  /// air.
   PerWheel<double> WheelLoads(const StateVector& x) const noexcept;
 
   /// Per-wheel friction scaling (lambda_mu_x, lambda_mu_y) after road, axle and wheel factors.
@@ -217,10 +238,15 @@ class Vehicle {
 
  private:
   struct Eval;  // forces and accelerations of one evaluation
-  // env == nullptr: the nominal road, without touching the tyres' friction scaling at all.
+  // kEnv false (env unused): the nominal road in still air, compiled without any of the
+  // environment's work (friction factors, wind), the same instructions as before it existed.
+  template <bool kEnv>
   void StepOn(const Actuators& u, const Environment* env, State* s) const noexcept;
+  template <bool kEnv>
   void Evaluate(const StateVector& x, const PlantInputs& u, const Environment* env,
                 Eval* e) const noexcept;
+  // Wheel loads with the downforce of the longitudinal air speed u_x (air_speed_sq = u_x^2).
+  PerWheel<double> Loads(const StateVector& x, double air_speed_sq) const noexcept;
   // c, s: cosine and sine of the road-wheel angle (computed once per evaluation).
   void SlipKinematics(const StateVector& x, double c, double s, PerWheel<double>* kappa,
                       PerWheel<double>* alpha, PerWheel<double>* inv_tau_k,
@@ -234,7 +260,8 @@ class Vehicle {
   PerWheel<double> px_{}, py_{}, radius_{}, inertia_{}, kb_{};
   PerWheel<double> fz_static_{}, lambda_x_{}, lambda_y_{};
   double share_f_ = 0.5, inv_bf_ = 0.0, inv_br_ = 0.0;
-  double drag_k_ = 0.0, lift_kf_ = 0.0, lift_kr_ = 0.0;  // 1/2 rho c A
+  double drag_k_ = 0.0, lift_kf_ = 0.0, lift_kr_ = 0.0, side_k_ = 0.0;  // 1/2 rho c A
+  double side_arm_ = 0.0;  // centre of pressure of the side force ahead of the CoG [m]
   double inv_tau_lt_ = 0.0, lt_gain_ = 1.0;
   double crr_ = 0.0;
   double clutch_slip_speed_ = 0.0, engine_inertia_ = 0.0;

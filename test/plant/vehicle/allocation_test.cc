@@ -1,8 +1,10 @@
-// Step, Measure (with noise) and the actuator/gearbox updates allocate nothing. This binary
-// replaces the global operator new with a counting one, so it is built apart from the other tests.
+// Step (nominal and with an environment incl. wind), Measure (with noise) and the actuator/gearbox
+// updates allocate nothing. This binary replaces the global operator new with a counting one, so it
+// is built apart from the other tests.
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstdlib>
 #include <new>
 
@@ -38,9 +40,18 @@ TEST(PlantAllocation, StepAndMeasureAllocateNothing) {
     SensorNoiseState noise(3);
     const double radius = p.wheels.radius_rear;
     const long before = g_allocations.load();
+    Environment gusty;
+    gusty.mu[kRL] = 0.7;
     for (int k = 0; k < 30000; ++k) {
       const Measurement m = v.Measure(s, &noise);
-      v.Step(ReferenceManeuverInput(s.time, m, radius), &s);
+      const Actuators u = ReferenceManeuverInput(s.time, m, radius);
+      if (k % 2 == 0) {
+        v.Step(u, &s);
+      } else {  // the environment path, with wind
+        gusty.wind_x = 5.0 * std::sin(1e-3 * k);
+        gusty.wind_y = -8.0;
+        v.Step(u, gusty, &s);
+      }
     }
     EXPECT_EQ(g_allocations.load() - before, 0) << diff;
     EXPECT_EQ(s.status, kStatusOk);
