@@ -9,6 +9,8 @@
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "params/schema/track_params.h"
+#include "plant/track/builtin_tracks.h"
+#include "plant/track/corners.h"
 #include "plant/track/track_csv.h"
 #include "plant/track/yas_north.h"
 #include "tuning/cli/command.h"
@@ -38,10 +40,11 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
          s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-/// Empty: the built-in Yas North; *.yaml/*.yml: a piecewise definition; otherwise a CSV centre
-/// line.
+/// Empty: the built-in Yas North; a built-in name (plant/track/builtin_tracks.h); *.yaml/*.yml: a
+/// piecewise definition; otherwise a CSV centre line.
 plant::Track LoadTrack(const std::string& path) {
   if (path.empty()) return plant::YasNorthTrack();
+  if (auto track = plant::BuiltInTrack(path)) return *std::move(track);
   if (EndsWith(path, ".yaml") || EndsWith(path, ".yml"))
     return plant::Track::FromDefinition(params::LoadPlainFile<params::TrackParams>(path), path);
   return plant::LoadTrackCsv(path);
@@ -55,49 +58,18 @@ int Info(const TrackOptions& o) {
     wmin = std::min(wmin, w);
     wmax = std::max(wmax, w);
   }
-  std::cout << "track:   " << t.name() << (o.track.empty() ? " (built-in)" : "") << '\n'
+  const bool built_in = o.track.empty() || plant::BuiltInTrack(o.track).has_value();
+  std::cout << "track:   " << t.name() << (built_in ? " (built-in)" : "") << '\n'
             << "length:  " << std::fixed << std::setprecision(1) << t.length() << " m, "
             << (t.total_turning() > 0 ? "anticlockwise" : "clockwise") << ", " << t.size()
             << " nodes at " << std::setprecision(3) << t.step() << " m\n"
             << "width:   " << std::setprecision(1) << wmin << " - " << wmax << " m\n";
-  // Corners: runs of |κ| > 1/250 m⁻¹ (R < 250 m), joined across gaps < 20 m of the same sign.
   std::cout << "corners (R < 250 m):\n   #  dir    s_from   s_to  min R [m]  at s [m]\n";
-  const double k_on = 1.0 / 250.0;
-  const std::size_t n = t.size();
-  std::size_t start = 0;  // begin the scan on a straight-ish node so no corner is split at s = 0
-  while (start < n && std::abs(t.curvature()[start]) > k_on) ++start;
-  int count = 0;
-  std::size_t i = 0;
-  while (i < n) {
-    const std::size_t a = (start + i) % n;
-    if (std::abs(t.curvature()[a]) <= k_on) {
-      ++i;
-      continue;
-    }
-    const double sign = t.curvature()[a] > 0 ? 1.0 : -1.0;
-    std::size_t j = i, last = i;
-    double kmax = 0.0, s_at = 0.0;
-    while (j < n) {
-      const std::size_t b = (start + j) % n;
-      const double k = t.curvature()[b] * sign;
-      if (k > k_on) {
-        last = j;
-        if (k > kmax) {
-          kmax = k;
-          s_at = t.s()[b];
-        }
-      } else if ((j - last) * t.step() > 20.0) {
-        break;
-      }
-      ++j;
-    }
-    ++count;
-    std::cout << std::setw(4) << count << "  " << (sign > 0 ? "left " : "right") << std::setw(9)
-              << std::setprecision(0) << t.s()[(start + i) % n] << std::setw(7)
-              << t.s()[(start + last) % n] << std::setw(11) << std::setprecision(1) << 1.0 / kmax
-              << std::setw(10) << std::setprecision(0) << s_at << '\n';
-    i = last + 1;
-  }
+  for (const plant::Corner& c : plant::FindCorners(t))
+    std::cout << std::setw(4) << c.number << "  " << (c.left ? "left " : "right") << std::setw(9)
+              << std::setprecision(0) << c.s_from << std::setw(7) << c.s_to << std::setw(11)
+              << std::setprecision(1) << c.min_radius << std::setw(10) << std::setprecision(0)
+              << c.s_apex << '\n';
   return kExitOk;
 }
 
@@ -149,8 +121,8 @@ void AddTrack(CLI::App& app) {
   cmd->require_subcommand(1, 1);
   auto o = std::make_shared<TrackOptions>();
   const char* track_help =
-      "Track: *.yaml piecewise definition or *.csv centre line (racetrack-database or Track3D); "
-      "default: the built-in Yas Marina North";
+      "Track: a built-in name (yas_north, monza), a *.yaml piecewise definition or a *.csv centre "
+      "line (racetrack-database or Track3D); default: the built-in Yas Marina North";
 
   auto* info = cmd->add_subcommand("info",
                                    "Length, width range and the corners with their "

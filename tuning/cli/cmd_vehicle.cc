@@ -179,13 +179,13 @@ int Lap(const VehicleOptions& o) {
   if (!o.track.empty()) sets.push_back("track=" + o.track);
   const params::ScenarioParams spec = tuning::DefaultScenario(sets);
   const tuning::ResolvedScenario sc = tuning::Resolve(spec);
-  char line[200];
+  char line[512];
   std::snprintf(line, sizeof line,
                 "minimum-time lap at the plant's full combined limits: %.2f s\n"
                 "(%s, optimal line with %.1f m margin, the plant's own g-g-v envelope; "
                 "scenarios plan at GG x limit_fraction %.2f of it)\n",
-                sc.limit_lap_time, o.track.empty() ? "Yas Marina North" : o.track.c_str(),
-                spec.motion.raceline_margin, spec.limit_fraction);
+                sc.limit_lap_time, sc.track->name().c_str(), spec.motion.raceline_margin,
+                spec.limit_fraction);
   std::cout << line;
   return kExitOk;
 }
@@ -241,7 +241,9 @@ void AddVehicle(CLI::App& app) {
       "lap", "Print the minimum-time lap at the plant's full combined limits (default track)");
   lap->add_option("--vehicle", o->vehicle,
                   "Vehicle file (params/vehicles/*.yaml); default: the built-in EAV24 set");
-  lap->add_option("--track", o->track, "Track file (.yaml or .csv); default: Yas Marina North");
+  lap->add_option("--track", o->track,
+                  "Track: a built-in name (yas_north, monza) or a file (.yaml or .csv); default: "
+                  "Yas Marina North");
   lap->callback([o] { SetExitCode(Lap(*o)); });
 
   auto* init =
@@ -258,7 +260,8 @@ void AddVehicle(CLI::App& app) {
             "params/schema/ (vehicle_params.h and the files it includes). Calibrated to public\n"
             "data: tyre friction to the public EAV g-g-v fit with mu_x >= mu_y (scw vehicle gg),\n"
             "front cornering stiffness for a positive understeer gradient (scw vehicle balance),\n"
-            "brake delay for a 150 ms total response, LSD.\n"
+            "brake delay for a 150 ms total response, LSD. Aerodynamic side force in wind\n"
+            "(side_force_area, side_force_arm): stated assumptions, no public data.\n"
             "Regenerate: scw vehicle init -o params/vehicles/eav24.yaml"));
     std::cerr << "wrote " << o->out << '\n';
     SetExitCode(kExitOk);
