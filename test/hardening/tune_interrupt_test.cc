@@ -100,8 +100,8 @@ TEST(TuneInterruptTest, CtrlCKeepsLogAndBestAndResumeContinues) {
                         "  - {name: one_lap, weight: 1.0, set: [laps=1, gg_scale=1.1]}\n";
   // Enough budget that the run is still going when the signal arrives.
   const std::vector<std::string> common = {
-      "tune",       "--scenarios", set,      "--max-evals", "40",         "--threads", "1",
-      "--progress", "never",       "--seed", "3",           "--max-time", "0"};
+      "tune",  "--scenarios", set, "--max-evals", "40", "--threads",       "1", "--progress",
+      "never", "--seed",      "3", "--max-time",  "0",  "--no-sensitivity"};
   const fs::path run1 = dir / "run1", run2 = dir / "run2";
   const std::string log1 = (run1 / "evaluations.csv").string();
   const std::string log2 = (run2 / "evaluations.csv").string();

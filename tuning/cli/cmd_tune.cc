@@ -29,6 +29,7 @@
 #include "tuning/plots/tune_plots.h"
 #include "tuning/report.h"
 #include "tuning/scenario_set.h"
+#include "tuning/sensitivity.h"
 #include "tuning/set_check.h"
 
 namespace scw::cli {
@@ -49,7 +50,8 @@ struct TuneOptions {
   unsigned long long seed = 1;
   std::string progress = "auto";
   bool print_set = false;
-  bool check_set = false;  // --check-set: which subsystems the scenario set can see, then exit
+  bool check_set = false;       // --check-set: which subsystems the scenario set can see, then exit
+  bool no_sensitivity = false;  // skip the parameter sensitivity (after the tune; --check-set)
   std::vector<std::string> params_files;  // evaluate
   std::vector<std::string> labels;        // evaluate
   std::string csv;                        // evaluate
@@ -161,14 +163,24 @@ void CheckExport(const std::string& text, bool complete, const std::string& path
                              rep.Format(path));
 }
 
-/// `scw tune --check-set`: the base set on every scenario, as it is and with each subsystem off.
+/// `scw tune --check-set`: the base set on every scenario, as it is and with each subsystem off;
+/// then (unless --no-sensitivity) the parameter sensitivity around the base point on the training
+/// scenarios.
 int RunCheckSet(const TuneOptions& o, const tuning::ScenarioSet& set,
-                const params::StabilityParams& base) {
+                const params::StabilityParams& base, const tuning::ParameterSpace& loaded) {
   ProgressLine progress(o.progress);
   const int n_scenarios = static_cast<int>(set.training.size() + set.held_out.size());
-  const int total = n_scenarios * 6;  // preparation + 5 runs each
+  // The base point of the space the tune would search (ranges grown to hold the base, as scw
+  // tune does by default, so that the centre is the base set bit for bit).
+  const tuning::ParameterSpace space = loaded.WithBase(base, tuning::BaseOutsideSpace::kGrow);
+  const std::vector<double> u0 = space.Encode(base);
+  tuning::SensitivityPlan plan;
+  if (!o.no_sensitivity) plan = tuning::PlanSensitivity(space, u0, base);
+  const int total = n_scenarios * 6 +  // preparation + 5 runs each
+                    static_cast<int>(plan.sets.size() * set.training.size());
   progress.Update({"check", 0, static_cast<double>(total), "jobs", "", -1.0});
   int done = 0;
+  std::string sensitivity;
   std::string md =
       "# scw tune --check-set\n\nbase = " +
       (o.base.empty() ? std::string("the car's shipped parameters (built-in)") : o.base) +
@@ -189,7 +201,15 @@ int RunCheckSet(const TuneOptions& o, const tuning::ScenarioSet& set,
     md += tuning::SetCheckMarkdown(training ? "Training scenarios" : "Held-out scenarios", check,
                                    training);
     md += "\n";
+    if (training && !o.no_sensitivity) {
+      sensitivity = tuning::SensitivityMarkdown(
+          tuning::EvaluateSensitivity(ev, space, plan,
+                                      PhaseProgress(progress, "check", done, total, "jobs")),
+          "the base set");
+      done += static_cast<int>(plan.sets.size()) * n;
+    }
   }
+  md += sensitivity;
   progress.Finish();
   std::cout << AlignMarkdownTables(md);
   return kExitOk;
@@ -215,7 +235,7 @@ int RunTune(const TuneOptions& o) {
                                                         : tuning::ParameterSpace::FromFile(o.space);
   std::set<std::string> present;
   const params::StabilityParams base = LoadBase(o.base, &present);
-  if (o.check_set) return RunCheckSet(o, set, base);
+  if (o.check_set) return RunCheckSet(o, set, base, loaded);
   // The base must be exactly representable (evaluation 0 = the base set, keys the tuner leaves
   // alone stay the base values): grow ranges that do not contain it, or refuse.
   std::vector<std::string> grown;
@@ -400,71 +420,127 @@ int RunTune(const TuneOptions& o) {
   params::WriteFileAtomic((fs::path(dir) / "comparison.csv").string(), csv);
   std::string plot_message;
   const bool plots = tuning::WriteTunePlots(dir, &plot_message);
-  if (plots)
-    md += tuning::TunePlotsMarkdown();
-  else
+  if (!plots)
     std::cerr << "  note: no plots (" << plot_message
               << "); the run's other outputs are complete\n";
-  params::WriteFileAtomic((fs::path(dir) / "comparison.md").string(), md);
+  const std::string plots_md = plots ? tuning::TunePlotsMarkdown() : std::string();
+  const std::string md_path = (fs::path(dir) / "comparison.md").string();
+  params::WriteFileAtomic(md_path, md + plots_md);
 
+  // The parameter sensitivity around the tuned point comes last: the manifest is written before
+  // it (the folder is then complete; a run stopped during the phase keeps it so) and again after
+  // it, with the section in comparison.md.
+  std::string sensitivity = "pending";
+  if (o.no_sensitivity)
+    sensitivity = "skipped (--no-sensitivity)";
+  else if (r.stop_reason == "interrupted" || r.stop_reason == "resume_mismatch")
+    sensitivity = "skipped (" + r.stop_reason + ")";
+  int sensitivity_sets = 0;
+  std::vector<std::string> not_exercised;
+  {
+    std::error_code ec;  // a --force or --resume folder may hold an earlier run's table
+    fs::remove(fs::path(dir) / "sensitivity.csv", ec);
+  }
   std::string cmdline;
   for (const auto& a : CommandLine()) cmdline += (cmdline.empty() ? "" : " ") + a;
-  std::ostringstream man;
-  man << "scw_version: " << SCW_VERSION << "\n"
-      << "git_revision: " << SCW_GIT_REVISION << "\n"
-      << "date_utc: " << prov.date_utc << "\n"
-      << "nlopt_version: " << nlopt::version_major() << "." << nlopt::version_minor() << "."
-      << nlopt::version_bugfix() << "\n"
-      << "command_line: " << params::QuoteString(cmdline) << "\n"
-      << "base: " << params::QuoteString(o.base.empty() ? "built-in" : o.base) << "\n"
-      << "base_hash: "
-      << (o.base.empty() ? tuning::Sha256Hex(params::ToRosYaml(base, params::kStabilityNodeKey))
-                         : FileSha256(o.base))
-      << "\n"
-      << "space: " << params::QuoteString(o.space.empty() ? "built-in default" : o.space) << "\n"
-      << "space_hash: "
-      << (o.space.empty() ? tuning::Sha256Hex(space.ToYaml()) : FileSha256(o.space)) << "\n"
-      << "base_outside_space: " << o.base_outside << "\n"
-      << "grown_ranges: " << grown.size() << "\n"
-      << "scenarios: "
-      << params::QuoteString(o.scenarios.empty() ? "built-in default" : o.scenarios) << "\n"
-      << "scenarios_hash: "
-      << (o.scenarios.empty() ? tuning::Sha256Hex(set.ToYaml()) : FileSha256(o.scenarios)) << "\n"
-      << "algorithm: " << o.algorithm << "\n"
-      << "seed: " << o.seed << "\n"
-      << "max_evals: " << o.max_evals << "\n"
-      << "max_time_s: " << params::FormatDouble(o.max_time) << "\n"
-      << "threads: " << training.threads() << "\n"
-      << "evaluations: " << r.evals << "\n"
-      << "replayed_evaluations: " << r.replayed << "\n"
-      << "stop_reason: " << r.stop_reason << "\n"
-      << "start_cost: " << params::FormatDouble(r.start_cost) << "\n"
-      << "best_cost: " << params::FormatDouble(r.best_cost) << "\n"
-      << "best_evaluation: " << r.best_eval << "\n"
-      << "baseline_cost: " << params::FormatDouble(train_res[0].total) << "\n"
-      << "tuned_cost: " << params::FormatDouble(train_res[1].total) << "\n";
-  man << "training_verdict: " << tuning::VerdictName(train_change.verdict) << "\n";
-  if (!held_res.empty())
-    man << "held_out_baseline_cost: " << params::FormatDouble(held_res[0].total) << "\n"
-        << "held_out_tuned_cost: " << params::FormatDouble(held_res[1].total) << "\n"
-        << "held_out_verdict: " << tuning::VerdictName(held_change.verdict) << "\n";
-  man << "hash_algorithm: sha256\n";
-  man << "changed_keys: " << changed.size() << "\n"
-      << "wall_time_s: "
-      << params::FormatDouble(
-             std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count())
-      << "\n";
-  // SHA-256 of the files as written (`sha256sum FILE` prints the same); the inputs above are
-  // hashed as files when given, as their printed form when built in.
-  man << "files_sha256:\n";
-  for (const char* f : {"evaluations.csv", "stability_tuned.yaml", "stability_overrides.yaml",
-                        "comparison.md", "comparison.csv", "convergence.png", "comparison.png"})
-    if (fs::exists(fs::path(dir) / f))
-      man << "  " << f << ": " << FileSha256((fs::path(dir) / f).string()) << "\n";
-  params::WriteFileAtomic((fs::path(dir) / "manifest.yaml").string(), man.str());
+  const auto write_manifest = [&] {
+    std::ostringstream man;
+    man << "scw_version: " << SCW_VERSION << "\n"
+        << "git_revision: " << SCW_GIT_REVISION << "\n"
+        << "date_utc: " << prov.date_utc << "\n"
+        << "nlopt_version: " << nlopt::version_major() << "." << nlopt::version_minor() << "."
+        << nlopt::version_bugfix() << "\n"
+        << "command_line: " << params::QuoteString(cmdline) << "\n"
+        << "base: " << params::QuoteString(o.base.empty() ? "built-in" : o.base) << "\n"
+        << "base_hash: "
+        << (o.base.empty() ? tuning::Sha256Hex(params::ToRosYaml(base, params::kStabilityNodeKey))
+                           : FileSha256(o.base))
+        << "\n"
+        << "space: " << params::QuoteString(o.space.empty() ? "built-in default" : o.space) << "\n"
+        << "space_hash: "
+        << (o.space.empty() ? tuning::Sha256Hex(space.ToYaml()) : FileSha256(o.space)) << "\n"
+        << "base_outside_space: " << o.base_outside << "\n"
+        << "grown_ranges: " << grown.size() << "\n"
+        << "scenarios: "
+        << params::QuoteString(o.scenarios.empty() ? "built-in default" : o.scenarios) << "\n"
+        << "scenarios_hash: "
+        << (o.scenarios.empty() ? tuning::Sha256Hex(set.ToYaml()) : FileSha256(o.scenarios)) << "\n"
+        << "algorithm: " << o.algorithm << "\n"
+        << "seed: " << o.seed << "\n"
+        << "max_evals: " << o.max_evals << "\n"
+        << "max_time_s: " << params::FormatDouble(o.max_time) << "\n"
+        << "threads: " << training.threads() << "\n"
+        << "evaluations: " << r.evals << "\n"
+        << "replayed_evaluations: " << r.replayed << "\n"
+        << "stop_reason: " << r.stop_reason << "\n"
+        << "start_cost: " << params::FormatDouble(r.start_cost) << "\n"
+        << "best_cost: " << params::FormatDouble(r.best_cost) << "\n"
+        << "best_evaluation: " << r.best_eval << "\n"
+        << "baseline_cost: " << params::FormatDouble(train_res[0].total) << "\n"
+        << "tuned_cost: " << params::FormatDouble(train_res[1].total) << "\n";
+    man << "training_verdict: " << tuning::VerdictName(train_change.verdict) << "\n";
+    if (!held_res.empty())
+      man << "held_out_baseline_cost: " << params::FormatDouble(held_res[0].total) << "\n"
+          << "held_out_tuned_cost: " << params::FormatDouble(held_res[1].total) << "\n"
+          << "held_out_verdict: " << tuning::VerdictName(held_change.verdict) << "\n";
+    man << "sensitivity: " << params::QuoteString(sensitivity) << "\n";
+    if (sensitivity == "done") {
+      man << "sensitivity_sets: " << sensitivity_sets << "\n"
+          << "not_exercised:" << (not_exercised.empty() ? " []" : "") << "\n";
+      for (const auto& label : not_exercised) man << "  - " << params::QuoteString(label) << "\n";
+    }
+    man << "hash_algorithm: sha256\n";
+    man << "changed_keys: " << changed.size() << "\n"
+        << "wall_time_s: "
+        << params::FormatDouble(
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count())
+        << "\n";
+    // SHA-256 of the files as written (`sha256sum FILE` prints the same); the inputs above are
+    // hashed as files when given, as their printed form when built in.
+    man << "files_sha256:\n";
+    for (const char* f :
+         {"evaluations.csv", "stability_tuned.yaml", "stability_overrides.yaml", "comparison.md",
+          "comparison.csv", "sensitivity.csv", "convergence.png", "comparison.png"})
+      if (fs::exists(fs::path(dir) / f))
+        man << "  " << f << ": " << FileSha256((fs::path(dir) / f).string()) << "\n";
+    params::WriteFileAtomic((fs::path(dir) / "manifest.yaml").string(), man.str());
+  };
+  write_manifest();
+  if (sensitivity == "pending") {
+    const auto t0 = std::chrono::steady_clock::now();
+    const tuning::SensitivityPlan plan = tuning::PlanSensitivity(space, r.best_u, base);
+    const int n_runs = static_cast<int>(plan.sets.size() * training.scenarios().size());
+    progress.Update({"sensitivity", 0, static_cast<double>(n_runs), "runs", "", -1.0});
+    const tuning::SensitivityResult sens = tuning::EvaluateSensitivity(
+        training, space, plan, PhaseProgress(progress, "sensitivity", 0, n_runs, "runs"));
+    progress.Finish();
+    md += "\n" + tuning::SensitivityMarkdown(sens, "the tuned set");
+    params::WriteFileAtomic((fs::path(dir) / "sensitivity.csv").string(),
+                            tuning::SensitivityCsv(sens));
+    params::WriteFileAtomic(md_path, md + plots_md);
+    sensitivity = "done";
+    sensitivity_sets = sens.sets;
+    not_exercised = sens.NotExercised();
+    write_manifest();
+    std::cerr << "  sensitivity: " << sens.sets << " sets x " << training.scenarios().size()
+              << " scenarios in "
+              << Seconds(
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count())
+              << "; ";
+    if (not_exercised.empty()) {
+      std::cerr << "every parameter is exercised by the training scenarios\n";
+    } else {
+      std::cerr << not_exercised.size() << " of " << space.size()
+                << " parameters not exercised by the training scenarios:";
+      for (const auto& label : not_exercised) std::cerr << " " << label;
+      std::cerr << "\n";
+    }
+  }
+  md += plots_md;
   std::cout << AlignMarkdownTables(md);
   std::cout << "outputs: " << dir << "/{evaluations.csv, stability_tuned.yaml, "
             << "stability_overrides.yaml, comparison.md, comparison.csv, "
+            << (sensitivity == "done" ? "sensitivity.csv, " : "")
             << (plots ? "convergence.png, comparison.png, " : "") << "manifest.yaml}\n";
   if (r.stop_reason == "resume_mismatch") return kExitBadInput;
   // Ctrl-C: the outputs of the best set so far are written; exit as an interrupted program does.
@@ -583,7 +659,13 @@ void AddTune(CLI::App& app) {
   cmd->add_flag("--check-set", o->check_set,
                 "Before tuning: run the base set on every scenario as it is and with each "
                 "subsystem off, print which subsystem acts in and decides which scenario, warn "
-                "about subsystems the training set cannot see, and exit");
+                "about subsystems the training set cannot see, show the parameter sensitivity "
+                "around the base set (unless --no-sensitivity), and exit");
+  cmd->add_flag("--no-sensitivity", o->no_sensitivity,
+                "Skip the parameter sensitivity that by default follows the optimisation (and "
+                "--check-set): each parameter of the space moved by +/- one resolution step and "
+                "+/- 10 %, one batch on the training scenarios, the parameters the scenarios "
+                "cannot see flagged in comparison.md");
   cmd->callback([o] { SetExitCode(RunTune(*o)); });
 
   auto e = std::make_shared<TuneOptions>();

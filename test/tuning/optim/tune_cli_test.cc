@@ -62,10 +62,13 @@ class TuneCliTest : public ::testing::Test {
 
 TEST_F(TuneCliTest, OneEvaluationExportsTheBaseSetWithProvenanceAndPassesTheChecker) {
   const std::string run = Path("run");
-  ASSERT_EQ(RunScw("tune --scenarios " + set_ + " --base " + shipped_ +
-                       " --max-evals 1 --threads 1 --progress never --max-time 0 --out " + run,
-                   Path("tune.out")),
-            0)
+  ASSERT_EQ(
+      RunScw(
+          "tune --scenarios " + set_ + " --base " + shipped_ +
+              " --max-evals 1 --threads 1 --progress never --max-time 0 --no-sensitivity --out " +
+              run,
+          Path("tune.out")),
+      0)
       << Slurp(Path("tune.out"));
   EXPECT_NE(Slurp(Path("tune.out")).find("note: ESC.beta_threshold_deactivate"), std::string::npos)
       << Slurp(Path("tune.out"));
@@ -158,8 +161,8 @@ TEST_F(TuneCliTest, ArgumentProblemsAreFoundBeforeAnyFolderIsCreated) {
 
 TEST_F(TuneCliTest, AnExistingRunFolderIsRefusedUnlessForcedAndTheManifestHashesTheFiles) {
   const std::string run = Path("run");
-  const std::string args =
-      "tune --scenarios " + set_ + " --max-evals 1 --progress never --out-dir " + run;
+  const std::string args = "tune --scenarios " + set_ +
+                           " --max-evals 1 --progress never --no-sensitivity --out-dir " + run;
   ASSERT_EQ(RunScw(args, Path("first.out")), 0) << Slurp(Path("first.out"));
   const std::string log = Slurp(run + "/evaluations.csv");
   EXPECT_EQ(RunScw(args, Path("second.out")), 2);
