@@ -8,6 +8,7 @@
 #include "plant/track/road_surface.h"
 #include "plant/vehicle/vehicle.h"
 #include "tuning/csv_writer.h"
+#include "tuning/events.h"
 #include "tuning/motion_factory.h"
 
 namespace scw::tuning {
@@ -72,6 +73,7 @@ std::vector<std::string> TraceHeader() {
   for (const char* w : kWheelNames) h.push_back(std::string("slip_") + w + "_pct");
   for (const char* w : kWheelNames) h.push_back(std::string("alpha_") + w + "_rad");
   for (const char* w : kWheelNames) h.push_back(std::string("fz_") + w + "_N");
+  h.push_back("events");  // bit mask of the active events: 1 throttle, 2 steer, 4 rear grip, 8 gust
   return h;
 }
 
@@ -92,6 +94,9 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
   // plant feels it at every plant step; on a uniform surface the default environment is exact.
   const plant::RoadSurface road(track, sc.spec.friction_patches);
   double road_hint = plant::Track::kNoHint;
+  // The scenario's faults, grip events and gusts (tuning/events.h).
+  const EventSchedule events(sc.spec.events, track);
+  EventSchedule::State event_state = events.MakeState();
   const double h = car.time_step();
   const double ts = stab.tS;
   const long ratio = std::max(1L, std::lround(ts / h));
@@ -142,6 +147,7 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
       if (ds < -0.5 * length) ds += length;
       progress += ds;
     }
+    const double s_before = last_s;
     s_hint = last_s = tp.s;
     if (progress >= (laps_done + 1) * length && progress > prev_progress) {
       // Crossing time interpolated within the tick.
@@ -163,6 +169,11 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
       m.distance = m.distance_planned;
       break;
     }
+    EventSchedule::Active ev;
+    if (!events.empty()) {
+      if (tick > 0) events.Update(s_before, tp.s, laps_done + 1, t, &event_state);
+      ev = events.At(t, event_state);
+    }
 
     // Motion control.
     controller::motion::MotionInput mi{
@@ -170,8 +181,14 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
         meas.v_y, meas.yaw_rate, meas.a_x, meas.a_y, meas.steering_angle};
     if (tick % motion_every == 0) mo = pp.Step(mi, motion_state.get());
     const double speed = std::hypot(meas.v_x, meas.v_y);
-    const auto lo = lon.Step(
-        {mo.ax_request, meas.a_x, speed, meas.engine_speed, meas.gear, slip_active}, &lon_state);
+    auto lo = lon.Step({mo.ax_request, meas.a_x, speed, meas.engine_speed, meas.gear, slip_active},
+                       &lon_state);
+    if (ev.throttle_fault) {  // the request path overridden: what the stability controller sees
+      lo.throttle = ev.throttle;
+      lo.brake_bar = {};
+      lo.force = lon.DriveForce(meas.engine_speed, meas.gear, ev.throttle);
+    }
+    const double steering_request = mo.steering_request + ev.steer_offset;
 
     // Stability control.
     controller::StabilityInput in;
@@ -182,7 +199,7 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
     in.a_x = meas.a_x;
     in.a_y = meas.a_y;
     in.steering_measured = meas.steering_angle;
-    in.steering_request = mo.steering_request;
+    in.steering_request = steering_request;
     in.ay_request = mo.ay_request;
     in.yaw_rate_request = mo.yaw_rate_request;
     in.beta_request = mo.beta_request;
@@ -219,7 +236,11 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
       if (out.esc_active && IsFront(i))
         m.esc_brake_energy += std::max(0.0, out.brake_bar[i] - in.brake_request_bar[i]) *
                               brake_gain[i] * std::abs(meas.wheel_speed[i]) * ts;
+      if (out.abs_state[i] != controller::SlipPhase::kInactive)
+        m.abs_pressure_released += std::max(0.0, in.brake_request_bar[i] - out.brake_bar[i]) * ts;
     }
+    if (AnyActive(out.tc_state))
+      m.tc_throttle_cut += std::max(0.0, in.throttle_request - out.throttle) * ts;
     CountIntervention(out.esc_active, &esc_b, &m.esc_count, &m.esc_time, ts);
     CountIntervention(out.cs_active, &cs_b, &m.cs_count, &m.cs_time, ts);
     CountIntervention(AnyActive(out.abs_state), &abs_b, &m.abs_count, &m.abs_time, ts);
@@ -242,7 +263,7 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
       w.Add(mo.lateral_error);
       w.Add(mo.heading_error * kRadToDeg);
       w.Add(mo.v_target);
-      w.Add(mo.steering_request);
+      w.Add(steering_request);
       w.Add(out.steering);
       w.Add(meas.steering_angle);
       w.Add(lo.throttle);
@@ -260,6 +281,7 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
       for (double k : st.out.kappa) w.Add(100.0 * k);
       for (double a : st.out.alpha) w.Add(a);
       for (double f : st.out.fz) w.Add(f);
+      w.Add(static_cast<int>(ev.mask));
       w.EndRow();
     }
 
@@ -289,14 +311,23 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
       break;
     }
 
-    if (road.uniform()) {
+    const bool event_env = ev.rear_grip != 1.0 || ev.wind_x != 0.0 || ev.wind_y != 0.0;
+    if (road.uniform() && !event_env) {
       for (long k = 0; k < ratio; ++k) car.Step(act, &st);
     } else {
       for (long k = 0; k < ratio; ++k) {
-        const auto cp =
-            track.Project(st.x[plant::kX], st.x[plant::kY], st.x[plant::kPsi], road_hint);
-        road_hint = cp.s;
-        car.Step(act, road.UnderWheels(cp, car.contact_x(), car.contact_y()), &st);
+        plant::Environment env;
+        if (!road.uniform()) {
+          const auto cp =
+              track.Project(st.x[plant::kX], st.x[plant::kY], st.x[plant::kPsi], road_hint);
+          road_hint = cp.s;
+          env = road.UnderWheels(cp, car.contact_x(), car.contact_y());
+        }
+        env.mu[2] *= ev.rear_grip;
+        env.mu[3] *= ev.rear_grip;
+        env.wind_x = ev.wind_x;
+        env.wind_y = ev.wind_y;
+        car.Step(act, env, &st);
       }
     }
   }

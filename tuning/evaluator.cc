@@ -93,7 +93,8 @@ std::vector<SetEvaluation> BatchEvaluator::Evaluate(
     for (int k = 0; k < n_sc; ++k) {
       const std::size_t j = s * static_cast<std::size_t>(n_sc) + static_cast<std::size_t>(k);
       ev.runs.push_back(slots[j]);
-      ev.costs.push_back(ScenarioCost(slots[j], cost_));
+      ev.costs.push_back(ScenarioCost(
+          slots[j], cost_, scenarios_[static_cast<std::size_t>(k)].spec.kind == "critical"));
       if (ev.invalid.empty()) ev.invalid = invalid[j];
     }
     ev.total = TotalCost(ev.costs, weights_);

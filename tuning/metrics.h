@@ -39,7 +39,11 @@ struct RunMetrics {
   double esc_time = 0.0, cs_time = 0.0, abs_time = 0.0, tc_time = 0.0;  ///< [s] active time
   int esc_count = 0, cs_count = 0, abs_count = 0, tc_count = 0;  ///< activations (rising edges)
   double esc_brake_energy = 0.0;  ///< [J] brake energy caused by ESC pressure changes
-  double max_speed = 0.0;         ///< [m/s]
+  /// [bar·s] ∫ Σ max(0, requested − applied pressure) dt over the wheels ABS acts on
+  double abs_pressure_released = 0.0;
+  /// [s] ∫ max(0, requested − applied throttle) dt while TC acts (throttle 0..1)
+  double tc_throttle_cut = 0.0;
+  double max_speed = 0.0;  ///< [m/s]
 
   bool aborted() const { return status != RunStatus::kCompleted; }
   /// Mean of the completed laps [s], or NaN if none.

@@ -36,7 +36,9 @@ std::string FormatRunSummary(const std::string& name, const RunMetrics& m) {
          Fixed(m.cs_time, 2) + " s, ABS " + std::to_string(m.abs_count) + " / " +
          Fixed(m.abs_time, 2) + " s, TC " + std::to_string(m.tc_count) + " / " +
          Fixed(m.tc_time, 2) + " s\n";
-  out += "  ESC brake energy: " + Fixed(m.esc_brake_energy / 1000.0, 2) + " kJ\n";
+  out += "  ESC brake energy: " + Fixed(m.esc_brake_energy / 1000.0, 2) +
+         " kJ   ABS pressure released: " + Fixed(m.abs_pressure_released, 1) +
+         " bar*s   TC throttle cut: " + Fixed(m.tc_throttle_cut, 3) + " s\n";
   return out;
 }
 
@@ -69,6 +71,8 @@ std::string RunSummaryYaml(const std::string& name, const RunMetrics& m) {
   ki("tc_count", m.tc_count);
   kv("tc_time_s", m.tc_time);
   kv("esc_brake_energy_J", m.esc_brake_energy);
+  kv("abs_pressure_released_bar_s", m.abs_pressure_released);
+  kv("tc_throttle_cut_s", m.tc_throttle_cut);
   return out;
 }
 

@@ -11,8 +11,10 @@
 #include "params/io/override.h"
 #include "params/io/write.h"
 #include "params/schema/track_params.h"
+#include "plant/track/builtin_tracks.h"
 #include "plant/track/track_csv.h"
 #include "plant/track/yas_north.h"
+#include "tuning/events.h"
 #include "tuning/plant_envelope.h"
 #include "tuning/trajectory/racing_line.h"
 #include "tuning/trajectory/velocity_profile.h"
@@ -33,7 +35,14 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
 }
 
 plant::Track LoadTrack(const std::string& file) {
-  if (file.empty() || file == "yas_north") return plant::YasNorthTrack();
+  if (file.empty()) return plant::YasNorthTrack();
+  // A built-in name has no extension; a scenario file's directory may have been put before it.
+  if (const fs::path path(file); !path.has_extension()) {
+    if (auto track = plant::BuiltInTrack(path.filename().string())) return *std::move(track);
+    throw ConfigError(file, "track",
+                      "unknown built-in track (known: " + plant::BuiltInTrackNames() +
+                          "); a track file needs the extension .csv, .yaml or .yml");
+  }
   if (EndsWith(file, ".csv")) return plant::LoadTrackCsv(file);
   if (EndsWith(file, ".yaml") || EndsWith(file, ".yml"))
     return plant::Track::FromDefinition(params::LoadPlainFile<params::TrackParams>(file), file);
@@ -211,6 +220,16 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
   const ReferenceTrajectory ref = ComputeVelocityProfile(line, ggv, vo);
   sc.ggv = ggv;
   sc.path = ToPath(ref);
+  // Critical situations: a corner the track does not have is a configuration error now, not in
+  // the middle of a batch; late braking moves brake points of the reference the controller sees.
+  try {
+    const EventSchedule check(spec.events, *track);
+    if (!spec.events.late_braking.s.empty())
+      sc.path = std::make_shared<const controller::motion::Path>(
+          LateBrakingPath(*sc.path, spec.events.late_braking, *track));
+  } catch (const ConfigError& e) {
+    throw ConfigError(where, e.problems());
+  }
   sc.ideal_lap_time = ref.lap_time;
   sc.limit_lap_time = ComputeVelocityProfile(line, ggv, VelocityProfileOptions{}).lap_time;
 

@@ -55,6 +55,14 @@ double LongitudinalController::EngineTorque(double omega_e, double throttle) con
   return low + tj * (high - low);
 }
 
+double LongitudinalController::DriveForce(double omega_e, int gear,
+                                          double throttle) const noexcept {
+  const int g = std::clamp(gear, 1, static_cast<int>(m_.gear_ratios.size()));
+  const double ratio = m_.gear_ratios[static_cast<std::size_t>(g - 1)] * m_.final_drive;
+  const double w = std::isfinite(omega_e) ? omega_e : 0.0;
+  return EngineTorque(w, throttle) * ratio * m_.efficiency / m_.radius_rear;
+}
+
 double LongitudinalController::ThrottleFor(double omega_e, double torque) const noexcept {
   const auto& th = m_.map_throttle;
   double prev = EngineTorque(omega_e, th.front());

@@ -75,6 +75,10 @@ class LongitudinalController {
   double EngineTorque(double omega_e, double throttle) const noexcept;
   /// Smallest throttle giving `torque` at omega_e (0 or 1 at the ends).
   double ThrottleFor(double omega_e, double torque) const noexcept;
+  /// Force at the rear wheels [N] the model expects from `throttle` at omega_e in `gear`
+  /// (1-based, clamped): EngineTorque · i_g · i_fd · η / r_r. The inverse of the throttle path
+  /// of Step (a request that overrides the throttle reports this as its long_fx).
+  double DriveForce(double omega_e, int gear, double throttle) const noexcept;
 
  private:
   params::LongitudinalParams p_;

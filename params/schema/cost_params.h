@@ -12,6 +12,9 @@ struct CostWeights {
   double abort_progress_weight = 200.0;
   double lap_time_cap = 120.0;
   double brake_energy_weight = 0.02;
+  double abs_release_weight = 0.002;
+  double tc_cut_weight = 0.5;
+  double max_sideslip_weight = 0.5;
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
@@ -52,8 +55,32 @@ struct CostWeights {
              .unit = "s/kJ",
              .lo = 0.0,
              .hi = 1e6,
-             .doc = "Small cost per kJ of brake energy dissipated by ESC interventions "
-                    "(discourages needless braking)."});
+             .doc = "Cost per kJ of brake energy dissipated by ESC interventions, on clean "
+                    "scenarios (kind: clean): an ESC brake pulse on a lap that needed none."});
+    v.Field(s.abs_release_weight,
+            {.key = "abs_release_weight",
+             .unit = "s/(bar*s)",
+             .lo = 0.0,
+             .hi = 1e6,
+             .doc = "Cost per bar·s of brake pressure ABS released below the request, on clean "
+                    "scenarios (braking the motion controller asked for and did not get).",
+             .optional = true});
+    v.Field(s.tc_cut_weight,
+            {.key = "tc_cut_weight",
+             .unit = "s/s",
+             .lo = 0.0,
+             .hi = 1e6,
+             .doc = "Cost per second of full throttle TC cut below the request, on clean "
+                    "scenarios.",
+             .optional = true});
+    v.Field(s.max_sideslip_weight,
+            {.key = "max_sideslip_weight",
+             .unit = "s/deg",
+             .lo = 0.0,
+             .hi = 1e6,
+             .doc = "Cost per degree of the largest |β| above sideslip_allowed_deg, on critical "
+                    "scenarios (kind: critical): how close the car came to a spin.",
+             .optional = true});
   }
 };
 

@@ -7,6 +7,7 @@
 
 #include <string>
 
+#include "params/schema/event_params.h"
 #include "params/schema/field.h"
 #include "params/schema/friction_patch_params.h"
 #include "params/schema/longitudinal_params.h"
@@ -136,6 +137,7 @@ struct SubsystemSwitches {
 
 struct ScenarioParams {
   std::string name = "default";
+  std::string kind = "clean";
   std::string track;
   std::string vehicle;
   std::string stability;
@@ -145,6 +147,7 @@ struct ScenarioParams {
   bool plan_with_nominal_grip = false;
   GripParams grip{};
   FrictionPatches friction_patches{};
+  ScenarioEvents events{};
   int laps = 3;
   AbortParams abort{};
   SubsystemSwitches subsystems{};
@@ -155,9 +158,20 @@ struct ScenarioParams {
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
     v.Field(s.name, {.key = "name", .doc = "Scenario name (reports, file names)."});
+    v.Field(s.kind,
+            {.key = "kind",
+             .doc = "What the scenario tests, which selects its cost terms (tuning/cost.h): "
+                    "clean = a lap that should need no intervention (lap time and the cost of "
+                    "every intervention count); critical = a situation the stability control "
+                    "must save (survival, sideslip above the allowed angle and distance lost "
+                    "count; interventions are free).",
+             .optional = true,
+             .choices = "clean|critical"});
     v.Field(s.track, {.key = "track",
-                      .doc = "Track file (.csv centre line with widths, or a piecewise .yaml); "
-                             "empty = built-in Yas Marina North.",
+                      .doc = "Track: a built-in name (yas_north = Yas Marina North, monza = "
+                             "Autodromo Nazionale Monza, 5.793 km GP layout, clockwise) or a file "
+                             "(.csv centre line with widths, or a piecewise .yaml); empty = "
+                             "built-in Yas Marina North.",
                       .optional = true});
     v.Field(s.vehicle, {.key = "vehicle",
                         .doc = "Vehicle parameter file (params/vehicles/*.yaml); empty = built-in "
@@ -195,6 +209,8 @@ struct ScenarioParams {
     // track file's. Only the simulated car feels them: the planner knows the track's
     // friction_scale, not a patch (a wet or oily patch is an event the motion controller meets).
     v.Nested("friction_patches", s.friction_patches, true);
+    // Faults, grip events and gusts at a place on the track (params/schema/event_params.h).
+    v.Nested("events", s.events, true);
     v.Field(
         s.laps,
         {.key = "laps", .unit = "-", .lo = 1, .hi = 100, .doc = "Laps after the flying start."});

@@ -459,7 +459,9 @@ std::string EncodeRun(const RunMetrics& m, double ideal_lap_time) {
         m.max_slip_rear, m.sideslip_excess_integral, m.esc_time, m.cs_time, m.abs_time, m.tc_time})
     num(x);
   for (int c : {m.esc_count, m.cs_count, m.abs_count, m.tc_count}) integer(c);
-  for (double x : {m.esc_brake_energy, m.max_speed, ideal_lap_time}) num(x);
+  for (double x : {m.esc_brake_energy, m.abs_pressure_released, m.tc_throttle_cut, m.max_speed,
+                   ideal_lap_time})
+    num(x);
   return out;
 }
 
@@ -496,7 +498,9 @@ bool DecodeRun(const char* text, RunMetrics* m, double* ideal_lap_time) {
     *x = num();
   for (int* c : {&m->esc_count, &m->cs_count, &m->abs_count, &m->tc_count})
     *c = static_cast<int>(integer());
-  for (double* x : {&m->esc_brake_energy, &m->max_speed, ideal_lap_time}) *x = num();
+  for (double* x : {&m->esc_brake_energy, &m->abs_pressure_released, &m->tc_throttle_cut,
+                    &m->max_speed, ideal_lap_time})
+    *x = num();
   while (*p == ' ') ++p;
   return ok && (*p == '\0' || *p == '\n');
 }

@@ -28,6 +28,28 @@ TEST(CostTest, CompletedRunCostsItsLapTimePlusViolations) {
   EXPECT_DOUBLE_EQ(c.total, 62.0 + c.sideslip + c.brake_energy);
 }
 
+TEST(CostTest, CleanScenariosChargeInterventionsCriticalOnesTheLargestSideslip) {
+  params::CostWeights w;
+  RunMetrics m = Completed(62.0);
+  m.esc_brake_energy = 10000.0;     // 10 kJ
+  m.abs_pressure_released = 200.0;  // bar·s
+  m.tc_throttle_cut = 0.4;          // s of full throttle
+  m.max_abs_sideslip = 9.0 * M_PI / 180.0;
+  const CostBreakdown clean = ScenarioCost(m, w, false);
+  EXPECT_DOUBLE_EQ(clean.brake_energy, 10.0 * w.brake_energy_weight);
+  EXPECT_DOUBLE_EQ(clean.interventions, 200.0 * w.abs_release_weight + 0.4 * w.tc_cut_weight);
+  EXPECT_EQ(clean.max_sideslip, 0.0);
+  EXPECT_GT(clean.interventions, 0.0);
+  const CostBreakdown critical = ScenarioCost(m, w, true);
+  EXPECT_EQ(critical.brake_energy, 0.0);
+  EXPECT_EQ(critical.interventions, 0.0);
+  EXPECT_NEAR(critical.max_sideslip, (9.0 - w.sideslip_allowed_deg) * w.max_sideslip_weight, 1e-12);
+  EXPECT_DOUBLE_EQ(critical.total, 62.0 + critical.max_sideslip);
+  // Below the allowed angle nothing is charged.
+  m.max_abs_sideslip = 0.5 * w.sideslip_allowed_deg * M_PI / 180.0;
+  EXPECT_EQ(ScenarioCost(m, w, true).max_sideslip, 0.0);
+}
+
 TEST(CostTest, EveryAbortCostsMoreThanASlowCompletedRunAndEarlierIsWorse) {
   params::CostWeights w;
   RunMetrics slow = Completed(w.lap_time_cap - 1.0);
