@@ -12,9 +12,9 @@
 #include "params/io/write.h"
 #include "params/schema/track_params.h"
 #include "plant/track/builtin_tracks.h"
-#include "plant/track/track_csv.h"
 #include "plant/track/yas_north.h"
 #include "tuning/events.h"
+#include "tuning/io/track_csv.h"
 #include "tuning/plant_envelope.h"
 #include "tuning/trajectory/racing_line.h"
 #include "tuning/trajectory/velocity_profile.h"
@@ -43,7 +43,7 @@ plant::Track LoadTrack(const std::string& file) {
                       "unknown built-in track (known: " + plant::BuiltInTrackNames() +
                           "); a track file needs the extension .csv, .yaml or .yml");
   }
-  if (EndsWith(file, ".csv")) return plant::LoadTrackCsv(file);
+  if (EndsWith(file, ".csv")) return tuning::LoadTrackCsv(file);
   if (EndsWith(file, ".yaml") || EndsWith(file, ".yml"))
     return plant::Track::FromDefinition(params::LoadPlainFile<params::TrackParams>(file), file);
   throw ConfigError(file, "track", "unknown track file type (expected .csv, .yaml or .yml)");

@@ -5,9 +5,9 @@
 #include <cstdint>
 #include <string>
 
-#include "plant/track/track_csv.h"
 #include "test/fuzz/fuzz_targets.h"
 #include "test/fuzz/fuzz_util.h"
+#include "tuning/io/track_csv.h"
 
 using scw::ConfigError;
 
@@ -15,11 +15,11 @@ int scw::fuzz::FuzzTrackCsv(const std::uint8_t* data, std::size_t size) {
   static scw::fuzz::MemFile file;
   const std::string& path = file.Write(data, size);
   try {
-    (void)scw::plant::ReadCsvTable(path, {"x_m", "y_m"}, {"friction_scale"});
+    (void)scw::tuning::ReadCsvTable(path, {"x_m", "y_m"}, {"friction_scale"});
   } catch (const ConfigError&) {
   }
   try {
-    const scw::plant::Track t = scw::plant::LoadTrackCsv(path);
+    const scw::plant::Track t = scw::tuning::LoadTrackCsv(path);
     FUZZ_CHECK(std::isfinite(t.length()) && t.length() > 0.0, "bad length");
     for (std::size_t i = 0; i < t.size(); i += 1 + t.size() / 16) {
       FUZZ_CHECK(std::isfinite(t.x()[i]) && std::isfinite(t.y()[i]) &&

@@ -11,10 +11,10 @@
 #include "params/schema/track_params.h"
 #include "plant/track/builtin_tracks.h"
 #include "plant/track/corners.h"
-#include "plant/track/track_csv.h"
 #include "plant/track/yas_north.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
+#include "tuning/io/track_csv.h"
 #include "tuning/trajectory/racing_line.h"
 #include "tuning/trajectory/velocity_profile.h"
 
@@ -47,7 +47,7 @@ plant::Track LoadTrack(const std::string& path) {
   if (auto track = plant::BuiltInTrack(path)) return *std::move(track);
   if (EndsWith(path, ".yaml") || EndsWith(path, ".yml"))
     return plant::Track::FromDefinition(params::LoadPlainFile<params::TrackParams>(path), path);
-  return plant::LoadTrackCsv(path);
+  return tuning::LoadTrackCsv(path);
 }
 
 int Info(const TrackOptions& o) {

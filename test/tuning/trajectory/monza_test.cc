@@ -13,12 +13,14 @@
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "plant/track/builtin_tracks.h"
-#include "plant/track/track_csv.h"
 #include "test/tuning/trajectory/test_data.h"
+#include "tuning/io/track_csv.h"
 #include "tuning/trajectory/velocity_profile.h"
 
 namespace scw::plant {
 namespace {
+
+using tuning::LoadTrackCsv;
 
 constexpr double kTwoPi = 2 * 3.141592653589793;
 

@@ -6,9 +6,9 @@
 
 #include <iostream>
 
-#include "plant/track/track_csv.h"
 #include "plant/track/yas_north.h"
 #include "test/tuning/trajectory/test_data.h"
+#include "tuning/io/track_csv.h"
 #include "tuning/trajectory/velocity_profile.h"
 
 namespace scw::tuning {
@@ -57,7 +57,7 @@ TEST(RacingLine, GivenRacelineFileLoads) {
   const std::string line =
       test::SharedData("tracks/yas_north/global_racing_lines/yasnorth_3d_dallaraAV21_gg_0.1.csv");
   if (ref.empty() || line.empty()) GTEST_SKIP() << "../shared/data/tracks/yas_north not present";
-  const plant::Track t = plant::LoadTrackCsv(ref);
+  const plant::Track t = tuning::LoadTrackCsv(ref);
   const RacingLine rl = LoadRacingLine(line, t);
   EXPECT_NEAR(rl.line.length(), 2990.0, 60.0);
   EXPECT_LT(SquaredCurvatureIntegral(rl.line), SquaredCurvatureIntegral(t));

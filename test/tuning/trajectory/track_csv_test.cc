@@ -1,5 +1,5 @@
 // CSV loaders: both public formats load; bad cells fail naming file, line and column.
-#include "plant/track/track_csv.h"
+#include "tuning/io/track_csv.h"
 
 #include <gtest/gtest.h>
 
@@ -10,6 +10,8 @@
 
 namespace scw::plant {
 namespace {
+
+using tuning::LoadTrackCsv;
 
 class TrackCsvBad : public ::testing::Test {
  protected:

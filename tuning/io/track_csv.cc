@@ -1,4 +1,4 @@
-#include "plant/track/track_csv.h"
+#include "tuning/io/track_csv.h"
 
 #include <charconv>
 #include <cmath>
@@ -8,7 +8,10 @@
 
 #include "params/schema/field.h"
 
-namespace scw::plant {
+namespace scw::tuning {
+
+using plant::Track;
+using plant::TrackBuildOptions;
 namespace {
 
 std::string Trim(std::string_view v) {
@@ -172,4 +175,4 @@ Track LoadTrackCsv(const std::string& path, const TrackBuildOptions& options) {
   }
 }
 
-}  // namespace scw::plant
+}  // namespace scw::tuning

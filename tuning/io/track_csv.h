@@ -1,4 +1,5 @@
-// CSV readers for track data (plain text, no YAML): the two public centre-line formats of
+// CSV readers for track data (plain text, no YAML; file I/O lives here, not in the plant): the two
+// public centre-line formats of
 // ../shared/data/tracks (README there) and a generic column reader for other tables.
 //
 //   racetrack-database:  `# x_m,y_m,w_tr_right_m,w_tr_left_m` (both widths positive)
@@ -19,7 +20,7 @@
 
 #include "plant/track/track.h"
 
-namespace scw::plant {
+namespace scw::tuning {
 
 /// Numeric columns of a CSV file with a header line.
 struct CsvTable {
@@ -38,6 +39,6 @@ CsvTable ReadCsvTable(const std::string& path, const std::vector<std::string>& r
                       const std::vector<std::string>& optional = {});
 
 /// Loads a closed centre line with widths in either public format.
-Track LoadTrackCsv(const std::string& path, const TrackBuildOptions& options = {});
+plant::Track LoadTrackCsv(const std::string& path, const plant::TrackBuildOptions& options = {});
 
-}  // namespace scw::plant
+}  // namespace scw::tuning
