@@ -188,7 +188,8 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
       lo.brake_bar = {};
       lo.force = lon.DriveForce(meas.engine_speed, meas.gear, ev.throttle);
     }
-    const double steering_request = mo.steering_request + ev.steer_offset;
+    const double steering_request =
+        ev.steer_offset != 0.0 ? mo.steering_request + ev.steer_offset : mo.steering_request;
 
     // Stability control.
     controller::StabilityInput in;
