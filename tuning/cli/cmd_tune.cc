@@ -170,9 +170,12 @@ int RunCheckSet(const TuneOptions& o, const tuning::ScenarioSet& set,
                 const params::StabilityParams& base, const tuning::ParameterSpace& loaded) {
   ProgressLine progress(o.progress);
   const int n_scenarios = static_cast<int>(set.training.size() + set.held_out.size());
-  // The base point of the space the tune would search (ranges grown to hold the base, as scw
-  // tune does by default, so that the centre is the base set bit for bit).
-  const tuning::ParameterSpace space = loaded.WithBase(base, tuning::BaseOutsideSpace::kGrow);
+  // The base point of the space the tune would search, with the tune's own rule for a base
+  // outside a range (grown by default, so that the centre is the base set bit for bit, or refused
+  // with --base-outside refuse, exit 2 naming the key, as scw tune does).
+  const tuning::ParameterSpace space =
+      loaded.WithBase(base, o.base_outside == "refuse" ? tuning::BaseOutsideSpace::kRefuse
+                                                       : tuning::BaseOutsideSpace::kGrow);
   const std::vector<double> u0 = space.Encode(base);
   tuning::SensitivityPlan plan;
   if (!o.no_sensitivity) plan = tuning::PlanSensitivity(space, u0, base);

@@ -132,6 +132,14 @@ TEST_F(TuneCliTest, RefuseNamesTheKeyOutsideTheSpaceAndSpaceShowWarns) {
             std::string::npos)
       << out;
   EXPECT_FALSE(fs::exists(run)) << "a refused run must not leave a run folder";
+  // --check-set applies the same rule (it used to grow the range regardless).
+  EXPECT_EQ(RunScw("tune --check-set --scenarios " + set_ + " --base " + shipped_ +
+                       " --base-outside refuse --progress never",
+                   Path("refuse_check.out")),
+            2);
+  EXPECT_NE(Slurp(Path("refuse_check.out")).find("ESC.beta_threshold_deactivate"),
+            std::string::npos)
+      << Slurp(Path("refuse_check.out"));
 
   EXPECT_EQ(RunScw("space show", Path("show.out")), 0);
   const std::string show = Slurp(Path("show.out"));
