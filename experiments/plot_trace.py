@@ -6,7 +6,9 @@ figure (Fig. "first lap at GG = 1.4"), over the distance driven (or time):
   sideslip β, longitudinal wheel slip, brake pressure (requested dashed, applied solid) and the
   interventions of all four subsystems (ESC, CS, ABS, TC);
 
-with lap boundaries and, where the run aborted, the abort point and its reason. The title names
+with lap boundaries, grey bands where a scenario event (a throttle or steering fault, a rear-grip
+loss, a gust: the trace's `events` column) was active and, where the run aborted, the abort point
+and its reason. The title names
 the scenario and the parameter set.
 
 One trace: every wheel's slip and pressure, one row per subsystem in the intervention panel.
@@ -281,6 +283,15 @@ def plot(paths, out, labels=None, x="distance", lap=None, title=None, summaries=
                 ymin, ymax = (row + 0.15) / n_rows, (row + 0.85) / n_rows
             for a, b in spans(xs, cols[col]):
                 ax["int"].axvspan(a, b, ymin=ymin, ymax=ymax, color=c, lw=0)
+
+        # Scenario events (faults, rear-grip loss, gusts: the trace's events bit mask) as grey bands
+        # behind every panel, for the first trace of an overlay.
+        if "events" in cols and k == 0:
+            for a0, b0 in spans(xs, (cols["events"] != 0).astype(float)):
+                for a in axes:
+                    a.axvspan(a0, b0, color="0.55", alpha=0.18, lw=0, zorder=0)
+                ax["speed"].text(a0, 0.88, " event", fontsize=8, color="0.3", va="top",
+                                 transform=ax["speed"].get_xaxis_transform())
 
         # Lap boundaries.
         laps = cols["lap"]
