@@ -19,51 +19,48 @@ double Ahead(double a, double b, double length) {
   return d;
 }
 
+/// EventPlace with the track's corners already found (one scan per schedule, not per event).
+double PlaceOn(const plant::Track& track, const std::vector<plant::Corner>& corners, double corner,
+               double s, const std::string& key, std::size_t index) {
+  const int k = static_cast<int>(corner);
+  if (k <= 0) return track.Wrap(s);
+  if (static_cast<std::size_t>(k) > corners.size())
+    throw ConfigError("", key + ".corner",
+                      "element [" + std::to_string(index) + "] = " + std::to_string(k) +
+                          ": the track '" + track.name() + "' has " +
+                          std::to_string(corners.size()) + " corners (scw track info)");
+  return track.Wrap(corners[static_cast<std::size_t>(k - 1)].s_apex + s);
+}
+
 }  // namespace
 
 double EventPlace(const plant::Track& track, double corner, double s, const std::string& key,
                   std::size_t index) {
-  const int k = static_cast<int>(corner);
-  double at = s;
-  if (k > 0) {
-    const auto corners = plant::FindCorners(track);
-    if (static_cast<std::size_t>(k) > corners.size())
-      throw ConfigError("", key + ".corner",
-                        "element [" + std::to_string(index) + "] = " + std::to_string(k) +
-                            ": the track '" + track.name() + "' has " +
-                            std::to_string(corners.size()) + " corners (scw track info)");
-    at = corners[static_cast<std::size_t>(k - 1)].s_apex + s;
-  }
-  return track.Wrap(at);
+  return PlaceOn(track, corner > 0.0 ? plant::FindCorners(track) : std::vector<plant::Corner>{},
+                 corner, s, key, index);
 }
 
 EventSchedule::EventSchedule(const params::ScenarioEvents& ev, const plant::Track& track)
     : length_(track.length()) {
-  auto place = [&](const std::vector<double>& corner, const std::vector<double>& s, std::size_t i,
-                   const char* block) {
-    return EventPlace(track, corner[i], s[i], std::string("events.") + block, i);
-  };
-  auto add = [&](Type type, const std::vector<double>& corner, const std::vector<double>& s,
-                 const std::vector<double>& lap, const std::vector<double>& duration,
-                 const std::vector<double>& value, const char* block) {
-    for (std::size_t i = 0; i < s.size(); ++i) {
+  const std::vector<plant::Corner> corners =
+      ev.empty() ? std::vector<plant::Corner>{} : plant::FindCorners(track);
+  // One event per list element of a block; `value` is the block's magnitude list.
+  auto add = [&](Type type, const auto& block, const std::vector<double>& value, const char* name) {
+    for (std::size_t i = 0; i < block.s.size(); ++i) {
       Event e;
       e.type = type;
-      e.s = place(corner, s, i, block);
-      e.lap = static_cast<int>(lap[i]);
-      e.duration = duration[i];
+      e.s = PlaceOn(track, corners, block.corner[i], block.s[i], std::string("events.") + name, i);
+      e.lap = static_cast<int>(block.lap[i]);
+      e.duration = block.duration[i];
       e.value = value[i];
       events_.push_back(e);
     }
   };
-  add(Type::kThrottle, ev.throttle.corner, ev.throttle.s, ev.throttle.lap, ev.throttle.duration,
-      ev.throttle.value, "throttle");
-  add(Type::kSteer, ev.steer.corner, ev.steer.s, ev.steer.lap, ev.steer.duration, ev.steer.value,
-      "steer");
-  add(Type::kRearGrip, ev.rear_grip.corner, ev.rear_grip.s, ev.rear_grip.lap, ev.rear_grip.duration,
-      ev.rear_grip.factor, "rear_grip");
+  add(Type::kThrottle, ev.throttle, ev.throttle.value, "throttle");
+  add(Type::kSteer, ev.steer, ev.steer.value, "steer");
+  add(Type::kRearGrip, ev.rear_grip, ev.rear_grip.value, "rear_grip");
   const std::size_t first_gust = events_.size();
-  add(Type::kGust, ev.gust.corner, ev.gust.s, ev.gust.lap, ev.gust.duration, ev.gust.speed, "gust");
+  add(Type::kGust, ev.gust, ev.gust.speed, "gust");
   for (std::size_t i = 0; i < ev.gust.s.size(); ++i) {
     Event& e = events_[first_gust + i];
     // The wind comes from (track direction + from_deg) and blows the opposite way.
@@ -162,11 +159,13 @@ controller::motion::Path LateBrakingPath(const controller::motion::Path& path,
     return Ahead(pts[from].s, pts[to].s, length);
   };
 
+  const std::vector<plant::Corner> corners = plant::FindCorners(track);
   const std::vector<PathPoint> original = pts;
   const controller::motion::Path original_path(original, length);
   for (std::size_t e = 0; e < late.s.size(); ++e) {
     if (zones.empty()) break;
-    const double s_track = EventPlace(track, late.corner[e], late.s[e], "events.late_braking", e);
+    const double s_track =
+        PlaceOn(track, corners, late.corner[e], late.s[e], "events.late_braking", e);
     const auto pose = track.PoseAt(s_track);
     const double s_path = path.Project(pose.x, pose.y, pose.heading).s;
     const Zone* best = nullptr;

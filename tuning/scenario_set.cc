@@ -92,6 +92,40 @@ std::string EntriesYaml(const std::vector<ScenarioEntry>& entries) {
   return out;
 }
 
+using Overrides = std::vector<std::string>;
+
+/// A critical situation, driven for one lap (on `track`, "" = the default). Survival is judged:
+/// no spin (|β| 20°), no lock or spin of a wheel, on the track; running wide by more than the
+/// studies' 3 m is allowed (the lateral-error abort at 10 m).
+Overrides Critical(const Overrides& situation, const std::string& track = "") {
+  Overrides o = {"kind=critical"};
+  if (!track.empty()) o.push_back("track=" + track);
+  o.insert(o.end(), {"laps=1", "abort.max_lateral_error=10"});
+  o.insert(o.end(), situation.begin(), situation.end());
+  return o;
+}
+
+/// A timed event of `block` on lap 1, `s` metres from the apex of `corner`; `magnitude` is
+/// "key=[value]" of the block (value, factor).
+Overrides Timed(const std::string& block, const std::string& corner, const std::string& s,
+                const std::string& duration, const std::string& magnitude) {
+  const std::string e = "events." + block + ".";
+  return {e + "corner=[" + corner + "]", e + "s=[" + s + "]", e + "lap=[1]",
+          e + "duration=[" + duration + "]", e + magnitude};
+}
+
+Overrides LateBraking(const std::string& corner, const std::string& distance) {
+  return {"events.late_braking.corner=[" + corner + "]", "events.late_braking.s=[0]",
+          "events.late_braking.distance=[" + distance + "]"};
+}
+
+/// A patch of other grip over the whole width from `start` to `end` [m].
+Overrides WetPatch(const std::string& start, const std::string& end, const std::string& factor) {
+  return {"friction_patches.start=[" + start + "]", "friction_patches.end=[" + end + "]",
+          "friction_patches.n_min=[-100]", "friction_patches.n_max=[100]",
+          "friction_patches.factor=[" + factor + "]"};
+}
+
 }  // namespace
 
 ScenarioSet ScenarioSet::Default() {
@@ -102,80 +136,28 @@ ScenarioSet ScenarioSet::Default() {
   // countersteer, ABS and TC decide with the car's shipped set (measured: disabling the subsystem
   // turns the completed run into an abort). One lap each, the event on it, except the 2-lap clean
   // run, to keep the default tune within minutes.
-  // Critical scenarios judge survival: no spin (|β| 20°), no lock or spin of a wheel, on the track;
-  // running wide by more than the studies' 3 m is allowed (the lateral-error abort at 10 m).
-  const std::string wide = "abort.max_lateral_error=10";
   s.training = {
       {"clean_gg1.2", 1.0, "", {"kind=clean", "gg_scale=1.2", "laps=2"}},
       {"clean_gg1.1", 1.0, "", {"kind=clean", "gg_scale=1.1", "laps=1"}},
-      {"power_on_c1",
-       1.0,
-       "",
-       {"kind=critical", "laps=1", wide, "events.throttle.corner=[1]", "events.throttle.s=[20]",
-        "events.throttle.lap=[1]", "events.throttle.duration=[1.0]",
-        "events.throttle.value=[1.0]"}},
-      {"power_on_c5",
-       1.0,
-       "",
-       {"kind=critical", "laps=1", wide, "events.throttle.corner=[5]", "events.throttle.s=[0]",
-        "events.throttle.lap=[1]", "events.throttle.duration=[1.0]",
-        "events.throttle.value=[1.0]"}},
-      {"late_braking_c7",
-       1.0,
-       "",
-       {"kind=critical", "laps=1", wide, "events.late_braking.corner=[7]",
-        "events.late_braking.s=[0]", "events.late_braking.distance=[20]"}},
-      {"wet_braking_c1",
-       1.0,
-       "",
-       {"kind=critical", "laps=1", wide, "friction_patches.start=[180]",
-        "friction_patches.end=[260]", "friction_patches.n_min=[-100]",
-        "friction_patches.n_max=[100]", "friction_patches.factor=[0.8]"}},
-      {"rear_grip_loss_c5",
-       1.0,
-       "",
-       {"kind=critical", "laps=1", wide, "events.rear_grip.corner=[5]", "events.rear_grip.s=[0]",
-        "events.rear_grip.lap=[1]", "events.rear_grip.duration=[1.5]",
-        "events.rear_grip.factor=[0.65]"}},
+      {"power_on_c1", 1.0, "", Critical(Timed("throttle", "1", "20", "1.0", "value=[1.0]"))},
+      {"power_on_c5", 1.0, "", Critical(Timed("throttle", "5", "0", "1.0", "value=[1.0]"))},
+      {"late_braking_c7", 1.0, "", Critical(LateBraking("7", "20"))},
+      {"wet_braking_c1", 1.0, "", Critical(WetPatch("180", "260", "0.8"))},
+      {"rear_grip_loss_c5", 1.0, "",
+       Critical(Timed("rear_grip", "5", "0", "1.5", "factor=[0.65]"))},
   };
   // Held out: other corners, places, magnitudes, and another track (Monza).
   s.held_out = {
       {"clean_gg1.15", 1.0, "", {"kind=clean", "gg_scale=1.15", "laps=1"}},
       {"monza_clean_gg1.1", 1.0, "", {"kind=clean", "track=monza", "gg_scale=1.1", "laps=1"}},
-      {"power_on_c2",
-       1.0,
-       "",
-       {"kind=critical", "laps=1", wide, "events.throttle.corner=[2]", "events.throttle.s=[10]",
-        "events.throttle.lap=[1]", "events.throttle.duration=[0.8]",
-        "events.throttle.value=[0.9]"}},
-      {"monza_power_on_c10",
-       1.0,
-       "",
-       {"kind=critical", "track=monza", "laps=1", wide, "events.throttle.corner=[10]",
-        "events.throttle.s=[20]", "events.throttle.lap=[1]", "events.throttle.duration=[1.0]",
-        "events.throttle.value=[1.0]"}},
-      {"late_braking_c9",
-       1.0,
-       "",
-       {"kind=critical", "laps=1", wide, "events.late_braking.corner=[9]",
-        "events.late_braking.s=[0]", "events.late_braking.distance=[20]"}},
-      {"wet_braking_c7",
-       1.0,
-       "",
-       {"kind=critical", "laps=1", wide, "friction_patches.start=[2470]",
-        "friction_patches.end=[2540]", "friction_patches.n_min=[-100]",
-        "friction_patches.n_max=[100]", "friction_patches.factor=[0.8]"}},
-      {"rear_grip_loss_c2",
-       1.0,
-       "",
-       {"kind=critical", "laps=1", wide, "events.rear_grip.corner=[2]", "events.rear_grip.s=[0]",
-        "events.rear_grip.lap=[1]", "events.rear_grip.duration=[1.5]",
-        "events.rear_grip.factor=[0.7]"}},
-      {"low_mu_traction_0.65",
-       1.0,
-       "",
-       {"kind=critical", "laps=1", wide, "grip.rear_mu_x=0.65", "plan_with_nominal_grip=true",
-        "gg_scale=1.0"}},
+      {"power_on_c2", 1.0, "", Critical(Timed("throttle", "2", "10", "0.8", "value=[0.9]"))},
+      {"monza_power_on_c10", 1.0, "",
+       Critical(Timed("throttle", "10", "20", "1.0", "value=[1.0]"), "monza")},
+      {"late_braking_c9", 1.0, "", Critical(LateBraking("9", "20"))},
+      {"wet_braking_c7", 1.0, "", Critical(WetPatch("2470", "2540", "0.8"))},
+      {"rear_grip_loss_c2", 1.0, "", Critical(Timed("rear_grip", "2", "0", "1.5", "factor=[0.7]"))},
+      {"low_mu_traction_0.65", 1.0, "",
+       Critical({"grip.rear_mu_x=0.65", "plan_with_nominal_grip=true", "gg_scale=1.0"})},
   };
   return s;
 }

@@ -95,52 +95,65 @@ inline void CheckEventLists(
 
 }  // namespace detail
 
-/// The motion controller's throttle request overridden (the paper's real-car event: too much
-/// throttle out of a corner): throttle = value, brake pressures 0, and the longitudinal force
-/// request the stability controller sees = the drive force of that throttle in the engaged gear.
-struct ThrottleFaults {
+/// A timed event with one magnitude per event (the kinds below say which): place, lap, duration
+/// and `value`, whose key, unit, bounds and meaning come from Kind::kValue.
+template <class Kind>
+struct TimedEvents {
   std::vector<double> corner{}, s{}, lap{}, duration{}, value{};
   template <class Self, class V>
   static void Visit(Self& x, V& v) {
     detail::VisitEventPlace(x.corner, x.s, v);
     detail::VisitEventLap(x.lap, v);
     detail::VisitEventDuration(x.duration, v);
-    v.Field(x.value, {.key = "value",
-                      .unit = "-",
-                      .lo = 0.0,
-                      .hi = 1.0,
-                      .doc = "Per event: the throttle request while it lasts (0..1).",
-                      .optional = true,
-                      .min_size = 0});
+    v.Field(x.value, Kind::kValue);
   }
-  static void CrossCheck(const ThrottleFaults& p, Problems& pr) {
-    detail::CheckEventLists(p.corner, p.s, {{"duration", &p.duration}, {"value", &p.value}}, &p.lap,
-                            pr);
+  static void CrossCheck(const TimedEvents& p, Problems& pr) {
+    detail::CheckEventLists(p.corner, p.s,
+                            {{"duration", &p.duration}, {Kind::kValue.key.data(), &p.value}},
+                            &p.lap, pr);
   }
 };
 
+/// The motion controller's throttle request overridden (the paper's real-car event: too much
+/// throttle out of a corner): throttle = value, brake pressures 0, and the longitudinal force
+/// request the stability controller sees = the drive force of that throttle in the engaged gear.
+struct ThrottleFault {
+  static constexpr Meta kValue{.key = "value",
+                               .unit = "-",
+                               .lo = 0.0,
+                               .hi = 1.0,
+                               .doc = "Per event: the throttle request while it lasts (0..1).",
+                               .optional = true,
+                               .min_size = 0};
+};
+using ThrottleFaults = TimedEvents<ThrottleFault>;
+
 /// A steering-request offset added to the motion controller's output: a spike (short duration)
 /// or a bias (long duration).
-struct SteerFaults {
-  std::vector<double> corner{}, s{}, lap{}, duration{}, value{};
-  template <class Self, class V>
-  static void Visit(Self& x, V& v) {
-    detail::VisitEventPlace(x.corner, x.s, v);
-    detail::VisitEventLap(x.lap, v);
-    detail::VisitEventDuration(x.duration, v);
-    v.Field(x.value, {.key = "value",
-                      .unit = "rad",
-                      .lo = -0.5,
-                      .hi = 0.5,
-                      .doc = "Per event: offset added to the steering request (> 0 left).",
-                      .optional = true,
-                      .min_size = 0});
-  }
-  static void CrossCheck(const SteerFaults& p, Problems& pr) {
-    detail::CheckEventLists(p.corner, p.s, {{"duration", &p.duration}, {"value", &p.value}}, &p.lap,
-                            pr);
-  }
+struct SteerFault {
+  static constexpr Meta kValue{.key = "value",
+                               .unit = "rad",
+                               .lo = -0.5,
+                               .hi = 0.5,
+                               .doc = "Per event: offset added to the steering request (> 0 left).",
+                               .optional = true,
+                               .min_size = 0};
 };
+using SteerFaults = TimedEvents<SteerFault>;
+
+/// Sudden loss of rear grip (cold or worn rear tyres): both rear tyres' friction multiplied by
+/// `factor` (the member `value`) while the event lasts.
+struct RearGripLoss {
+  static constexpr Meta kValue{
+      .key = "factor",
+      .unit = "-",
+      .lo = 0.05,
+      .hi = 2.0,
+      .doc = "Per event: friction factor of both rear tyres while it lasts.",
+      .optional = true,
+      .min_size = 0};
+};
+using RearGripEvents = TimedEvents<RearGripLoss>;
 
 /// Late braking: the reference speed profile's brake point moved later by `distance`, the speed
 /// before the corner reached over the shorter remaining distance (the motion controller asks for
@@ -162,29 +175,6 @@ struct LateBraking {
   }
   static void CrossCheck(const LateBraking& p, Problems& pr) {
     detail::CheckEventLists(p.corner, p.s, {{"distance", &p.distance}}, nullptr, pr);
-  }
-};
-
-/// Sudden loss of rear grip (cold or worn rear tyres): both rear tyres' friction multiplied by
-/// `factor` while the event lasts.
-struct RearGripEvents {
-  std::vector<double> corner{}, s{}, lap{}, duration{}, factor{};
-  template <class Self, class V>
-  static void Visit(Self& x, V& v) {
-    detail::VisitEventPlace(x.corner, x.s, v);
-    detail::VisitEventLap(x.lap, v);
-    detail::VisitEventDuration(x.duration, v);
-    v.Field(x.factor, {.key = "factor",
-                       .unit = "-",
-                       .lo = 0.05,
-                       .hi = 2.0,
-                       .doc = "Per event: friction factor of both rear tyres while it lasts.",
-                       .optional = true,
-                       .min_size = 0});
-  }
-  static void CrossCheck(const RearGripEvents& p, Problems& pr) {
-    detail::CheckEventLists(p.corner, p.s, {{"duration", &p.duration}, {"factor", &p.factor}},
-                            &p.lap, pr);
   }
 };
 

@@ -3,13 +3,13 @@
 // the documentation credits acts; and the set as a whole exercises all four subsystems.
 #include <gtest/gtest.h>
 
-#include <map>
 #include <string>
 #include <vector>
 
 #include "tuning/closed_loop.h"
 #include "tuning/evaluator.h"
 #include "tuning/scenario_set.h"
+#include "tuning/set_check.h"
 
 namespace scw::tuning {
 namespace {
@@ -21,19 +21,15 @@ const ScenarioEntry& Training(const std::string& name) {
   throw std::runtime_error("no training scenario " + name);
 }
 
-params::StabilityParams Without(params::StabilityParams p, const std::string& which) {
-  if (which == "ESC" || which == "all") p.ESC.enabled = false;
-  if (which == "CS" || which == "all") p.countersteer_system.enabled = false;
-  if (which == "ABS" || which == "all") p.SlipControl.ABS.enabled = false;
-  if (which == "TC" || which == "all") p.SlipControl.TC.enabled = false;
-  return p;
+params::StabilityParams WithoutAny(params::StabilityParams p) {
+  return ApplySubsystemSwitches(std::move(p), {false, false, false, false, false});
 }
 
 int Count(const RunMetrics& m, const std::string& which) {
-  if (which == "ESC") return m.esc_count;
-  if (which == "CS") return m.cs_count;
-  if (which == "ABS") return m.abs_count;
-  return m.tc_count;
+  const int counts[] = {m.esc_count, m.cs_count, m.abs_count, m.tc_count};
+  for (std::size_t k = 0; k < kCheckedSubsystems.size(); ++k)
+    if (which == kCheckedSubsystems[k]) return counts[k];
+  return -1;
 }
 
 struct Critical {
@@ -47,7 +43,7 @@ TEST_P(CriticalScenarioTest, FailsWithoutStabilityControlAndTheCreditedSubsystem
   const Critical& c = GetParam();
   const ResolvedScenario sc = Resolve(LoadEntry(Training(c.name), ""));
   EXPECT_EQ(sc.spec.kind, "critical");
-  const RunMetrics off = RunClosedLoop(sc, Without(sc.stability, "all"));
+  const RunMetrics off = RunClosedLoop(sc, WithoutAny(sc.stability));
   EXPECT_TRUE(off.aborted()) << c.name << " must fail without stability control";
   const RunMetrics on = RunClosedLoop(sc, sc.stability);
   ASSERT_EQ(on.status, RunStatus::kCompleted)
@@ -64,29 +60,15 @@ INSTANTIATE_TEST_SUITE_P(DefaultTrainingSet, CriticalScenarioTest,
                          [](const auto& p) { return std::string(p.param.name); });
 
 TEST(DefaultScenarioSetTest, EachSubsystemDecidesATrainingScenario) {
-  // Disabling a subsystem turns a completed training run into an abort or changes its cost by at
-  // least 5 % (the rule of docs/scenarios.md), for each of ESC, CS, ABS and TC.
+  // For each of ESC, CS, ABS and TC, disabling it changes the outcome of a training run or its
+  // cost by at least 5 % (CheckSet's rule, the one scw tune --check-set and docs/scenarios.md use).
   const ScenarioSet set = ScenarioSet::Default();
   const BatchEvaluator ev = BatchEvaluator::FromEntries(set.training, "", set.cost);
-  const params::StabilityParams base = ev.scenarios().front().stability;
-  const std::vector<std::string> subsystems = {"ESC", "CS", "ABS", "TC"};
-  std::vector<params::StabilityParams> sets = {base};
-  for (const auto& s : subsystems) sets.push_back(Without(base, s));
-  const auto res = ev.Evaluate(sets);
-  for (std::size_t k = 0; k < subsystems.size(); ++k) {
-    std::string decides;
-    for (std::size_t i = 0; i < ev.scenarios().size(); ++i) {
-      const RunMetrics& a = res[0].runs[i];
-      const RunMetrics& b = res[k + 1].runs[i];
-      const double ja = res[0].costs[i].total, jb = res[k + 1].costs[i].total;
-      if ((!a.aborted() && b.aborted()) || std::abs(jb - ja) >= 0.05 * ja)
-        decides += ev.scenarios()[i].spec.name + " ";
-    }
-    EXPECT_FALSE(decides.empty()) << subsystems[k] << " decides no training scenario";
-  }
+  const SetCheck c = CheckSet(ev, ev.scenarios().front().stability);
+  for (std::size_t k = 0; k < kCheckedSubsystems.size(); ++k)
+    EXPECT_GT(c.deciding[k], 0) << kCheckedSubsystems[k] << " decides no training scenario";
   // The baseline survives every training scenario.
-  for (std::size_t i = 0; i < ev.scenarios().size(); ++i)
-    EXPECT_FALSE(res[0].runs[i].aborted()) << ev.scenarios()[i].spec.name;
+  for (const ScenarioCheck& sc : c.scenarios) EXPECT_FALSE(sc.base.aborted()) << sc.name;
 }
 
 }  // namespace
