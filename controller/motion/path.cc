@@ -10,7 +10,9 @@ namespace scw::controller::motion {
 
 double WrapAngle(double a) noexcept {
   if (!std::isfinite(a)) return 0.0;
-  a = std::remainder(a, 2.0 * M_PI);
+  // remainder(a, 2π) is exact and returns a itself for |a| ≤ π (the quotient rounds to 0, ties to
+  // even), so the library call is only needed outside that range.
+  if (!(a >= -M_PI && a <= M_PI)) a = std::remainder(a, 2.0 * M_PI);
   return a <= -M_PI ? a + 2.0 * M_PI : a;
 }
 
@@ -32,6 +34,7 @@ Path::Path(std::vector<PathPoint> points, double length)
 }
 
 double Path::Wrap(double s) const noexcept {
+  if (s >= 0 && s < length_) return s;  // what fmod gives on [0, length), without the call
   if (!std::isfinite(s)) return 0.0;
   double w = std::fmod(s, length_);
   if (w < 0) w += length_;
@@ -50,7 +53,7 @@ std::size_t Path::SegmentAt(double s) const noexcept {
 PathPoint Path::Sample(double s_in) const noexcept {
   const double s = Wrap(s_in);
   const std::size_t i = SegmentAt(s);
-  const std::size_t j = (i + 1) % points_.size();
+  const std::size_t j = i + 1 == points_.size() ? 0 : i + 1;
   const PathPoint& a = points_[i];
   const PathPoint& b = points_[j];
   const double s_b = j == 0 ? length_ : b.s;
@@ -73,16 +76,19 @@ PathProjection Path::Project(double x, double y, double psi, double s_hint,
   if (std::isfinite(s_hint) && s_hint >= 0 && window > 0 && 2 * window < length_) {
     const std::size_t half = static_cast<std::size_t>(window / mean_ds_) + 2;
     const std::size_t center = SegmentAt(Wrap(s_hint));
-    first = (center + n - std::min(half, n)) % n;
+    first = center + n - std::min(half, n);  // < 2n: one conditional subtraction is the modulo
+    if (first >= n) first -= n;
     count = std::min(n, 2 * half + 1);
   }
+
+  // Segment k joins station k to k + 1; segment n − 1 closes the loop back to station 0. The
+  // window, segments first, first + 1, … (count of them, modulo n), is scanned in that order as
+  // at most two runs of plain indices around the closing segment. Only the closest segment's
+  // index, parameter t and squared distance are kept; the strict < keeps the first of equals.
   double best_d2 = std::numeric_limits<double>::infinity();
-  PathProjection best;
-  for (std::size_t k = 0; k < count; ++k) {
-    const std::size_t i = (first + k) % n;
-    const std::size_t j = (i + 1) % n;
-    const PathPoint& a = points_[i];
-    const PathPoint& b = points_[j];
+  double best_t = 0.0;
+  std::size_t best_i = 0;
+  const auto consider = [&](std::size_t i, const PathPoint& a, const PathPoint& b) {
     const double ex = b.x - a.x, ey = b.y - a.y;
     const double len2 = ex * ex + ey * ey;
     double t = len2 > 0 ? ((x - a.x) * ex + (y - a.y) * ey) / len2 : 0.0;
@@ -91,14 +97,34 @@ PathProjection Path::Project(double x, double y, double psi, double s_hint,
     const double d2 = (x - px) * (x - px) + (y - py) * (y - py);
     if (d2 < best_d2) {
       best_d2 = d2;
-      const double s_b = j == 0 ? length_ : b.s;
-      best.s = Wrap(a.s + t * (s_b - a.s));
-      best.segment = i;
-      const double cross = ex * (y - a.y) - ey * (x - a.x);
-      best.lateral_error = (cross >= 0 ? 1.0 : -1.0) * std::sqrt(d2);
-      best.heading_error = WrapAngle(psi - (a.psi + t * WrapAngle(b.psi - a.psi)));
+      best_t = t;
+      best_i = i;
     }
+  };
+  const PathPoint* const p = points_.data();
+  const std::size_t end = first + count;  // one past the window's last segment, unwrapped
+  const std::size_t run1 = std::min(end, n - 1);
+  for (std::size_t i = first; i < run1; ++i) consider(i, p[i], p[i + 1]);
+  if (end >= n) {
+    consider(n - 1, p[n - 1], p[0]);
+    for (std::size_t i = 0; i < end - n; ++i) consider(i, p[i], p[i + 1]);
   }
+
+  // Nothing closer than infinity (non-finite input): the default projection, as before.
+  PathProjection best;
+  if (!(best_d2 < std::numeric_limits<double>::infinity())) return best;
+  // The outputs of the closest segment, by the same expressions the scan used.
+  const std::size_t i = best_i, j = i + 1 == n ? 0 : i + 1;
+  const PathPoint& a = p[i];
+  const PathPoint& b = p[j];
+  const double t = best_t;
+  const double ex = b.x - a.x, ey = b.y - a.y;
+  const double s_b = j == 0 ? length_ : b.s;
+  best.s = Wrap(a.s + t * (s_b - a.s));
+  best.segment = i;
+  const double cross = ex * (y - a.y) - ey * (x - a.x);
+  best.lateral_error = (cross >= 0 ? 1.0 : -1.0) * std::sqrt(best_d2);
+  best.heading_error = WrapAngle(psi - (a.psi + t * WrapAngle(b.psi - a.psi)));
   return best;
 }
 

@@ -24,13 +24,13 @@ MotionOutput PurePursuit::Step(const MotionInput& in, MotionState* base) const n
   MotionOutput out;
   const Path& path = *path_;
   const double v_x = std::isfinite(in.v_x) ? in.v_x : 0.0;
+  const double cos_psi = std::cos(in.psi), sin_psi = std::sin(in.psi);  // used twice below
 
   // Path matching of the CoG, and of the longitudinal preview point.
   const PathProjection here = MatchOnPath(path, in, options_.projection_window, st, &out);
   const double preview = std::max(v_x, 3.0) * p_.lookahead_time_long_ff_s;
-  const PathProjection ahead =
-      path.Project(in.x + preview * std::cos(in.psi), in.y + preview * std::sin(in.psi), in.psi,
-                   here.s + preview, options_.projection_window);
+  const PathProjection ahead = path.Project(in.x + preview * cos_psi, in.y + preview * sin_psi,
+                                            in.psi, here.s + preview, options_.projection_window);
   const PathPoint target = path.Sample(ahead.s);
   out.v_target = target.v;
 
@@ -48,7 +48,7 @@ MotionOutput PurePursuit::Step(const MotionInput& in, MotionState* base) const n
       p_.min_lookahead_distance_lat_m + p_.lookahead_time_lat_s * v_x + curvature_term, 1e-6);
   const PathPoint goal = path.Sample(here.s + lookahead);
   const double dx = goal.x - in.x, dy = goal.y - in.y;
-  const double d_lat = -std::sin(in.psi) * dx + std::cos(in.psi) * dy;
+  const double d_lat = -sin_psi * dx + cos_psi * dy;
   const double kappa_raw = 2.0 * d_lat / (lookahead * lookahead);
   const double kappa_pp = kappa_filter_.Step(kappa_raw, &st->kappa_filtered);
   const double l = p_.vehicle.wheelbase_m;
