@@ -15,6 +15,7 @@
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
 #include "tuning/closed_loop.h"
+#include "tuning/csv_writer.h"
 #include "tuning/evaluator.h"
 #include "tuning/scenario.h"
 
@@ -25,6 +26,8 @@ struct BenchOptions {
   bool plant = false;
   bool evaluator = false;
   int evaluations = 4;
+  std::string scenarios;  ///< --evaluator: scenario set file ("" = the built-in default set)
+  std::string job_times;  ///< --evaluator: per-job wall times CSV
   std::string vehicle;
   double duration = 600.0;
   int repeat = 3;
@@ -95,15 +98,54 @@ int BenchClosedLoop(const BenchOptions& o) {
   return kExitOk;
 }
 
-// Evaluations per second of the tuning objective (the default training set) with 1 and 2 threads.
+// Per-job wall times of the tuning objective: each training scenario run once with the base set,
+// one after another on this thread (the job lengths a scheduler across many workers must balance;
+// experiments/scaling_model.py turns them into predicted speed-ups).
+void WriteJobTimes(const tuning::BatchEvaluator& ev, const std::string& path) {
+  tuning::CsvWriter csv(path, {"scenario", "kind", "status", "simulated_s", "wall_s"});
+  std::vector<double> wall;
+  tuning::RunOptions ro;  // as the evaluator runs them
+  ro.sideslip_allowed_deg = ev.cost().sideslip_allowed_deg;
+  for (const auto& sc : ev.scenarios()) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const tuning::RunMetrics m = tuning::RunClosedLoop(sc, sc.stability, ro);
+    wall.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    csv.Add(sc.spec.name);
+    csv.Add(sc.spec.kind);
+    csv.Add(std::string(tuning::RunStatusName(m.status)));
+    csv.Add(m.time);
+    csv.Add(wall.back());
+    csv.EndRow();
+  }
+  csv.Commit();
+  std::vector<double> sorted = wall;
+  std::sort(sorted.begin(), sorted.end());
+  double total = 0;
+  for (double w : wall) total += w;
+  auto q = [&](double f) { return sorted[static_cast<std::size_t>(f * (sorted.size() - 1))]; };
+  std::printf(
+      "job times (%zu jobs, 1 thread): total %.3f s, mean %.4f s, min %.4f, median %.4f, "
+      "p90 %.4f, max %.4f s -> %s\n",
+      wall.size(), total, total / static_cast<double>(wall.size()), sorted.front(), q(0.5), q(0.9),
+      sorted.back(), path.c_str());
+}
+
+// Evaluations per second of the tuning objective (the training scenarios of the default set, or
+// of --scenarios) with 1 and 2 threads.
 int BenchEvaluator(const BenchOptions& o) {
-  const auto set = tuning::ScenarioSet::Default();
+  const auto set = o.scenarios.empty() ? tuning::ScenarioSet::Default()
+                                       : tuning::ScenarioSet::FromFile(o.scenarios);
   std::vector<params::StabilityParams> sets(static_cast<std::size_t>(o.evaluations));
   for (std::size_t i = 0; i < sets.size(); ++i)
     sets[i].ESC.kp_psi_dot = 6.0 + static_cast<double>(i);  // distinct sets
   double rate[2] = {0, 0};
   for (int threads : {1, 2}) {
-    const auto ev = tuning::BatchEvaluator::FromEntries(set.training, "", set.cost, threads);
+    const auto t_prep = std::chrono::steady_clock::now();
+    const auto ev =
+        tuning::BatchEvaluator::FromEntries(set.training, set.base_dir, set.cost, threads);
+    const double prep =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t_prep).count();
+    if (threads == 1 && !o.job_times.empty()) WriteJobTimes(ev, o.job_times);
     double best = 1e300;
     for (int r = 0; r < o.repeat; ++r) {
       const auto t0 = std::chrono::steady_clock::now();
@@ -112,8 +154,11 @@ int BenchEvaluator(const BenchOptions& o) {
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     rate[threads - 1] = static_cast<double>(sets.size()) / best;
-    std::printf("evaluator: %zu scenarios per evaluation, %d thread(s): %.3f evaluations/s\n",
-                set.training.size(), threads, rate[threads - 1]);
+    std::printf(
+        "evaluator: %zu scenarios per evaluation, %d thread(s): %.3f evaluations/s "
+        "(%.1f runs/s; scenarios prepared in %.2f s)\n",
+        set.training.size(), threads, rate[threads - 1],
+        rate[threads - 1] * static_cast<double>(set.training.size()), prep);
   }
   std::printf("cpu: %s\nspeed-up 1 -> 2 threads: %.2fx\n", CpuModel().c_str(), rate[1] / rate[0]);
   return kExitOk;
@@ -128,10 +173,16 @@ void AddBench(CLI::App& app) {
   cmd->add_flag("--plant", o->plant,
                 "The plant alone driving its reference manoeuvre; prints 'real-time factor: N'");
   cmd->add_flag("--evaluator", o->evaluator,
-                "Tuning evaluations per second with 1 and 2 threads (default training set)");
+                "Tuning evaluations per second with 1 and 2 threads (training scenarios of the "
+                "default set or of --scenarios)");
   WholeNumberIn(
       cmd->add_option("--evaluations", o->evaluations, "Evaluations per measurement (--evaluator)"),
       1, 1000);
+  cmd->add_option("--scenarios", o->scenarios,
+                  "Scenario set file for --evaluator (default: the built-in default set)");
+  cmd->add_option("--job-times", o->job_times,
+                  "With --evaluator: write each training scenario's wall time for one run (1 "
+                  "thread) to this CSV (input of experiments/scaling_model.py)");
   cmd->add_option("--vehicle", o->vehicle, "Vehicle file (default: built-in EAV24 set)");
   NumberIn(cmd->add_option("--duration", o->duration, "Simulated time per run [s]"), 1.0, 1e6);
   WholeNumberIn(cmd->add_option("--repeat", o->repeat, "Runs; the fastest is reported"), 1, 100);
