@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <future>
 #include <map>
 #include <mutex>
 #include <utility>
@@ -49,34 +50,61 @@ plant::Track LoadTrack(const std::string& file) {
   throw ConfigError(file, "track", "unknown track file type (expected .csv, .yaml or .yml)");
 }
 
-/// Process-wide memo of expensive, pure preparation steps (racing line, g-g-v table), keyed by a
-/// text that determines the result. Thread-safe; values are immutable once stored.
+/// Process-wide memo of expensive, pure preparation steps (racing line, g-g-v table, full-limit
+/// lap), keyed by a text that determines the result. Thread-safe and single-flight: the first
+/// caller of a key computes it outside the lock, concurrent callers of that key wait for its
+/// result. Values are immutable once stored; a failed computation is not kept.
 template <class T>
 class Memo {
  public:
   template <class Make>
   std::shared_ptr<const T> Get(const std::string& key, Make&& make) {
+    std::promise<std::shared_ptr<const T>> promise;
+    std::shared_future<std::shared_ptr<const T>> result;
+    bool first = false;
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      auto it = items_.find(key);
-      if (it != items_.end()) return it->second;
+      auto [it, inserted] = items_.try_emplace(key);
+      if (inserted) {
+        it->second = promise.get_future().share();
+        first = true;
+      }
+      result = it->second;
     }
-    auto value = std::make_shared<const T>(make());  // computed outside the lock
-    std::lock_guard<std::mutex> lock(mutex_);
-    return items_.emplace(key, value).first->second;
+    if (first) {
+      try {
+        promise.set_value(std::make_shared<const T>(make()));
+      } catch (...) {
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          items_.erase(key);
+        }
+        promise.set_exception(std::current_exception());  // waiters see the same error
+      }
+    }
+    return result.get();
   }
 
  private:
   std::mutex mutex_;
-  std::map<std::string, std::shared_ptr<const T>> items_;
+  std::map<std::string, std::shared_future<std::shared_ptr<const T>>> items_;
 };
+
+/// Exact text of every input of PlantEnvelope: the vehicle as the params writer emits it (doubles
+/// in shortest round-trip form) and the brake bias. The sensor-noise switch is left out of the key
+/// (written as false): PlantEnvelope switches noise off itself.
+std::string GgvKey(params::VehicleParams v, double brake_bias_front) {
+  v.sensors.noise = false;
+  return params::ToPlainYaml(v) + "|brake_bias_front: " + params::FormatDouble(brake_bias_front);
+}
 
 /// The planner's g-g-v table: the plant's own combined envelope (tuning/plant_envelope.h), per
 /// vehicle and brake bias, shared within the process.
-controller::planning::GgvTable PlantGgv(const params::VehicleParams& v, double brake_bias_front) {
+std::shared_ptr<const controller::planning::GgvTable> PlantGgv(const std::string& key,
+                                                               const params::VehicleParams& v,
+                                                               double brake_bias_front) {
   static Memo<controller::planning::GgvTable> memo;
-  return *memo.Get(params::ToPlainYaml(v) + "|" + params::FormatDouble(brake_bias_front),
-                   [&] { return PlantEnvelope(v, brake_bias_front); });
+  return memo.Get(key, [&] { return PlantEnvelope(v, brake_bias_front); });
 }
 
 std::shared_ptr<const controller::motion::Path> ToPath(const ReferenceTrajectory& r) {
@@ -214,11 +242,12 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
   const plant::Track& line = *lines.Get(line_key, compute_line);
   VelocityProfileOptions vo;
   vo.gg_scale = spec.gg_scale * spec.limit_fraction;
-  const controller::planning::GgvTable ggv =
-      PlantGgv(spec.plan_with_nominal_grip ? nominal : sc.vehicle,
-               spec.motion.longitudinal.brake_bias_front);
-  const ReferenceTrajectory ref = ComputeVelocityProfile(line, ggv, vo);
-  sc.ggv = ggv;
+  const params::VehicleParams& planned = spec.plan_with_nominal_grip ? nominal : sc.vehicle;
+  const double brake_bias = spec.motion.longitudinal.brake_bias_front;
+  const std::string ggv_key = GgvKey(planned, brake_bias);
+  const auto ggv = PlantGgv(ggv_key, planned, brake_bias);
+  const ReferenceTrajectory ref = ComputeVelocityProfile(line, *ggv, vo);
+  sc.ggv = *ggv;
   sc.path = ToPath(ref);
   // Critical situations: a corner the track does not have is a configuration error now, not in
   // the middle of a batch; late braking moves brake points of the reference the controller sees.
@@ -231,7 +260,11 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
     throw ConfigError(where, e.problems());
   }
   sc.ideal_lap_time = ref.lap_time;
-  sc.limit_lap_time = ComputeVelocityProfile(line, ggv, VelocityProfileOptions{}).lap_time;
+  // The full-limit lap depends only on the line and the table.
+  static Memo<double> limit_laps;
+  sc.limit_lap_time = *limit_laps.Get(ggv_key + "\n" + line_key, [&] {
+    return ComputeVelocityProfile(line, *ggv, VelocityProfileOptions{}).lap_time;
+  });
 
   // Stability parameters: the car's file (or defaults) with the vehicle handler's constants.
   if (!spec.stability.empty()) {
