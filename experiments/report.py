@@ -527,7 +527,7 @@ def sens_verdicts(s, fn, *extra):
 
 
 SENS_NAMES = {"brake40ms": "40 ms brake", "old_defaults": "old defaults",
-              "no_esc_cs": "ESC + CS off"}
+              "no_esc_cs": "ESC + CS off", "esc_hold": "throttle held during ESC"}
 
 
 def rel(cmd):

@@ -137,6 +137,9 @@ def main(argv=None):
             ("old_defaults", "old defaults: pure pursuit, reduced grip known to the planner "
              "(plan_with_nominal_grip=false), rear μy " + main_pert, None, False,
              "pure_pursuit"),
+            ("esc_hold", "interplay option, not the car: the longitudinal controller holds its "
+             "force while ESC acts (motion.longitudinal.hold_during_esc=true), rear μy "
+             + main_pert, None, mpc, args.controller),
         ]
         for tag, label, _, vmpc, ctrl in variants:
             t = scwexp.Timer()
@@ -144,6 +147,8 @@ def main(argv=None):
             if tag == "brake40ms":
                 veh = scwexp.brake_40ms_vehicle(scw, os.path.join(out, "vehicle_brake40ms.yaml"))
                 vsets.append(f"vehicle={veh}")
+            elif tag == "esc_hold":
+                vsets.append("motion.longitudinal.hold_during_esc=true")
             else:
                 vsets = [s for s in vsets if not s.startswith("plan_with_nominal_grip")] + \
                     ["plan_with_nominal_grip=false"]

@@ -121,6 +121,7 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
   plant::Actuators act;
   controller::StabilityOutput out;
   bool slip_active = false;
+  bool esc_active = false;  // of the previous step (motion.longitudinal.hold_during_esc)
 
   // Laps by unwrapped progress along the track (robust to a start just before the line).
   double s_hint = plant::Track::kNoHint, last_s = 0.0, progress = 0.0, prev_progress = 0.0;
@@ -181,8 +182,9 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
         meas.v_y, meas.yaw_rate, meas.a_x, meas.a_y, meas.steering_angle};
     if (tick % motion_every == 0) mo = pp.Step(mi, motion_state.get());
     const double speed = std::hypot(meas.v_x, meas.v_y);
-    auto lo = lon.Step({mo.ax_request, meas.a_x, speed, meas.engine_speed, meas.gear, slip_active},
-                       &lon_state);
+    auto lo = lon.Step(
+        {mo.ax_request, meas.a_x, speed, meas.engine_speed, meas.gear, slip_active, esc_active},
+        &lon_state);
     if (ev.throttle_fault) {  // the request path overridden: what the stability controller sees
       lo.throttle = ev.throttle;
       lo.brake_bar = {};
@@ -216,6 +218,7 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
     out = ctl.Step(in, &ctl_state);
     if (options.on_controller_output) options.on_controller_output(out);
     slip_active = out.slip_control_active;
+    esc_active = out.esc_active;
     act.steer_req = out.steering;
     act.brake_pressure_req = out.brake_bar;
     act.throttle = out.throttle;

@@ -97,9 +97,10 @@ LongitudinalOutput LongitudinalController::Step(const LongitudinalInput& in,
   const double d_term = d_filter_.Step(p_.kd * (e - s->e_prev) / ts_, &s->d);
   s->e_prev = e;
   const double fb = fb_filter_.Step(p_term + d_term, &s->fb);
-  double force = ff + (in.slip_control_active ? 0.0 : fb);
+  const bool hold = p_.hold_during_esc && in.esc_active;
+  double force = ff + (in.slip_control_active || hold ? 0.0 : fb);
   const double dmax = p_.max_force_rate * ts_;
-  force = std::clamp(force, s->force - dmax, s->force + dmax);
+  force = std::clamp(force, s->force - dmax, s->force + (hold ? 0.0 : dmax));
   force = std::clamp(force, p_.force_min, p_.force_max);
   if (!std::isfinite(force)) force = 0.0;
   s->force = force;

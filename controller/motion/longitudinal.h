@@ -5,6 +5,7 @@
 //   FF = k_rot·m·a_x,req + ½ρ·c_D·A·v² + c_rr·(m·g + ½ρ·(−c_L)·A·v²)
 //   FB = LPF_Tfb( clamp(k_p·e_a, ±F_lim) + LPF_Td(k_d·ė_a) ),  e_a = a_x,req − a_x
 //   F  = sat( ratelimit( FF + FB·[¬slip_control_active] ) )     (feedback frozen while ABS/TC act)
+//   option hold_during_esc (not the car): while ESC acts, FB left out too and F ≤ the last F
 //   F ≥ F_eb (engine drag at closed throttle): throttle with engine torque F·r_r/(i_g·i_fd·η)
 //   F <  F_eb: throttle 0; brake force F_b = F − F_eb split front b / rear 1 − b:
 //              p_front = b·|F_b|·r_f/(2·k_f), p_rear = (1 − b)·|F_b|·r_r/(2·k_r) per wheel [bar]
@@ -47,6 +48,7 @@ struct LongitudinalInput {
   double engine_speed = 0.0;  ///< [rad/s]
   int gear = 1;               ///< engaged gear (1-based)
   bool slip_control_active = false;
+  bool esc_active = false;  ///< ESC active at the previous step (used with hold_during_esc)
 };
 
 struct LongitudinalOutput {

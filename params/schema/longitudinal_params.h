@@ -19,6 +19,7 @@ struct LongitudinalParams {
   double force_min = -50000.0;
   double rotational_inertia_factor = 1.0;
   double brake_bias_front = 0.58;
+  bool hold_during_esc = false;
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
@@ -77,6 +78,12 @@ struct LongitudinalParams {
              .hi = 1.0,
              .doc = "Front share of the braking force (the car's P_VDC_brake_bias_front; the "
                     "stability controller's ABS model assumes the same value)."});
+    v.Field(s.hold_during_esc,
+            {.key = "hold_during_esc",
+             .doc = "Declared interplay option, not the car's behaviour (closed-loop fidelity "
+                    "spec §8 item 14): while ESC was active at the previous step, the feedback "
+                    "is left out (as while ABS/TC act) and the force request may not rise, so "
+                    "the throttle does not climb against ESC's braking. false = the car."});
   }
   static void CrossCheck(const LongitudinalParams& p, Problems& pr) {
     if (!(p.force_min < p.force_max)) pr.Add("force_min", "must be below force_max");

@@ -73,6 +73,34 @@ TEST(LongitudinalTest, FeedbackIsFrozenWhileSlipControlActs) {
   EXPECT_LT(oa.force, ob.force);  // feedback asks for more braking; frozen when slip control acts
 }
 
+TEST(LongitudinalTest, HoldDuringEscKeepsTheForceFromRisingOnlyWhenDeclared) {
+  // The car decelerates harder than asked (ESC braking): the feedback wants more drive.
+  const LongitudinalInput esc{1.0, -4.0, 40.0, 600.0, 4, false, true};
+  LongitudinalInput no_esc = esc;
+  no_esc.esc_active = false;
+  params::LongitudinalParams held;
+  held.hold_during_esc = true;
+  const LongitudinalController car({}, Model(), 0.01), option(held, Model(), 0.01);
+  LongitudinalController::State a, b, c;
+  LongitudinalOutput oa, ob, oc;
+  for (int k = 0; k < 50; ++k) {
+    oa = car.Step(esc, &a);     // the car's controller ignores ESC
+    ob = car.Step(no_esc, &b);  // ... so both give the same request
+    oc = option.Step(esc, &c);  // the option holds the force
+  }
+  EXPECT_EQ(oa.force, ob.force);
+  EXPECT_EQ(oa.throttle, ob.throttle);
+  EXPECT_LT(oc.force, oa.force);
+  // Held: the force never rises from one step to the next while ESC acts.
+  LongitudinalController::State d;
+  double last = option.Step(no_esc, &d).force;
+  for (int k = 0; k < 50; ++k) {
+    const double f = option.Step(esc, &d).force;
+    EXPECT_LE(f, last) << k;
+    last = f;
+  }
+}
+
 TEST(LongitudinalTest, NonFiniteInputsStayFinite) {
   LongitudinalController c({}, Model(), 0.01);
   LongitudinalController::State s;
