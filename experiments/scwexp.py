@@ -414,7 +414,7 @@ def add_common_args(parser, gg="1.0:0.05:1.8", laps=3):
     parser.add_argument("--processes", type=int, default=2,
                         help="worker processes of the MPC sweeps (default 2)")
     parser.add_argument("--no-sensitivity", action="store_true",
-                        help="skip the unscored sensitivity runs (40 ms brake, old defaults)")
+                        help="skip the unscored sensitivity runs (40 ms brake and the others of the study)")
     parser.add_argument("--no-report", action="store_true",
                         help="do not regenerate experiments/results/report.md")
 
