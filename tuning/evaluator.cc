@@ -2,9 +2,12 @@
 
 #include <filesystem>
 #include <mutex>
+#include <stdexcept>
 
 #include "tuning/closed_loop.h"
 #include "tuning/optim/parallel.h"
+#include "tuning/parallel/mpi_backend.h"
+#include "tuning/parallel/wire.h"
 
 namespace scw::tuning {
 namespace {
@@ -26,6 +29,109 @@ class ProgressCounter {
   std::mutex mutex_;
 };
 
+RunOptions OptionsFor(const params::CostWeights& cost) {
+  RunOptions ro;
+  ro.sideslip_allowed_deg = cost.sideslip_allowed_deg;
+  return ro;
+}
+
+// One job: `set` on `sc`. A set the schema rejects is a result (kInvalidParams + the first
+// problem), not an error.
+void RunJob(const ResolvedScenario& sc, const params::StabilityParams& set, const RunOptions& ro,
+            RunMetrics* m, std::string* invalid) {
+  try {
+    *m = RunClosedLoop(sc, set, ro);
+  } catch (const ConfigError& e) {
+    *m = RunMetrics{};
+    m->status = RunStatus::kInvalidParams;
+    m->laps_planned = sc.spec.laps;
+    m->distance_planned = sc.spec.laps * sc.track->length();
+    *invalid =
+        e.problems().empty() ? e.what() : e.problems()[0].path + ": " + e.problems()[0].message;
+  }
+}
+
+// --- What travels to the other ranks (tuning/parallel/wire.h).
+
+std::string EncodeSetup(const std::vector<ScenarioEntry>& entries, const std::string& base_dir,
+                        const params::CostWeights& cost) {
+  WireWriter w;
+  w.Int(static_cast<std::int64_t>(entries.size()));
+  for (const auto& e : entries) {
+    w.String(e.name);
+    w.Double(e.weight);
+    w.String(e.file);
+    w.Int(static_cast<std::int64_t>(e.overrides.size()));
+    for (const auto& o : e.overrides) w.String(o);
+  }
+  w.String(base_dir);
+  w.Params(cost);
+  return w.Take();
+}
+
+std::string EncodeSets(const std::vector<params::StabilityParams>& sets) {
+  WireWriter w;
+  w.Int(static_cast<std::int64_t>(sets.size()));
+  for (const auto& s : sets) w.Params(s);
+  return w.Take();
+}
+
+// A job's result: the metrics as exact text, a line break, the invalid-set message.
+std::string EncodeResult(const RunMetrics& m, const std::string& invalid) {
+  return EncodeRunMetrics(m) + '\n' + invalid;
+}
+
+void DecodeResult(std::string_view bytes, RunMetrics* m, std::string* invalid) {
+  const std::string text(bytes);
+  const char* end = DecodeRunMetrics(text.c_str(), m);
+  if (end == nullptr || *end != '\n') throw std::runtime_error("unreadable result from a rank");
+  *invalid = std::string(end + 1);
+}
+
+class EvaluatorWorkerTask final : public mpi::WorkerTask {
+ public:
+  EvaluatorWorkerTask(std::string_view setup, int threads) : ev_(Decode(setup, threads)) {}
+
+  void StartBatch(std::string_view payload) override {
+    WireReader r(payload);
+    const std::int64_t n = r.Int();
+    if (n < 0 || n > 1000000) throw std::runtime_error("malformed batch");
+    sets_.assign(static_cast<std::size_t>(n), params::StabilityParams{});
+    for (auto& s : sets_) r.Params(&s);
+  }
+
+  std::string Run(int index) const override {
+    const std::size_t n_sc = ev_.scenarios().size();
+    const auto j = static_cast<std::size_t>(index);
+    if (n_sc == 0 || index < 0 || j / n_sc >= sets_.size())
+      throw std::runtime_error("job index out of range");
+    RunMetrics m;
+    std::string invalid;
+    RunJob(ev_.scenarios()[j % n_sc], sets_[j / n_sc], OptionsFor(ev_.cost()), &m, &invalid);
+    return EncodeResult(m, invalid);
+  }
+
+ private:
+  static BatchEvaluator Decode(std::string_view setup, int threads) {
+    WireReader r(setup);
+    std::vector<ScenarioEntry> entries(static_cast<std::size_t>(r.Int()));
+    for (auto& e : entries) {
+      e.name = r.String();
+      e.weight = r.Double();
+      e.file = r.String();
+      e.overrides.resize(static_cast<std::size_t>(r.Int()));
+      for (auto& o : e.overrides) o = r.String();
+    }
+    const std::string base_dir = r.String();
+    params::CostWeights cost;
+    r.Params(&cost);
+    return BatchEvaluator::FromEntries(entries, base_dir, cost, threads);
+  }
+
+  BatchEvaluator ev_;
+  std::vector<params::StabilityParams> sets_;
+};
+
 }  // namespace
 
 BatchEvaluator::BatchEvaluator(std::vector<ResolvedScenario> scenarios, std::vector<double> weights,
@@ -41,6 +147,9 @@ BatchEvaluator BatchEvaluator::FromEntries(const std::vector<ScenarioEntry>& ent
                                            const std::string& base_dir,
                                            const params::CostWeights& cost, int threads,
                                            const BatchProgress& progress) {
+  // The other ranks (MPI) resolve the same scenarios meanwhile.
+  auto remote = mpi::MaybeRemote(
+      "evaluate", [&] { return EncodeSetup(entries, base_dir, cost); }, ResolveThreads(threads));
   std::vector<ResolvedScenario> resolved(entries.size());
   std::vector<double> weights;
   for (const auto& e : entries) weights.push_back(e.weight);
@@ -59,7 +168,9 @@ BatchEvaluator BatchEvaluator::FromEntries(const std::vector<ScenarioEntry>& ent
         Resolve(spec, dir, e.file.empty() ? "built-in" : e.file);
     counter.JobDone();
   });
-  return BatchEvaluator(std::move(resolved), std::move(weights), cost, threads);
+  BatchEvaluator ev(std::move(resolved), std::move(weights), cost, threads);
+  ev.remote_ = std::move(remote);
+  return ev;
 }
 
 std::vector<SetEvaluation> BatchEvaluator::Evaluate(
@@ -68,25 +179,22 @@ std::vector<SetEvaluation> BatchEvaluator::Evaluate(
   const int n_jobs = static_cast<int>(sets.size()) * n_sc;
   std::vector<RunMetrics> slots(static_cast<std::size_t>(n_jobs));
   std::vector<std::string> invalid(static_cast<std::size_t>(n_jobs));
-  RunOptions ro;
-  ro.sideslip_allowed_deg = cost_.sideslip_allowed_deg;
+  const RunOptions ro = OptionsFor(cost_);
   ProgressCounter counter(progress, n_jobs);
-  ParallelFor(n_jobs, threads_, [&](int j) {
-    const auto& sc = scenarios_[static_cast<std::size_t>(j % n_sc)];
-    const auto& set = sets[static_cast<std::size_t>(j / n_sc)];
-    RunMetrics& m = slots[static_cast<std::size_t>(j)];
-    try {
-      m = RunClosedLoop(sc, set, ro);
-    } catch (const ConfigError& e) {
-      m = RunMetrics{};
-      m.status = RunStatus::kInvalidParams;
-      m.laps_planned = sc.spec.laps;
-      m.distance_planned = sc.spec.laps * sc.track->length();
-      invalid[static_cast<std::size_t>(j)] =
-          e.problems().empty() ? e.what() : e.problems()[0].path + ": " + e.problems()[0].message;
-    }
+  const auto job = [&](int j) {
+    RunJob(scenarios_[static_cast<std::size_t>(j % n_sc)], sets[static_cast<std::size_t>(j / n_sc)],
+           ro, &slots[static_cast<std::size_t>(j)], &invalid[static_cast<std::size_t>(j)]);
     counter.JobDone();
-  });
+  };
+  if (remote_) {
+    remote_->Run(EncodeSets(sets), n_jobs, job, [&](int j, std::string_view bytes) {
+      DecodeResult(bytes, &slots[static_cast<std::size_t>(j)],
+                   &invalid[static_cast<std::size_t>(j)]);
+      counter.JobDone();
+    });
+  } else {
+    ParallelFor(n_jobs, threads_, job);
+  }
   std::vector<SetEvaluation> out(sets.size());
   for (std::size_t s = 0; s < sets.size(); ++s) {
     SetEvaluation& ev = out[s];
@@ -104,6 +212,10 @@ std::vector<SetEvaluation> BatchEvaluator::Evaluate(
 
 SetEvaluation BatchEvaluator::Evaluate(const params::StabilityParams& set) const {
   return Evaluate(std::vector<params::StabilityParams>{set}).front();
+}
+
+std::unique_ptr<mpi::WorkerTask> MakeEvaluatorWorkerTask(std::string_view setup, int threads) {
+  return std::make_unique<EvaluatorWorkerTask>(setup, threads);
 }
 
 }  // namespace scw::tuning

@@ -8,6 +8,11 @@
 // Thread safety: an evaluator is immutable after construction; Evaluate may be called from one
 // thread at a time (it owns the worker threads of its call).
 //
+// MPI (tuning/parallel/mpi_backend.h): on rank 0 of a run with more than one rank, FromEntries
+// also sends the entries to every other rank, which resolves the same scenarios; Evaluate then
+// sends the sets and hands the jobs out to all ranks (rank 0 included, `threads` each). Results
+// travel bit for bit into the same slots, so they equal those of one process.
+//
 // Progress: FromEntries and Evaluate optionally report (jobs done, jobs in the call) after every
 // finished job, from the worker threads but never two calls at once, with `done` increasing by 1
 // from 1 to the total. The callback only observes: the results do not depend on it (or on its
@@ -15,7 +20,9 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "params/schema/cost_params.h"
@@ -26,6 +33,11 @@
 #include "tuning/scenario_set.h"
 
 namespace scw::tuning {
+
+namespace mpi {
+class RemoteTask;
+class WorkerTask;
+}  // namespace mpi
 
 struct SetEvaluation {
   std::vector<RunMetrics> runs;      ///< per scenario
@@ -63,6 +75,10 @@ class BatchEvaluator {
   std::vector<double> weights_;
   params::CostWeights cost_;
   int threads_;
+  std::shared_ptr<const mpi::RemoteTask> remote_;  ///< the other ranks' copies (MPI), or null
 };
+
+/// The other ranks' side of an evaluator under MPI (main registers it as task kind "evaluate").
+std::unique_ptr<mpi::WorkerTask> MakeEvaluatorWorkerTask(std::string_view setup, int threads);
 
 }  // namespace scw::tuning

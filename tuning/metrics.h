@@ -52,4 +52,12 @@ struct RunMetrics {
   double Progress() const;
 };
 
+/// Every field as text on one line, doubles as hexadecimal floats (printf %a), so that
+/// DecodeRunMetrics reads back the same values bit for bit: results between processes (sweep
+/// worker processes, MPI ranks). Update both when RunMetrics grows.
+std::string EncodeRunMetrics(const RunMetrics& m);
+/// Reads what EncodeRunMetrics wrote at the start of `text`; returns the position after it, or
+/// nullptr when it is not readable.
+const char* DecodeRunMetrics(const char* text, RunMetrics* m);
+
 }  // namespace scw::tuning

@@ -17,6 +17,7 @@
 #include "tuning/closed_loop.h"
 #include "tuning/csv_writer.h"
 #include "tuning/evaluator.h"
+#include "tuning/parallel/mpi_backend.h"
 #include "tuning/scenario.h"
 
 namespace scw::cli {
@@ -131,15 +132,18 @@ void WriteJobTimes(const tuning::BatchEvaluator& ev, const std::string& path) {
 }
 
 // Evaluations per second of the tuning objective (the training scenarios of the default set, or
-// of --scenarios) with 1 and 2 threads.
+// of --scenarios) with 1 and 2 threads; under mpirun, with the run's ranks × 1 thread each (run
+// it with -np 1 and -np 2 for the speed-up across processes).
 int BenchEvaluator(const BenchOptions& o) {
   const auto set = o.scenarios.empty() ? tuning::ScenarioSet::Default()
                                        : tuning::ScenarioSet::FromFile(o.scenarios);
   std::vector<params::StabilityParams> sets(static_cast<std::size_t>(o.evaluations));
   for (std::size_t i = 0; i < sets.size(); ++i)
     sets[i].ESC.kp_psi_dot = 6.0 + static_cast<double>(i);  // distinct sets
+  const bool ranks = tuning::mpi::Launched();
   double rate[2] = {0, 0};
   for (int threads : {1, 2}) {
+    if (ranks && threads > 1) break;
     const auto t_prep = std::chrono::steady_clock::now();
     const auto ev =
         tuning::BatchEvaluator::FromEntries(set.training, set.base_dir, set.cost, threads);
@@ -154,13 +158,20 @@ int BenchEvaluator(const BenchOptions& o) {
                       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     rate[threads - 1] = static_cast<double>(sets.size()) / best;
+    const std::string workers =
+        ranks ? std::to_string(tuning::mpi::Ranks()) + " MPI rank(s) x 1 thread"
+              : std::to_string(threads) + " thread(s)";
     std::printf(
-        "evaluator: %zu scenarios per evaluation, %d thread(s): %.3f evaluations/s "
+        "evaluator: %zu scenarios per evaluation, %s: %.3f evaluations/s "
         "(%.1f runs/s; scenarios prepared in %.2f s)\n",
-        set.training.size(), threads, rate[threads - 1],
+        set.training.size(), workers.c_str(), rate[threads - 1],
         rate[threads - 1] * static_cast<double>(set.training.size()), prep);
   }
-  std::printf("cpu: %s\nspeed-up 1 -> 2 threads: %.2fx\n", CpuModel().c_str(), rate[1] / rate[0]);
+  std::printf("cpu: %s\n", CpuModel().c_str());
+  if (ranks)
+    std::printf("speed-up across ranks: compare with the same command under mpirun -np 1\n");
+  else
+    std::printf("speed-up 1 -> 2 threads: %.2fx\n", rate[1] / rate[0]);
   return kExitOk;
 }
 
@@ -174,7 +185,7 @@ void AddBench(CLI::App& app) {
                 "The plant alone driving its reference manoeuvre; prints 'real-time factor: N'");
   cmd->add_flag("--evaluator", o->evaluator,
                 "Tuning evaluations per second with 1 and 2 threads (training scenarios of the "
-                "default set or of --scenarios)");
+                "default set or of --scenarios); under mpirun -np N: with N ranks x 1 thread");
   WholeNumberIn(
       cmd->add_option("--evaluations", o->evaluations, "Evaluations per measurement (--evaluator)"),
       1, 1000);

@@ -162,11 +162,15 @@ void AddSweep(CLI::App& app) {
                   "different keys: all must match; default: every reported run)")
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  WholeNumberIn(cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)"), 0, 1024);
+  WholeNumberIn(cmd->add_option("--threads", o->threads,
+                                "Worker threads per process (0: all cores; under mpirun with "
+                                "more than one rank: 1 per rank)"),
+                0, 1024);
   WholeNumberIn(cmd->add_option("--processes", o->processes,
                                 "Run the jobs in N worker processes (copies of this scw) instead "
                                 "of threads: use for pmpc/nmpc, whose Ipopt calls are serialised "
-                                "within a process; same table as with threads (0: threads)"),
+                                "within a process; same table as with threads (0: threads; "
+                                "under mpirun: the ranks, unless this is given)"),
                 0, 256);
   WholeNumberIn(
       cmd->add_option("--worker-fd", o->worker_fd, "(internal) run as a worker of --processes"), 3,

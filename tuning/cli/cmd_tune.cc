@@ -26,6 +26,7 @@
 #include "tuning/io/sha256.h"
 #include "tuning/optim/space.h"
 #include "tuning/optim/tuner.h"
+#include "tuning/parallel/mpi_backend.h"
 #include "tuning/plots/tune_plots.h"
 #include "tuning/report.h"
 #include "tuning/scenario_set.h"
@@ -47,6 +48,7 @@ struct TuneOptions {
   int max_evals = 180;
   double max_time = 0.0;  // opt-in: a wall-time limit makes the result depend on the machine
   int threads = 0;
+  int batch = 1;  // --batch: candidates per objective call (the batched algorithm lhs+B)
   unsigned long long seed = 1;
   std::string progress = "auto";
   bool print_set = false;
@@ -63,6 +65,9 @@ std::string Seconds(double s) {
   std::snprintf(buf, sizeof buf, s >= 10.0 ? "%.1f s" : "%.2f s", s);
   return buf;
 }
+
+/// ", batch 4" after the algorithm when candidates were evaluated in batches ("" for 1).
+std::string BatchNote(int batch) { return batch > 1 ? ", batch " + std::to_string(batch) : ""; }
 
 std::string Cost(double c) {
   char buf[32];
@@ -231,6 +236,11 @@ int RunTune(const TuneOptions& o) {
   } catch (const std::invalid_argument& e) {
     throw ConfigError("scw tune", "--algorithm", e.what());
   }
+  try {
+    tuning::CheckTunerBatch(o.algorithm, o.batch);
+  } catch (const std::invalid_argument& e) {
+    throw ConfigError("scw tune", "--batch", e.what());
+  }
   if (!o.resume.empty() && !std::ifstream(o.resume))
     throw ConfigError(o.resume, "", "cannot open the resume log for reading");
   CheckRunFolder(o);
@@ -254,6 +264,13 @@ int RunTune(const TuneOptions& o) {
   std::cerr << "scw tune: " << space.size() << " parameters, " << set.training.size()
             << " training and " << set.held_out.size() << " held-out scenarios; output in " << dir
             << "\n";
+  if (tuning::mpi::Ranks() > 1) {
+    const std::string log = (fs::path(dir) / "evaluations.csv").string();
+    tuning::mpi::SetTerminationNote("scw tune: " + log +
+                                    " holds every finished evaluation; continue the run with "
+                                    "the same options and --resume " +
+                                    log + " (with or without mpirun)\n");
+  }
   for (const auto& g : grown) std::cerr << "  note: " << g << "\n";
 
   const auto training = [&] {
@@ -267,7 +284,9 @@ int RunTune(const TuneOptions& o) {
   std::cerr
       << "  scenarios prepared in "
       << Seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count())
-      << " (" << training.threads() << " threads)\n";
+      << " ("
+      << (tuning::mpi::Ranks() > 1 ? std::to_string(tuning::mpi::Ranks()) + " MPI ranks x " : "")
+      << training.threads() << " threads)\n";
 
   // Objective: decode, reject invalid sets with a graded penalty, evaluate the training set.
   std::vector<std::string> extra;
@@ -280,35 +299,51 @@ int RunTune(const TuneOptions& o) {
   const double invalid_cost =
       (set.cost.abort_base + set.cost.abort_progress_weight + set.cost.lap_time_cap) *
       static_cast<double>(std::max<std::size_t>(1, set.training.size()));
-  auto objective = [&](const std::vector<double>& u) -> tuning::Evaluation {
-    tuning::Evaluation ev;
-    for (double x : space.Arguments(u)) ev.columns.push_back(params::FormatDouble(x));
-    Problems pr;
-    const params::StabilityParams p = space.Decode(u, base, &pr);
-    if (!pr.empty()) {
-      ev.cost = invalid_cost;
-      ev.status = "infeasible: " + pr.items()[0].path;
-      return ev;
+  // Several points at once (--batch): the valid sets run as one batch of (set x scenario) jobs.
+  auto batch_objective =
+      [&](const std::vector<std::vector<double>>& points) -> std::vector<tuning::Evaluation> {
+    std::vector<tuning::Evaluation> evs(points.size());
+    std::vector<params::StabilityParams> valid_sets;
+    std::vector<std::size_t> valid_at;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      for (double x : space.Arguments(points[i])) evs[i].columns.push_back(params::FormatDouble(x));
+      Problems pr;
+      params::StabilityParams p = space.Decode(points[i], base, &pr);
+      if (!pr.empty()) {
+        evs[i].cost = invalid_cost;
+        evs[i].status = "infeasible: " + pr.items()[0].path;
+        continue;
+      }
+      valid_sets.push_back(std::move(p));
+      valid_at.push_back(i);
     }
-    const tuning::SetEvaluation r = training.Evaluate(p);
-    ev.cost = r.total;
-    int aborts = 0;
-    for (std::size_t k = 0; k < r.runs.size(); ++k) {
-      aborts += r.runs[k].aborted();
-      ev.columns.push_back(params::FormatDouble(r.costs[k].total));
-      ev.columns.push_back(tuning::RunStatusName(r.runs[k].status));
-      const double lap = r.runs[k].MeanLapTime();
-      ev.columns.push_back(std::isnan(lap) ? "nan" : params::FormatDouble(lap));
+    if (valid_sets.empty()) return evs;
+    const std::vector<tuning::SetEvaluation> results = training.Evaluate(valid_sets);
+    for (std::size_t v = 0; v < valid_at.size(); ++v) {
+      const tuning::SetEvaluation& r = results[v];
+      tuning::Evaluation& ev = evs[valid_at[v]];
+      ev.cost = r.total;
+      int aborts = 0;
+      for (std::size_t k = 0; k < r.runs.size(); ++k) {
+        aborts += r.runs[k].aborted();
+        ev.columns.push_back(params::FormatDouble(r.costs[k].total));
+        ev.columns.push_back(tuning::RunStatusName(r.runs[k].status));
+        const double lap = r.runs[k].MeanLapTime();
+        ev.columns.push_back(std::isnan(lap) ? "nan" : params::FormatDouble(lap));
+      }
+      ev.status = aborts ? std::to_string(aborts) + " abort(s)" : "ok";
     }
-    ev.status = aborts ? std::to_string(aborts) + " abort(s)" : "ok";
-    return ev;
+    return evs;
   };
+  // One point: a batch of one (the evaluator runs one set exactly as it runs a batch).
+  auto objective = [&](const std::vector<double>& u) { return batch_objective({u}).front(); };
 
   tuning::TunerOptions to;
   to.algorithm = o.algorithm;
   to.max_evals = o.max_evals;
   to.max_time_s = o.max_time;
   to.seed = o.seed;
+  to.batch = o.batch;
   to.log_path = (fs::path(dir) / "evaluations.csv").string();
   to.resume_path = o.resume;
   to.log_extra_header = extra;
@@ -328,7 +363,7 @@ int RunTune(const TuneOptions& o) {
   auto previous = std::signal(SIGINT, OnSigint);
   tuning::TuneResult r;
   try {
-    r = tuning::Tune(u0, objective, to);
+    r = tuning::Tune(u0, objective, batch_objective, to);
   } catch (...) {
     std::signal(SIGINT, previous);
     throw;
@@ -360,8 +395,9 @@ int RunTune(const TuneOptions& o) {
   std::string md =
       "# scw tune: comparison\n\nbaseline = " +
       (o.base.empty() ? std::string("the car's shipped parameters (built-in)") : o.base) +
-      "; tuned = best of " + std::to_string(r.evals) + " evaluations (" + o.algorithm + ", seed " +
-      std::to_string(o.seed) + "), " + std::to_string(changed.size()) + " key(s) changed\n\n";
+      "; tuned = best of " + std::to_string(r.evals) + " evaluations (" + o.algorithm +
+      BatchNote(o.batch) + ", seed " + std::to_string(o.seed) + "), " +
+      std::to_string(changed.size()) + " key(s) changed\n\n";
   md += tuning::ComparisonMarkdown("Training scenarios", training, labels, train_res);
   std::string csv = tuning::ComparisonCsv("training", training, labels, train_res, true);
   std::vector<tuning::SetEvaluation> held_res;
@@ -392,7 +428,7 @@ int RunTune(const TuneOptions& o) {
   prov.run_folder = dir;
   prov.date_utc = UtcNow();
   prov.base = o.base.empty() ? std::string("built-in (the car's shipped parameters)") : o.base;
-  prov.algorithm = o.algorithm;
+  prov.algorithm = o.algorithm + BatchNote(o.batch);
   prov.seed = o.seed;
   prov.evaluations = r.evals;
   prov.stop_reason = r.stop_reason;
@@ -469,10 +505,13 @@ int RunTune(const TuneOptions& o) {
         << "scenarios_hash: "
         << (o.scenarios.empty() ? tuning::Sha256Hex(set.ToYaml()) : FileSha256(o.scenarios)) << "\n"
         << "algorithm: " << o.algorithm << "\n"
+        << "batch: " << o.batch << "\n"
         << "seed: " << o.seed << "\n"
         << "max_evals: " << o.max_evals << "\n"
         << "max_time_s: " << params::FormatDouble(o.max_time) << "\n"
         << "threads: " << training.threads() << "\n"
+        << "ranks: " << tuning::mpi::Ranks() << "\n"
+        << "threads_per_rank: " << training.threads() << "\n"
         << "evaluations: " << r.evals << "\n"
         << "replayed_evaluations: " << r.replayed << "\n"
         << "stop_reason: " << r.stop_reason << "\n"
@@ -620,12 +659,16 @@ int RunEvaluate(const TuneOptions& o) {
   return kExitOk;
 }
 
+constexpr const char* kThreadsHelp =
+    "Worker threads per process (0: all cores; under mpirun with more than one rank: 1 per "
+    "rank)";
+
 void AddTune(CLI::App& app) {
   auto o = std::make_shared<TuneOptions>();
   auto* cmd = app.add_subcommand(
       "tune",
       "Tune the stability parameters on the scenario set (no arguments: the built-in "
-      "space and scenarios, about half a minute on 2 cores) and export the car's params files");
+      "space and scenarios, about two minutes on 2 cores) and export the car's params files");
   cmd->add_option("--space", o->space, "Search space file (params/spaces/*.yaml)");
   cmd->add_option("--scenarios", o->scenarios, "Scenario set file (params/scenarios/*.yaml)");
   cmd->add_option("--base", o->base, "Starting stability params file (car's ROS 2 layout)");
@@ -634,8 +677,16 @@ void AddTune(CLI::App& app) {
                   "or refuse (exit 2, naming the key)")
       ->check(CLI::IsMember({"grow", "refuse"}));
   cmd->add_option("--algorithm", o->algorithm,
-                  "NLopt algorithm: crs2, isres, esch, direct_l, sbplx, neldermead, bobyqa, "
-                  "cobyla, or A+B (global A, then local B)")
+                  "Search algorithm: NLopt's crs2, isres, esch, direct_l, sbplx, neldermead, "
+                  "bobyqa, cobyla; lhs (a Latin-hypercube design, batched: see --batch); or A+B "
+                  "(global A, then local B)")
+      ->capture_default_str();
+  WholeNumberIn(cmd->add_option("--batch", o->batch,
+                                "Candidates evaluated at once, with --algorithm lhs+sbplx (the "
+                                "design in batches, then that many Subplex searches in lockstep); "
+                                "helps when there are more workers than training scenarios, e.g. "
+                                "under mpirun. The NLopt algorithms take 1 candidate at a time"),
+                1, 1024)
       ->capture_default_str();
   WholeNumberIn(cmd->add_option("--max-evals", o->max_evals,
                                 "Evaluation budget (the default run stops here)"),
@@ -647,7 +698,7 @@ void AddTune(CLI::App& app) {
                            "the run)"),
            0.0, 1e7)
       ->capture_default_str();
-  WholeNumberIn(cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)"), 0, 1024)
+  WholeNumberIn(cmd->add_option("--threads", o->threads, kThreadsHelp), 0, 1024)
       ->capture_default_str();
   SeedOption(cmd->add_option("--seed", o->seed, "Optimizer seed (a whole number >= 0)"))
       ->capture_default_str();
@@ -669,6 +720,9 @@ void AddTune(CLI::App& app) {
                 "--check-set): each parameter of the space moved by +/- one resolution step and "
                 "+/- 10 %, one batch on the training scenarios, the parameters the scenarios "
                 "cannot see flagged in comparison.md");
+  cmd->footer(
+      "Under MPI (mpirun -np N scw tune ...): rank 0 runs the tune and writes every file, all\n"
+      "ranks compute runs; the outputs equal a plain run's for any N (docs/scaling.md).");
   cmd->callback([o] { SetExitCode(RunTune(*o)); });
 
   auto e = std::make_shared<TuneOptions>();
@@ -683,7 +737,7 @@ void AddTune(CLI::App& app) {
                  "default: the file names)")
       ->delimiter(',');
   ev->add_option("--scenarios", e->scenarios, "Scenario set file (default: built-in)");
-  WholeNumberIn(ev->add_option("--threads", e->threads, "Worker threads (0: all cores)"), 0, 1024);
+  WholeNumberIn(ev->add_option("--threads", e->threads, kThreadsHelp), 0, 1024);
   ev->add_option("-o,--output", e->csv, "Also write the table as CSV");
   AddHiddenAlias(ev, "--csv", e->csv);
   AddProgressOption(ev, &e->progress);

@@ -10,6 +10,9 @@
 #include "params/schema/field.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
+#include "tuning/evaluator.h"
+#include "tuning/parallel/mpi_backend.h"
+#include "tuning/sweep/sweep.h"
 
 namespace scw::cli {
 namespace {
@@ -150,18 +153,20 @@ void SetExitCode(int code) { g_exit_code = code; }
 
 }  // namespace scw::cli
 
-int main(int argc, char** argv) {
+namespace {
+
+int RunCommand(int argc, char** argv) {
   using namespace scw::cli;
-  // Ctrl-C or a kill in any command removes the temporary files of unfinished outputs (the
-  // targets keep their previous content), then ends the program by that signal.
-  scw::params::InstallTemporaryFileCleanup();
+  namespace mpi = scw::tuning::mpi;
   g_command_line.assign(argv, argv + argc);
   CLI::App app{
       "scw - stability-control workspace: design, tune and export the stability control\n"
       "(ESC, ABS/TC slip control, countersteer) of an autonomous race car.",
       "scw"};
-  app.set_version_flag(
-      "--version", std::string("scw ") + SCW_VERSION + " (git revision " + SCW_GIT_REVISION + ")");
+  app.set_version_flag("--version", std::string("scw ") + SCW_VERSION + " (git revision " +
+                                        SCW_GIT_REVISION + ")\nMPI: " +
+                                        (mpi::BuiltIn() ? "built in (" + mpi::LibraryVersion() + ")"
+                                                        : std::string("not built in")));
   app.require_subcommand(1, 1);
   app.footer(
       "Exit codes: 0 success, 1 a run failed (simulation aborted, optimisation error, a file\n"
@@ -206,4 +211,25 @@ int main(int argc, char** argv) {
     return kExitFailed;
   }
   return g_exit_code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  namespace mpi = scw::tuning::mpi;
+  // Ctrl-C or a kill in any command removes the temporary files of unfinished outputs (the
+  // targets keep their previous content), then ends the program by that signal.
+  scw::params::InstallTemporaryFileCleanup();
+  // Under mpirun: rank 0 runs the command, the other ranks serve its jobs until it ends.
+  mpi::Init(&argc, &argv);
+  if (!mpi::StartupError().empty()) {
+    if (mpi::Rank() == 0) std::cerr << "error: " << mpi::StartupError() << '\n';
+    return scw::cli::kExitBadInput;
+  }
+  const int code = mpi::Rank() == 0
+                       ? RunCommand(argc, argv)
+                       : mpi::RunWorker({{"evaluate", &scw::tuning::MakeEvaluatorWorkerTask},
+                                         {"sweep", &scw::tuning::MakeSweepWorkerTask}});
+  mpi::Finalize();
+  return code;
 }

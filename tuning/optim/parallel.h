@@ -10,11 +10,15 @@
 #include <thread>
 #include <vector>
 
+#include "tuning/parallel/mpi_backend.h"
+
 namespace scw::tuning {
 
-/// Number of worker threads for `requested` (0 = all hardware threads), at least 1.
+/// Number of worker threads for `requested` (0 = all hardware threads; under MPI with more than
+/// one rank: 1 per rank, the ranks being the parallelism), at least 1.
 inline int ResolveThreads(int requested) {
   if (requested > 0) return requested;
+  if (mpi::Ranks() > 1) return 1;
   const unsigned hw = std::thread::hardware_concurrency();
   return hw == 0 ? 1 : static_cast<int>(hw);
 }

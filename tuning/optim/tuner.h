@@ -1,8 +1,8 @@
 // Derivative-free tuning loop over the unit cube with NLopt 2.7.1 (ecosystem spec §2).
 //
 // * Algorithms by name: crs2 (GN_CRS2_LM), isres, esch, direct_l, sbplx (LN_SBPLX), neldermead,
-//   bobyqa, cobyla; "A+B" runs A on a share of the budget (global phase) and polishes with B from
-//   the best point. Default: "crs2+sbplx".
+//   bobyqa, cobyla, and lhs (a batched Latin-hypercube design, below); "A+B" runs A on a share of
+//   the budget (global phase) and polishes with B from the best point. Default: "crs2+sbplx".
 // * The objective never throws into NLopt and never returns NaN/inf: exceptions and non-finite
 //   values become a finite penalty and are logged with their reason.
 // * Evaluation 0 is always the start point u0 itself (phase "start"), whatever the algorithm, so
@@ -21,6 +21,18 @@
 // * Resume: the evaluations of an earlier log are replayed in order without being recomputed —
 //   the optimiser is deterministic, so it asks for exactly the logged points — and the run goes on
 //   from there; the result equals that of an uninterrupted run.
+// * Batches (algorithm "lhs" or "lhs+B", TunerOptions::batch = K): a Latin-hypercube design of
+//   the global share of the budget, evaluated K points per objective call, then K local searches
+//   B (one nlopt::opt and thread each) from the K best points so far, in lockstep: every round
+//   each running search asks for one point and the round is evaluated as one batch, in search
+//   order (search i seeds NLopt's thread-local generator with seed + 1 + i in its own thread).
+//   The log order and the result depend on (inputs, seed, K) only, never on the threads of the
+//   objective. The remaining budget is shared: a search that converges leaves its rounds to
+//   the others; when fewer evaluations remain than searches ask, the lower search indices get
+//   them. A batch is checked against the stop flag and the time limit before it is evaluated, so
+//   it is logged whole or not at all; only the budget can cut the last one, the same way on replay.
+//   The design does not depend on K ("lhs" alone gives the same log for any batch).
+//   The NLopt algorithms ask for one point at a time: batch > 1 needs "lhs" or "lhs+B".
 #pragma once
 
 #include <atomic>
@@ -39,6 +51,9 @@ struct Evaluation {
 };
 
 using Objective = std::function<Evaluation(const std::vector<double>& u)>;
+/// Several points at once (one result per point, in order); used by the batched algorithms.
+using BatchObjective =
+    std::function<std::vector<Evaluation>(const std::vector<std::vector<double>>& points)>;
 
 struct Progress {
   int evals = 0;
@@ -56,6 +71,7 @@ struct TunerOptions {
   double initial_step = 0.15;  ///< in unit-cube coordinates
   double global_share = 0.6;   ///< budget share of the first phase of "A+B"
   int population = 0;          ///< CRS2/ISRES population (0: 5·(n+1))
+  int batch = 1;               ///< candidates evaluated at once ("lhs" algorithms; >= 1)
   double xtol_abs = 1e-4;
   double failure_cost = 1e6;  ///< cost of an evaluation that threw or returned NaN/inf
   std::string log_path;       ///< CSV evaluation log ("" = none)
@@ -80,11 +96,22 @@ struct TuneResult {
 /// (unknown algorithm, n = 0) and std::runtime_error if the log cannot be written or the resume
 /// log does not match this problem.
 TuneResult Tune(const std::vector<double>& u0, const Objective& f, const TunerOptions& options);
+/// The same with a batch objective for the batched algorithms (empty: `f` point by point).
+TuneResult Tune(const std::vector<double>& u0, const Objective& f, const BatchObjective& batch_f,
+                const TunerOptions& options);
 
 /// Names accepted in TunerOptions::algorithm.
 std::vector<std::string> TunerAlgorithms();
 /// Throws std::invalid_argument (naming the known algorithms) unless `spec` is an algorithm name
-/// or A+B of two; Tune() applies the same rule.
+/// or A+B of two ("lhs" only as A); Tune() applies the same rule.
 void CheckTunerAlgorithm(const std::string& spec);
+/// Throws std::invalid_argument unless `batch` >= 1 and, for batch > 1, `spec` is batched ("lhs"
+/// or "lhs+B"); Tune() applies the same rule.
+void CheckTunerBatch(const std::string& spec, int batch);
+
+/// `points` points of a Latin hypercube in [0,1)^dims from `seed`: in every dimension each of the
+/// `points` equal strata holds exactly one point. Drawn with its own generator (SplitMix64), so
+/// the same on every platform and standard library.
+std::vector<std::vector<double>> LatinHypercube(int points, int dims, unsigned long long seed);
 
 }  // namespace scw::tuning

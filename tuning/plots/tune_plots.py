@@ -49,7 +49,7 @@ except ImportError as e:  # the caller tries another interpreter on exit code 3
     fail(3, "matplotlib is not installed for %s (%s); Debian: apt-get install python3-matplotlib"
          % (sys.executable or "python3", e))
 
-GLOBAL_ALGORITHMS = {"crs2", "isres", "esch", "direct_l"}
+GLOBAL_ALGORITHMS = {"crs2", "isres", "esch", "direct_l", "lhs"}
 PHASE_COLOURS = ["tab:blue", "tab:orange", "tab:purple", "tab:brown", "tab:pink", "tab:olive"]
 SET_COLOURS = ["#6b6b6b", "tab:blue", "tab:orange", "tab:green", "tab:purple", "tab:brown"]
 SUBSYSTEMS = [("esc_count", "ESC", "tab:red"), ("cs_count", "CS", "tab:blue"),

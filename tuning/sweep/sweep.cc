@@ -25,6 +25,8 @@
 #include "tuning/closed_loop.h"
 #include "tuning/csv_writer.h"
 #include "tuning/optim/parallel.h"
+#include "tuning/parallel/mpi_backend.h"
+#include "tuning/parallel/wire.h"
 #include "tuning/scenario.h"
 
 namespace scw::tuning {
@@ -413,17 +415,19 @@ SweepPlan MakePlan(const SweepDefinition& d) {
   return plan;
 }
 
-// Resolutions on demand, each at most once. Get(k) for distinct k may run in parallel; Scenario(i)
-// may run in parallel once its group is resolved.
+// Resolutions on demand, each at most once; Get and Scenario may run in parallel (a thread that
+// needs a resolution in flight waits for it).
 class Resolutions {
  public:
-  explicit Resolutions(const SweepPlan& plan) : plan_(plan), done_(plan.unique_specs.size()) {}
+  explicit Resolutions(const SweepPlan& plan)
+      : plan_(plan), done_(plan.unique_specs.size()), once_(plan.unique_specs.size()) {}
   const ResolvedScenario& Get(int k) {
-    auto& slot = done_[static_cast<std::size_t>(k)];
-    if (!slot)
-      slot = std::make_unique<ResolvedScenario>(
-          Resolve(plan_.unique_specs[static_cast<std::size_t>(k)], plan_.base_dir, plan_.source));
-    return *slot;
+    const auto at = static_cast<std::size_t>(k);
+    std::call_once(once_[at], [&] {
+      done_[at] = std::make_unique<ResolvedScenario>(
+          Resolve(plan_.unique_specs[at], plan_.base_dir, plan_.source));
+    });
+    return *done_[at];
   }
   /// The scenario of run i: its group's resolution with the run's own spec.
   ResolvedScenario Scenario(int i) {
@@ -435,74 +439,26 @@ class Resolutions {
  private:
   const SweepPlan& plan_;
   std::vector<std::unique_ptr<ResolvedScenario>> done_;
+  std::vector<std::once_flag> once_;
 };
 
-// --- Run results between processes: one text line per run, doubles as hexadecimal floats
-// (printf %a, strtod) so the parent gets the worker's values bit for bit. Every RunMetrics field
-// is carried (update both functions when RunMetrics grows).
+// --- Run results between processes: the run's metrics as exact text (EncodeRunMetrics), then
+// the reference's ideal lap time the same way.
 std::string EncodeRun(const RunMetrics& m, double ideal_lap_time) {
-  std::string out;
   char buf[64];
-  const auto num = [&](double x) {
-    std::snprintf(buf, sizeof buf, " %a", x);
-    out += buf;
-  };
-  const auto integer = [&](long x) { out += " " + std::to_string(x); };
-  integer(static_cast<long>(m.status));
-  integer(static_cast<long>(m.lap_times.size()));
-  for (double t : m.lap_times) num(t);
-  integer(m.laps_planned);
-  for (double x : {m.time, m.distance, m.distance_planned, m.end_s}) num(x);
-  integer(m.end_lap);
-  for (double x :
-       {m.max_abs_sideslip, m.max_abs_lateral_error, m.max_abs_heading_error, m.max_slip_front,
-        m.max_slip_rear, m.sideslip_excess_integral, m.esc_time, m.cs_time, m.abs_time, m.tc_time})
-    num(x);
-  for (int c : {m.esc_count, m.cs_count, m.abs_count, m.tc_count}) integer(c);
-  for (double x : {m.esc_brake_energy, m.abs_pressure_released, m.tc_throttle_cut, m.max_speed,
-                   ideal_lap_time})
-    num(x);
-  return out;
+  std::snprintf(buf, sizeof buf, " %a", ideal_lap_time);
+  return EncodeRunMetrics(m) + buf;
 }
 
 bool DecodeRun(const char* text, RunMetrics* m, double* ideal_lap_time) {
-  const char* p = text;
-  bool ok = true;
-  const auto num = [&]() {
-    char* end = nullptr;
-    const double x = std::strtod(p, &end);
-    if (end == p) ok = false;
-    p = end;
-    return x;
-  };
-  const auto integer = [&]() {
-    char* end = nullptr;
-    const long x = std::strtol(p, &end, 10);
-    if (end == p) ok = false;
-    p = end;
-    return x;
-  };
-  const long status = integer();
-  if (status < 0 || status > static_cast<long>(RunStatus::kInvalidParams)) return false;
-  m->status = static_cast<RunStatus>(status);
-  const long laps = integer();
-  if (laps < 0 || laps > 100000) return false;
-  m->lap_times.resize(static_cast<std::size_t>(laps));
-  for (double& t : m->lap_times) t = num();
-  m->laps_planned = static_cast<int>(integer());
-  for (double* x : {&m->time, &m->distance, &m->distance_planned, &m->end_s}) *x = num();
-  m->end_lap = static_cast<int>(integer());
-  for (double* x : {&m->max_abs_sideslip, &m->max_abs_lateral_error, &m->max_abs_heading_error,
-                    &m->max_slip_front, &m->max_slip_rear, &m->sideslip_excess_integral,
-                    &m->esc_time, &m->cs_time, &m->abs_time, &m->tc_time})
-    *x = num();
-  for (int* c : {&m->esc_count, &m->cs_count, &m->abs_count, &m->tc_count})
-    *c = static_cast<int>(integer());
-  for (double* x : {&m->esc_brake_energy, &m->abs_pressure_released, &m->tc_throttle_cut,
-                    &m->max_speed, ideal_lap_time})
-    *x = num();
+  const char* p = DecodeRunMetrics(text, m);
+  if (p == nullptr) return false;
+  char* end = nullptr;
+  *ideal_lap_time = std::strtod(p, &end);
+  if (end == p) return false;
+  p = end;
   while (*p == ' ') ++p;
-  return ok && (*p == '\0' || *p == '\n');
+  return *p == '\0' || *p == '\n';
 }
 
 std::string OneLine(std::string s) {
@@ -525,6 +481,109 @@ std::string RunLabel(const SweepResult& r, int i) {
         ", " + r.axes[a].key + "=" + r.axes[a].values[static_cast<std::size_t>(run.point.value[a])];
   return s + ")";
 }
+
+// --- MPI ranks (tuning/parallel/mpi_backend.h): the definition goes to every rank, which builds
+// the same plan and resolves what its runs need; a batch is a list of run indices. A run's answer
+// is "ok" + EncodeRun, or "C " / "R " + the message of a ConfigError / another error.
+std::string EncodeDefinition(const SweepDefinition& d) {
+  WireWriter w;
+  const auto strings = [&w](const std::vector<std::string>& v) {
+    w.Int(static_cast<std::int64_t>(v.size()));
+    for (const auto& x : v) w.String(x);
+  };
+  w.String(d.scenario_file);
+  strings(d.base_overrides);
+  w.String(d.stability_file);
+  w.Int(static_cast<std::int64_t>(d.axes.size()));
+  for (const auto& a : d.axes) {
+    w.String(a.key);
+    strings(a.values);
+  }
+  w.Int(static_cast<std::int64_t>(d.configs.size()));
+  for (const auto& c : d.configs) {
+    w.String(c.name);
+    strings(c.overrides);
+  }
+  w.Bool(d.stop_at_first_abort);
+  return w.Take();
+}
+
+SweepDefinition DecodeDefinition(std::string_view bytes) {
+  WireReader r(bytes);
+  const auto strings = [&r] {
+    std::vector<std::string> v(static_cast<std::size_t>(r.Int()));
+    for (auto& x : v) x = r.String();
+    return v;
+  };
+  SweepDefinition d;
+  d.scenario_file = r.String();
+  d.base_overrides = strings();
+  d.stability_file = r.String();
+  d.axes.resize(static_cast<std::size_t>(r.Int()));
+  for (auto& a : d.axes) {
+    a.key = r.String();
+    a.values = strings();
+  }
+  d.configs.resize(static_cast<std::size_t>(r.Int()));
+  for (auto& c : d.configs) {
+    c.name = r.String();
+    c.overrides = strings();
+  }
+  d.stop_at_first_abort = r.Bool();
+  return d;
+}
+
+std::string RunAnswer(Resolutions* resolutions, int i) {
+  try {
+    const ResolvedScenario sc = resolutions->Scenario(i);
+    return "ok" + EncodeRun(RunClosedLoop(sc, sc.stability), sc.ideal_lap_time);
+  } catch (const ConfigError& e) {
+    return std::string("C ") + e.what();
+  } catch (const std::exception& e) {
+    return std::string("R ") + e.what();
+  }
+}
+
+// Fills run i from its answer; a failed run throws as with worker processes.
+void ApplyAnswer(SweepResult* r, int i, std::string_view answer) {
+  const std::string a(answer);
+  SweepRun& run = r->runs[static_cast<std::size_t>(i)];
+  if (a.rfind("ok", 0) == 0) {
+    if (!DecodeRun(a.c_str() + 2, &run.metrics, &run.ideal_lap_time))
+      throw std::runtime_error("an MPI rank sent unreadable results for " + RunLabel(*r, i));
+    run.computed = true;
+    return;
+  }
+  const std::string message = RunLabel(*r, i) + ": " + (a.size() > 2 ? a.substr(2) : a);
+  if (a.rfind("C ", 0) == 0) throw ConfigError("scw sweep", "", message);
+  throw std::runtime_error(message);
+}
+
+class SweepWorkerTask final : public mpi::WorkerTask {
+ public:
+  explicit SweepWorkerTask(std::string_view setup)
+      : plan_(MakePlan(DecodeDefinition(setup))), resolutions_(plan_) {}
+
+  void StartBatch(std::string_view payload) override {
+    WireReader r(payload);
+    batch_.resize(static_cast<std::size_t>(r.Int()));
+    for (int& i : batch_) i = static_cast<int>(r.Int());
+  }
+
+  std::string Run(int index) const override {
+    if (index < 0 || static_cast<std::size_t>(index) >= batch_.size())
+      throw std::runtime_error("job index out of range");
+    const int i = batch_[static_cast<std::size_t>(index)];
+    if (i < 0 || static_cast<std::size_t>(i) >= plan_.grid.size())
+      throw std::runtime_error("run index out of range");
+    return RunAnswer(&resolutions_, i);
+  }
+
+ private:
+  SweepPlan plan_;
+  mutable Resolutions resolutions_;
+  std::vector<int> batch_;
+};
 
 // Worker processes: `argv` + "--worker-fd=3"; each reads "run <i>" lines on its stdin and answers
 // "ok <i> <EncodeRun>" or "error <i> <C|R> <message>" on fd 3 (its stdout goes to stderr so
@@ -702,6 +761,10 @@ class WorkerPool {
 
 }  // namespace
 
+std::unique_ptr<mpi::WorkerTask> MakeSweepWorkerTask(std::string_view setup, int /*threads*/) {
+  return std::make_unique<SweepWorkerTask>(setup);
+}
+
 SweepResult RunSweep(const SweepDefinition& d, int threads, const SweepTraceOptions& traces) {
   SweepExecution exec;
   exec.threads = threads;
@@ -774,7 +837,30 @@ SweepResult RunSweep(const SweepDefinition& d, const SweepExecution& exec,
   std::unique_ptr<WorkerPool> pool;
   std::function<void(const std::vector<int>&)> run_batch;
   int workers = ResolveThreads(threads);
-  if (exec.processes > 0) {
+  std::shared_ptr<const mpi::RemoteTask> remote;
+  if (exec.processes == 0)
+    remote = mpi::MaybeRemote(
+        "sweep", [&] { return EncodeDefinition(d); }, workers);
+  if (remote) {
+    // MPI: every rank (this one included, `threads` each) takes runs as it becomes free.
+    workers = mpi::Ranks() * remote->threads();
+    run_batch = [&](const std::vector<int>& batch) {
+      WireWriter w;
+      w.Int(static_cast<std::int64_t>(batch.size()));
+      for (int i : batch) w.Int(i);
+      remote->Run(
+          w.Take(), static_cast<int>(batch.size()),
+          [&](int k) {
+            const int i = batch[static_cast<std::size_t>(k)];
+            ApplyAnswer(&r, i, RunAnswer(&resolutions, i));
+            report(1);
+          },
+          [&](int k, std::string_view answer) {
+            ApplyAnswer(&r, batch[static_cast<std::size_t>(k)], answer);
+            report(1);
+          });
+    };
+  } else if (exec.processes > 0) {
     if (exec.worker_command.empty())
       throw std::invalid_argument("RunSweep: processes need a worker command");
     workers = std::min(exec.processes, std::max(n, 1));

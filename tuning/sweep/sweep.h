@@ -44,16 +44,27 @@
 // series stop at their first abort exactly as with threads. A worker that dies or cannot be
 // started ends the sweep with std::runtime_error naming the run it was computing; nothing is
 // written then. Traces are re-run in the parent (threads).
+//
+// MPI (tuning/parallel/mpi_backend.h; without --processes): on rank 0 of a run with more than one
+// rank, every rank builds the same grid and takes runs one at a time, `threads` per rank; results
+// travel as the same exact text into the same slots, the waves count every rank's threads, and
+// the reported table is the one of a single process.
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "params/schema/scenario_params.h"
 #include "tuning/metrics.h"
 
 namespace scw::tuning {
+
+namespace mpi {
+class WorkerTask;
+}  // namespace mpi
 
 struct SweepAxis {
   std::string key;                  ///< dotted scenario key, e.g. gg_scale
@@ -167,6 +178,9 @@ std::vector<std::string> SweepWorkerArguments(const SweepDefinition& d);
 /// The worker side: reads "run <i>" lines from `in_fd` until end of input and answers each on
 /// `out_fd` with the run's results (or its error). Returns the process exit code (0: input ended).
 int RunSweepWorker(const SweepDefinition& d, int in_fd, int out_fd);
+
+/// The other ranks' side of a sweep under MPI (main registers it as task kind "sweep").
+std::unique_ptr<mpi::WorkerTask> MakeSweepWorkerTask(std::string_view setup, int threads);
 
 /// Whether a run matches the trace conditions (throws ConfigError for a malformed condition or a
 /// key that is neither `config` nor varied).

@@ -1,11 +1,13 @@
 // `scw tune` end to end with the built program (issue 15): a 1-evaluation tune from the shipped
 // file exports exactly the base set and an empty overrides file, both with the provenance header
 // and both passing `scw params check`; evaluation 0 is the base set; --base-outside refuse names
-// the key the shipped file has outside the default space; `scw space show` warns about it.
+// the key the shipped file has outside the default space; `scw space show` warns about it;
+// --batch needs the batched design and gives the same evaluations on 1 and 2 threads.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -206,6 +208,40 @@ TEST_F(TuneCliTest, AnExistingRunFolderIsRefusedUnlessForcedAndTheManifestHashes
           << png;
     }
   }
+}
+
+TEST_F(TuneCliTest, BatchedTuneNeedsTheBatchedDesignAndIsTheSameOnAnyThreadCount) {
+  const std::string never = Path("never");
+  EXPECT_EQ(RunScw("tune --scenarios " + set_ + " --batch 2 --max-evals 4 --out-dir " + never,
+                   Path("batch.out")),
+            2);
+  EXPECT_NE(Slurp(Path("batch.out")).find("--batch"), std::string::npos);
+  EXPECT_NE(Slurp(Path("batch.out")).find("lhs+sbplx"), std::string::npos)
+      << Slurp(Path("batch.out"));
+  EXPECT_FALSE(fs::exists(never));
+
+  const std::string set2 = Path("set2.yaml");
+  std::ofstream(set2) << "name: tiny2\n"
+                         "training:\n"
+                         "  - {name: a, weight: 1.0, set: [laps=1, gg_scale=1.1]}\n"
+                         "  - {name: b, weight: 1.0, set: [laps=1, gg_scale=1.2]}\n";
+  std::string logs[2];
+  for (int threads : {1, 2}) {
+    const std::string run = Path("batch" + std::to_string(threads));
+    ASSERT_EQ(
+        RunScw("tune --scenarios " + set2 +
+                   " --algorithm lhs+sbplx --batch 2 --max-evals 9 --threads " +
+                   std::to_string(threads) + " --progress never --no-sensitivity --out-dir " + run,
+               Path("batch_run.out")),
+        0)
+        << Slurp(Path("batch_run.out"));
+    logs[threads - 1] = Slurp(run + "/evaluations.csv");
+    EXPECT_NE(Slurp(run + "/manifest.yaml").find("\nbatch: 2\n"), std::string::npos);
+    EXPECT_NE(Slurp(run + "/comparison.md").find("(lhs+sbplx, batch 2, seed 1)"),
+              std::string::npos);
+  }
+  EXPECT_EQ(std::count(logs[0].begin(), logs[0].end(), '\n'), 10);  // header + 9 evaluations
+  EXPECT_EQ(logs[0], logs[1]);
 }
 
 }  // namespace
