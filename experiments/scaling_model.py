@@ -7,8 +7,8 @@ batch of B candidate sets is B x (number of scenarios) jobs; W workers take the 
 queue whenever they become free (the dynamic hand-out of the MPI backend and of the thread
 pool), each hand-out costs `latency` seconds of the worker's time; the batch ends when its last
 job ends (the optimiser waits for the whole batch). Speed-up = (sum of job times) / makespan,
-efficiency = speed-up / W. Orders: the file's order (what scw does today) and longest first
-(LPT, possible because job lengths barely change between candidates).
+efficiency = speed-up / W. Orders: the file's order (what scw did before) and longest first
+(LPT: what the evaluator does, with each scenario's wall time of the previous batch).
 
 Usage: scaling_model.py jobs.csv [--workers 1,2,16,64,256] [--batch 1,2,4] [--latency 2e-4]
                                   [--markdown]

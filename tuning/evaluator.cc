@@ -1,7 +1,11 @@
 #include "tuning/evaluator.h"
 
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <mutex>
+#include <numeric>
 #include <stdexcept>
 
 #include "tuning/closed_loop.h"
@@ -76,16 +80,26 @@ std::string EncodeSets(const std::vector<params::StabilityParams>& sets) {
   return w.Take();
 }
 
-// A job's result: the metrics as exact text, a line break, the invalid-set message.
-std::string EncodeResult(const RunMetrics& m, const std::string& invalid) {
-  return EncodeRunMetrics(m) + '\n' + invalid;
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
-void DecodeResult(std::string_view bytes, RunMetrics* m, std::string* invalid) {
+// A job's result: the metrics as exact text, a line break, the job's wall time (for the order of
+// later jobs only), a line break, the invalid-set message.
+std::string EncodeResult(const RunMetrics& m, double wall, const std::string& invalid) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "\n%a\n", wall);
+  return EncodeRunMetrics(m) + buf + invalid;
+}
+
+void DecodeResult(std::string_view bytes, RunMetrics* m, double* wall, std::string* invalid) {
   const std::string text(bytes);
   const char* end = DecodeRunMetrics(text.c_str(), m);
-  if (end == nullptr || *end != '\n') throw std::runtime_error("unreadable result from a rank");
-  *invalid = std::string(end + 1);
+  char* after = nullptr;
+  if (end != nullptr && *end == '\n') *wall = std::strtod(end + 1, &after);
+  if (after == nullptr || after == end + 1 || *after != '\n')
+    throw std::runtime_error("unreadable result from a rank");
+  *invalid = std::string(after + 1);
 }
 
 class EvaluatorWorkerTask final : public mpi::WorkerTask {
@@ -107,8 +121,9 @@ class EvaluatorWorkerTask final : public mpi::WorkerTask {
       throw std::runtime_error("job index out of range");
     RunMetrics m;
     std::string invalid;
+    const auto t0 = std::chrono::steady_clock::now();
     RunJob(ev_.scenarios()[j % n_sc], sets_[j / n_sc], OptionsFor(ev_.cost()), &m, &invalid);
-    return EncodeResult(m, invalid);
+    return EncodeResult(m, Seconds(t0), invalid);
   }
 
  private:
@@ -134,13 +149,30 @@ class EvaluatorWorkerTask final : public mpi::WorkerTask {
 
 }  // namespace
 
+struct BatchEvaluator::JobLengths {
+  std::mutex mutex;
+  std::vector<double> length;  ///< per scenario: [s] wall time, or [m] planned before any run
+};
+
+std::vector<int> LongestFirst(const std::vector<double>& lengths) {
+  std::vector<int> order(lengths.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return lengths[static_cast<std::size_t>(a)] > lengths[static_cast<std::size_t>(b)];
+  });
+  return order;
+}
+
 BatchEvaluator::BatchEvaluator(std::vector<ResolvedScenario> scenarios, std::vector<double> weights,
                                params::CostWeights cost, int threads)
     : scenarios_(std::move(scenarios)),
       weights_(std::move(weights)),
       cost_(cost),
-      threads_(ResolveThreads(threads)) {
+      threads_(ResolveThreads(threads)),
+      lengths_(std::make_shared<JobLengths>()) {
   weights_.resize(scenarios_.size(), 1.0);
+  for (const auto& sc : scenarios_)
+    lengths_->length.push_back(sc.track ? sc.spec.laps * sc.track->length() : 0.0);
 }
 
 BatchEvaluator BatchEvaluator::FromEntries(const std::vector<ScenarioEntry>& entries,
@@ -179,21 +211,44 @@ std::vector<SetEvaluation> BatchEvaluator::Evaluate(
   const int n_jobs = static_cast<int>(sets.size()) * n_sc;
   std::vector<RunMetrics> slots(static_cast<std::size_t>(n_jobs));
   std::vector<std::string> invalid(static_cast<std::size_t>(n_jobs));
+  std::vector<double> wall(static_cast<std::size_t>(n_jobs), 0.0);
   const RunOptions ro = OptionsFor(cost_);
   ProgressCounter counter(progress, n_jobs);
+  std::vector<int> order;
+  {
+    const std::lock_guard<std::mutex> lock(lengths_->mutex);
+    std::vector<double> job_length(static_cast<std::size_t>(n_jobs));
+    for (int j = 0; j < n_jobs; ++j)
+      job_length[static_cast<std::size_t>(j)] =
+          lengths_->length[static_cast<std::size_t>(j % n_sc)];
+    order = LongestFirst(job_length);
+  }
   const auto job = [&](int j) {
+    const auto t0 = std::chrono::steady_clock::now();
     RunJob(scenarios_[static_cast<std::size_t>(j % n_sc)], sets[static_cast<std::size_t>(j / n_sc)],
            ro, &slots[static_cast<std::size_t>(j)], &invalid[static_cast<std::size_t>(j)]);
+    wall[static_cast<std::size_t>(j)] = Seconds(t0);
     counter.JobDone();
   };
   if (remote_) {
-    remote_->Run(EncodeSets(sets), n_jobs, job, [&](int j, std::string_view bytes) {
-      DecodeResult(bytes, &slots[static_cast<std::size_t>(j)],
-                   &invalid[static_cast<std::size_t>(j)]);
-      counter.JobDone();
-    });
+    remote_->Run(
+        EncodeSets(sets), n_jobs, job,
+        [&](int j, std::string_view bytes) {
+          const auto k = static_cast<std::size_t>(j);
+          DecodeResult(bytes, &slots[k], &wall[k], &invalid[k]);
+          counter.JobDone();
+        },
+        order);
   } else {
-    ParallelFor(n_jobs, threads_, job);
+    ParallelFor(n_jobs, threads_, [&](int p) { job(order[static_cast<std::size_t>(p)]); });
+  }
+  if (n_jobs > 0) {  // this call's lengths order the next call's jobs
+    const std::lock_guard<std::mutex> lock(lengths_->mutex);
+    std::fill(lengths_->length.begin(), lengths_->length.end(), 0.0);
+    for (int j = 0; j < n_jobs; ++j) {
+      double& l = lengths_->length[static_cast<std::size_t>(j % n_sc)];
+      l = std::max(l, wall[static_cast<std::size_t>(j)]);
+    }
   }
   std::vector<SetEvaluation> out(sets.size());
   for (std::size_t s = 0; s < sets.size(); ++s) {

@@ -13,6 +13,11 @@
 // sends the sets and hands the jobs out to all ranks (rank 0 included, `threads` each). Results
 // travel bit for bit into the same slots, so they equal those of one process.
 //
+// Order of the jobs: longest first (a batch ends when its last job ends, so a long job started
+// last leaves the other workers idle). The length of a scenario's job is its wall time in the
+// previous call (the longest over the sets), or its planned distance before the first call. The
+// order decides only when a job runs, never its result.
+//
 // Progress: FromEntries and Evaluate optionally report (jobs done, jobs in the call) after every
 // finished job, from the worker threads but never two calls at once, with `done` increasing by 1
 // from 1 to the total. The callback only observes: the results do not depend on it (or on its
@@ -76,7 +81,12 @@ class BatchEvaluator {
   params::CostWeights cost_;
   int threads_;
   std::shared_ptr<const mpi::RemoteTask> remote_;  ///< the other ranks' copies (MPI), or null
+  struct JobLengths;
+  std::shared_ptr<JobLengths> lengths_;  ///< per scenario, for the job order (see above)
 };
+
+/// Longest first: the job indices [0, lengths.size()) sorted by decreasing length, ties by index.
+std::vector<int> LongestFirst(const std::vector<double>& lengths);
 
 /// The other ranks' side of an evaluator under MPI (main registers it as task kind "evaluate").
 std::unique_ptr<mpi::WorkerTask> MakeEvaluatorWorkerTask(std::string_view setup, int threads);

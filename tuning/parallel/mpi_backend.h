@@ -19,7 +19,8 @@
 // Threads: MPI is initialised with MPI_THREAD_FUNNELED; only the thread that called Init (the
 // main thread) talks to MPI. The jobs run on extra threads in every process (`threads` per rank),
 // so rank 0's main thread only serves requests and sleeps in between (it polls every 20 µs to
-// 1 ms, because a blocking MPI receive spins and would take a core from the jobs).
+// 1 ms, because a blocking MPI receive spins and would take a core from the jobs). Jobs are handed
+// out in the order the caller gives (the evaluator: longest first).
 //
 // Without a launcher (no mpirun/srun environment) MPI is never touched: Ranks() = 1 and every
 // command runs as in a build without MPI. A build without MPI (SCW_WITH_MPI=OFF) has the same
@@ -35,6 +36,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace scw::tuning::mpi {
 
@@ -94,9 +96,12 @@ class RemoteTask {
   /// Runs jobs [0, jobs) on every rank: local(i) on this process's job threads, remote(i, bytes)
   /// on the calling thread for a job a worker ran. Exceptions (of local, remote, or a worker's
   /// job) are rethrown after the batch, the first by index. Called from another thread than
-  /// Init's, every job runs locally.
+  /// Init's, every job runs locally. `order` (empty, or a permutation of [0, jobs)) is the order
+  /// in which jobs are handed out, e.g. longest first; it changes when a job runs, never its
+  /// result.
   void Run(const std::string& payload, int jobs, const std::function<void(int)>& local,
-           const std::function<void(int, std::string_view)>& remote) const;
+           const std::function<void(int, std::string_view)>& remote,
+           const std::vector<int>& order = {}) const;
 
   int threads() const { return threads_; }
 

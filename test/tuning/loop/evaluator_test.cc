@@ -61,6 +61,34 @@ TEST(EvaluatorTest, ResultsAreIdenticalForOneAndTwoThreads) {
   EXPECT_DOUBLE_EQ(r1[0].total, r1[0].costs[0].total + 2.0 * r1[0].costs[1].total);
 }
 
+TEST(EvaluatorTest, LongestFirstSortsByDecreasingLengthTiesByIndex) {
+  EXPECT_EQ(LongestFirst({0.01, 0.07, 0.03, 0.07, 0.0}), (std::vector<int>{1, 3, 2, 0, 4}));
+  EXPECT_TRUE(LongestFirst({}).empty());
+}
+
+// The second call hands the jobs out in the order the first call's run times give (longest
+// first), the first call by planned distance: the results must not depend on it.
+TEST(EvaluatorTest, JobOrderLearnedFromEarlierCallsDoesNotChangeResults) {
+  const params::CostWeights w;
+  std::vector<ScenarioEntry> entries = SmallSet();
+  entries.push_back({"short_abort", 1.0, "", {"laps=1", "grip.rear_mu_y=0.5", "gg_scale=1.4"}});
+  const auto ev = BatchEvaluator::FromEntries(entries, "", w, 2);
+  params::StabilityParams a, b;
+  b.ESC.kp_psi_dot = 4.0;
+  const std::vector<params::StabilityParams> sets{a, b};
+  const auto first = ev.Evaluate(sets);
+  const auto second = ev.Evaluate(sets);
+  const auto fresh = BatchEvaluator::FromEntries(entries, "", w, 1).Evaluate(sets);
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    EXPECT_EQ(first[s].total, second[s].total);
+    EXPECT_EQ(first[s].total, fresh[s].total);
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+      EXPECT_EQ(EncodeRunMetrics(first[s].runs[k]), EncodeRunMetrics(second[s].runs[k]));
+      EXPECT_EQ(EncodeRunMetrics(first[s].runs[k]), EncodeRunMetrics(fresh[s].runs[k]));
+    }
+  }
+}
+
 TEST(EvaluatorTest, AnInvalidSetIsAResultWithAStatus) {
   const auto ev = BatchEvaluator::FromEntries({SmallSet()[0]}, "", params::CostWeights{}, 2);
   params::StabilityParams bad;
