@@ -5,9 +5,9 @@
 #include <cmath>
 
 #include "controller/motion/longitudinal.h"
+#include "params/io/csv.h"
 #include "plant/track/road_surface.h"
 #include "plant/vehicle/vehicle.h"
-#include "tuning/csv_writer.h"
 #include "tuning/events.h"
 #include "tuning/motion_factory.h"
 
@@ -251,7 +251,7 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
     CountIntervention(AnyActive(out.tc_state), &tc_b, &m.tc_count, &m.tc_time, ts);
 
     if (options.trace && tick % log_every == 0) {
-      CsvWriter& w = *options.trace;
+      io::CsvWriter& w = *options.trace;
       w.Add(t);
       w.Add(laps_done);
       w.Add(tp.s);

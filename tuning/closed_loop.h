@@ -20,13 +20,15 @@
 #include "tuning/metrics.h"
 #include "tuning/scenario.h"
 
-namespace scw::tuning {
-
+namespace scw::io {
 class CsvWriter;
+}  // namespace scw::io
+
+namespace scw::tuning {
 
 struct RunOptions {
   /// Trace at the scenario's log rate (one column per signal, units in the header) or nullptr.
-  CsvWriter* trace = nullptr;
+  io::CsvWriter* trace = nullptr;
   /// Called with every controller input (for the replay log), or nullptr.
   std::function<void(const controller::StabilityInput&)> on_controller_input;
   /// Called with every controller output, or nullptr.

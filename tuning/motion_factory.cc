@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <utility>
+#include <vector>
 
 #include "controller/motion/nmpc.h"
 #include "controller/motion/pmpc.h"
@@ -84,8 +86,12 @@ std::unique_ptr<controller::motion::MotionController> MakeMotionController(
       return std::make_unique<cm::SingleTrackMpc>(o, st, PlannerLimits(sc), MakeCorridor(sc),
                                                   sc.path);
     }
-  } catch (const ConfigError&) {
-    throw;
+  } catch (const ConfigError& e) {
+    std::vector<Problem> problems;
+    for (const Problem& p : e.problems())
+      problems.push_back(
+          {"motion.controller", name + ": " + (p.path.empty() ? "" : p.path + ": ") + p.message});
+    throw ConfigError(sc.source, std::move(problems));
   } catch (const std::exception& e) {
     throw ConfigError(sc.source, "motion.controller", name + ": " + e.what());
   }

@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "params/io/csv.h"
 #include "params/io/write.h"
-#include "tuning/io/csv.h"
 
 namespace scw::tuning {
 namespace {
@@ -121,8 +121,8 @@ std::string ComparisonCsv(const std::string& group, const BatchEvaluator& ev,
   for (std::size_t k = 0; k < ev.scenarios().size(); ++k)
     for (std::size_t s = 0; s < results.size(); ++s) {
       const RunMetrics& m = results[s].runs[k];
-      out += CsvField(group) + "," + CsvField(ev.scenarios()[k].spec.name) + "," +
-             CsvField(labels[s]) + "," + RunStatusName(m.status) + "," +
+      out += io::CsvField(group) + "," + io::CsvField(ev.scenarios()[k].spec.name) + "," +
+             io::CsvField(labels[s]) + "," + RunStatusName(m.status) + "," +
              FormatDouble(m.Progress()) + "," + FormatDouble(m.MeanLapTime()) + "," +
              FormatDouble(m.max_abs_sideslip * 180.0 / M_PI) + "," +
              FormatDouble(m.max_abs_lateral_error) + "," + std::to_string(m.esc_count) + "," +

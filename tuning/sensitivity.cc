@@ -7,8 +7,8 @@
 #include <map>
 #include <type_traits>
 
+#include "params/io/csv.h"
 #include "params/io/write.h"
-#include "tuning/io/csv.h"
 #include "tuning/report.h"
 
 namespace scw::tuning {
@@ -392,9 +392,9 @@ std::string SensitivityCsv(const SensitivityResult& r) {
       const bool ran =
           pt.kind == PerturbationKind::kEvaluated || pt.kind == PerturbationKind::kDuplicate;
       for (std::size_t s = 0; s < r.scenarios.size(); ++s)
-        out += CsvField(d.label) + "," + CsvField(SensitivityPerturbationName(k)) + "," +
-               CsvField(PerturbationKindName(pt.kind)) + "," + params::FormatDouble(pt.x) + "," +
-               params::FormatDouble(pt.value) + "," + CsvField(r.scenarios[s]) + "," +
+        out += io::CsvField(d.label) + "," + io::CsvField(SensitivityPerturbationName(k)) + "," +
+               io::CsvField(PerturbationKindName(pt.kind)) + "," + params::FormatDouble(pt.x) +
+               "," + params::FormatDouble(pt.value) + "," + io::CsvField(r.scenarios[s]) + "," +
                (r.centre_runs[s].aborted() ? "aborted" : "completed") + "," +
                (ran ? params::FormatDouble(d.delta[s][static_cast<std::size_t>(k)])
                     : std::string("nan")) +

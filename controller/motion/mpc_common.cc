@@ -2,8 +2,29 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace scw::controller::motion {
+
+Problems ValidateMpcInputs(const Path* path, const GgTable& limits, const Corridor& corridor) {
+  Problems pr;
+  if (path == nullptr) pr.Add("path", "is missing (the controller follows a reference path)");
+  try {
+    limits.Validate();
+  } catch (const ConfigError& e) {
+    for (const Problem& p : e.problems()) pr.Add(params::JoinKey("limits", p.path), p.message);
+  }
+  if (path != nullptr) {
+    const auto sized = [&](const std::vector<double>& v, const char* key) {
+      if (v.size() != path->size())
+        pr.Add(key, "needs one entry per path station (" + std::to_string(path->size()) +
+                        "), has " + std::to_string(v.size()));
+    };
+    sized(corridor.left, "corridor.left");
+    sized(corridor.right, "corridor.right");
+  }
+  return pr;
+}
 
 double InterpolateStations(const Path& path, const std::vector<double>& values, double s) noexcept {
   const auto& pts = path.points();

@@ -18,6 +18,7 @@
 
 #include "controller/motion/path.h"
 #include "controller/planning/ggv.h"
+#include "params/schema/field.h"
 
 namespace scw::controller::motion {
 
@@ -29,6 +30,11 @@ struct Corridor {
   std::vector<double> left;   ///< [m] ≥ 0, room to the left of the path
   std::vector<double> right;  ///< [m] ≥ 0, room to the right of the path
 };
+
+/// The constructor checks both MPCs share: a path is given (key "path"), the limits are valid
+/// (GgvTable::Validate, keys under "limits."), the corridor has one entry per path station (keys
+/// "corridor.left", "corridor.right").
+Problems ValidateMpcInputs(const Path* path, const GgTable& limits, const Corridor& corridor);
 
 /// Linear interpolation of per-station values of `path` at s (wrapped). Allocation-free.
 double InterpolateStations(const Path& path, const std::vector<double>& values, double s) noexcept;

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+#include <string>
 
 #include "controller/motion/nlp_solver.h"
 
@@ -542,21 +542,28 @@ SingleTrackMpc::SingleTrackMpc(const NmpcOptions& options, const SingleTrackPara
       limits_(std::move(limits)),
       corridor_(std::move(corridor)),
       path_(std::move(path)) {
-  if (!path_) throw std::invalid_argument("nmpc: needs a path");
-  limits_.Validate();
+  Problems pr = ValidateMpcInputs(path_.get(), limits_, corridor_);
   const auto& o = options_;
+  const auto positive = [&pr](double v, const char* key) {
+    if (!(v > 0.0)) pr.Add(key, "must be positive, is " + params::FormatNumber(v));
+  };
   if (o.horizon_steps < 2 || o.horizon_steps > 200)
-    throw std::invalid_argument("nmpc: horizon_steps must lie in [2, 200]");
-  if (!(o.step > 0.0) || !(o.sample_time > 0.0) || o.substeps < 1)
-    throw std::invalid_argument("nmpc: step, sample_time > 0 and substeps >= 1");
-  if (corridor_.left.size() != path_->size() || corridor_.right.size() != path_->size())
-    throw std::invalid_argument("nmpc: the corridor needs one entry per path station");
-  if (!(model_.mass > 0.0) || !(model_.yaw_inertia > 0.0) || !(model_.lf > 0.0) ||
-      !(model_.lr > 0.0) || !(model_.front.mu > 0.0) || !(model_.rear.mu > 0.0) ||
-      !(model_.front.b > 0.0) || !(model_.rear.b > 0.0))
-    throw std::invalid_argument("nmpc: invalid single-track parameters");
-  if (!(o.max_steering > 0.0) || !(o.max_steering_rate > 0.0) || !(o.accel_fraction > 0.0))
-    throw std::invalid_argument("nmpc: invalid steering limits or acceleration fraction");
+    pr.Add("horizon_steps", "must lie in [2, 200], is " + std::to_string(o.horizon_steps));
+  positive(o.step, "step");
+  positive(o.sample_time, "sample_time");
+  if (o.substeps < 1) pr.Add("substeps", "must be at least 1, is " + std::to_string(o.substeps));
+  positive(model_.mass, "model.mass");
+  positive(model_.yaw_inertia, "model.yaw_inertia");
+  positive(model_.lf, "model.lf");
+  positive(model_.lr, "model.lr");
+  positive(model_.front.mu, "model.front.mu");
+  positive(model_.rear.mu, "model.rear.mu");
+  positive(model_.front.b, "model.front.b");
+  positive(model_.rear.b, "model.rear.b");
+  positive(o.max_steering, "max_steering");
+  positive(o.max_steering_rate, "max_steering_rate");
+  positive(o.accel_fraction, "accel_fraction");
+  if (!pr.empty()) throw ConfigError("nmpc", pr.items());
 }
 
 SingleTrackMpc::~SingleTrackMpc() = default;

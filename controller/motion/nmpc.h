@@ -139,7 +139,8 @@ class SingleTrackMpc final : public MotionController {
     std::unique_ptr<Workspace> ws;
   };
 
-  /// Throws std::invalid_argument for inconsistent options, limits, corridor or a missing path.
+  /// Throws scw::ConfigError listing every inconsistent option, limit, corridor size and a missing
+  /// path.
   SingleTrackMpc(const NmpcOptions& options, const SingleTrackParams& model, GgTable limits,
                  Corridor corridor, std::shared_ptr<const Path> path);
   ~SingleTrackMpc() override;

@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <stdexcept>
 #include <string>
+
+#include "params/schema/field.h"
 
 namespace scw::controller::motion {
 
@@ -18,18 +19,33 @@ double WrapAngle(double a) noexcept {
 
 Path::Path(std::vector<PathPoint> points, double length)
     : points_(std::move(points)), length_(length) {
-  if (points_.size() < 3) throw std::invalid_argument("a path needs at least 3 stations");
-  if (points_.front().s != 0.0) throw std::invalid_argument("a path must start at s = 0");
+  using params::FormatNumber;
+  const auto station = [](std::size_t i) { return "stations[" + std::to_string(i) + "]"; };
+  Problems pr;
+  if (points_.size() < 3)
+    pr.Add("stations", "needs at least 3 stations, has " + std::to_string(points_.size()));
+  if (!points_.empty() && points_.front().s != 0.0)
+    pr.Add(station(0) + ".s",
+           "must be 0 (a path starts at s = 0), is " + FormatNumber(points_.front().s));
   for (std::size_t i = 1; i < points_.size(); ++i)
-    if (!(points_[i].s > points_[i - 1].s))
-      throw std::invalid_argument("path stations must increase in s (station " + std::to_string(i) +
-                                  ")");
-  if (!(length_ > points_.back().s))
-    throw std::invalid_argument("path length must exceed the last station");
-  for (const auto& p : points_)
+    if (!(points_[i].s > points_[i - 1].s)) {
+      pr.Add(station(i) + ".s",
+             "must exceed the s of the station before (the first station out "
+             "of order)");
+      break;
+    }
+  if (!points_.empty() && !(length_ > points_.back().s))
+    pr.Add("length", "must exceed the s of the last station (" + FormatNumber(points_.back().s) +
+                         " m), is " + FormatNumber(length_));
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    const PathPoint& p = points_[i];
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.psi) ||
-        !std::isfinite(p.kappa) || !std::isfinite(p.v) || !std::isfinite(p.a_x))
-      throw std::invalid_argument("path stations must be finite");
+        !std::isfinite(p.kappa) || !std::isfinite(p.v) || !std::isfinite(p.a_x)) {
+      pr.Add(station(i), "has a non-finite x, y, psi, kappa, v or a_x (the first such station)");
+      break;
+    }
+  }
+  if (!pr.empty()) throw ConfigError("reference path", pr.items());
   mean_ds_ = length_ / static_cast<double>(points_.size());
 }
 

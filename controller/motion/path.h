@@ -26,7 +26,8 @@ struct PathProjection {
 class Path {
  public:
   /// Stations must be strictly increasing in s, starting at 0; the line closes from the last
-  /// station back to the first over `length` − s_last. Throws std::invalid_argument otherwise.
+  /// station back to the first over `length` − s_last; all of x, y, psi, kappa, v, a_x finite.
+  /// Throws scw::ConfigError (source "reference path") otherwise.
   Path(std::vector<PathPoint> points, double length);
 
   double length() const noexcept { return length_; }

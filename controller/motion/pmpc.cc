@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
+#include <string>
 
 #include "controller/motion/nlp_solver.h"
 
@@ -272,18 +272,27 @@ PointMassMpc::PointMassMpc(const PmpcOptions& options, GgTable limits, Corridor 
       limits_(std::move(limits)),
       corridor_(std::move(corridor)),
       path_(std::move(path)) {
-  if (!path_) throw std::invalid_argument("pmpc: needs a path");
-  limits_.Validate();
+  Problems pr = ValidateMpcInputs(path_.get(), limits_, corridor_);
   const auto& o = options_;
+  const auto positive = [&pr](double v, const char* key) {
+    if (!(v > 0.0)) pr.Add(key, "must be positive, is " + params::FormatNumber(v));
+  };
   if (o.horizon_steps < 2 || o.horizon_steps > 200)
-    throw std::invalid_argument("pmpc: horizon_steps must lie in [2, 200]");
-  if (!(o.step > 0.0) || !(o.sample_time > 0.0) || !(o.solve_period >= o.sample_time))
-    throw std::invalid_argument("pmpc: step, sample_time > 0 and solve_period >= sample_time");
-  if (corridor_.left.size() != path_->size() || corridor_.right.size() != path_->size())
-    throw std::invalid_argument("pmpc: the corridor needs one entry per path station");
-  if (!(o.wheelbase > 0.0) || !(o.max_steering > 0.0) || !(o.headroom >= o.nominal_fraction) ||
-      !(o.nominal_fraction > 0.0) || !(o.min_lookahead > 0.0))
-    throw std::invalid_argument("pmpc: invalid wheelbase, steering limit, fractions or lookahead");
+    pr.Add("horizon_steps", "must lie in [2, 200], is " + std::to_string(o.horizon_steps));
+  positive(o.step, "step");
+  positive(o.sample_time, "sample_time");
+  if (!(o.solve_period >= o.sample_time))
+    pr.Add("solve_period", "must be at least sample_time (" + params::FormatNumber(o.sample_time) +
+                               " s), is " + params::FormatNumber(o.solve_period));
+  positive(o.wheelbase, "wheelbase");
+  positive(o.max_steering, "max_steering");
+  positive(o.nominal_fraction, "nominal_fraction");
+  if (!(o.headroom >= o.nominal_fraction))
+    pr.Add("headroom", "must be at least nominal_fraction (" +
+                           params::FormatNumber(o.nominal_fraction) + "), is " +
+                           params::FormatNumber(o.headroom));
+  positive(o.min_lookahead, "min_lookahead");
+  if (!pr.empty()) throw ConfigError("pmpc", pr.items());
   // Inscribed polygons of (1 − r^p)^(1/p) for p on a grid; each node uses the polygon of the
   // largest grid exponent not above the table's drive or brake exponent at its speed (inside).
   for (int q = 0; q < kExponentGrid; ++q) {

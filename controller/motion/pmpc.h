@@ -119,7 +119,8 @@ class PointMassMpc final : public MotionController {
     std::unique_ptr<Workspace> ws;
   };
 
-  /// Throws std::invalid_argument for inconsistent options, limits, corridor or a missing path.
+  /// Throws scw::ConfigError listing every inconsistent option, limit, corridor size and a missing
+  /// path.
   PointMassMpc(const PmpcOptions& options, GgTable limits, Corridor corridor,
                std::shared_ptr<const Path> path);
   ~PointMassMpc() override;

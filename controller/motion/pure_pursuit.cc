@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
 namespace scw::controller::motion {
 
@@ -14,7 +13,9 @@ PurePursuit::PurePursuit(const params::TrackingParams& p, std::shared_ptr<const 
       vel_lag_(p.vel_error_filter_time_constant, p.tS),
       kappa_filter_(LowPass::FromTimeConstant(p.curvature_filter_Ts, p.tS)) {
   params::ValidateOrThrow(p_, "tracking parameters");
-  if (!path_) throw std::invalid_argument("pure pursuit needs a path");
+  if (!path_)
+    throw ConfigError("pure pursuit", "path",
+                      "is missing (the controller follows a reference path)");
 }
 
 std::unique_ptr<MotionState> PurePursuit::MakeState() const { return std::make_unique<State>(); }

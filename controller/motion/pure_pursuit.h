@@ -46,7 +46,7 @@ class PurePursuit final : public MotionController {
     double kappa_filtered = 0.0;
   };
 
-  /// Validates the parameters (throws scw::ConfigError).
+  /// Validates the parameters and that a path is given (throws scw::ConfigError).
   PurePursuit(const params::TrackingParams& p, std::shared_ptr<const Path> path,
               PurePursuitOptions options = {});
 

@@ -41,7 +41,7 @@ EscPhase NextEscPhase(EscPhase phase, const EscSignals& s, const EscThresholds& 
 
 EscReference EscReferences(double speed, double steering_request, double ay_request,
                            double yaw_rate_request, double beta_request,
-                           const SingleTrackModel& m) noexcept {
+                           const EscReferenceModel& m) noexcept {
   EscReference ref;
   const bool has_yaw = std::isfinite(yaw_rate_request);
   const bool has_beta = std::isfinite(beta_request);

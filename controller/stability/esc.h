@@ -73,7 +73,8 @@ struct EscReference {
   double curvature = 0.0;  ///< κ [1/m] (0 if both targets are given)
 };
 
-struct SingleTrackModel {
+/// The linear single track (constant cornering stiffnesses) behind the step-2 references.
+struct EscReferenceModel {
   double mass = 800.0;                ///< m [kg]
   double wheelbase = 2.971;           ///< l [m]
   double l_front = 1.724;             ///< [m]
@@ -85,7 +86,7 @@ struct SingleTrackModel {
 /// Step 2. Optional targets are NaN when not provided.
 EscReference EscReferences(double speed, double steering_request, double ay_request,
                            double yaw_rate_request, double beta_request,
-                           const SingleTrackModel& m) noexcept;
+                           const EscReferenceModel& m) noexcept;
 
 /// Step 6 without the final clamp. `pressure_per_force` = k_wheel [bar/N], `track_width` [m].
 Wheels AllocateYawMoment(double yaw_moment, const Wheels& pressure, const Wheels& mu,
@@ -134,7 +135,7 @@ class Esc {
 
  private:
   params::EscParams p_;
-  SingleTrackModel model_;
+  EscReferenceModel model_;
   LowPass psi_filter_;
   LowPass beta_filter_;
   Pid pid_psi_;

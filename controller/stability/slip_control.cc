@@ -10,10 +10,6 @@
 namespace scw::controller {
 namespace {
 
-constexpr int kRearOnly = 3;
-
-int ModeOrDefault(int mode, int fallback) { return (mode >= 0 && mode <= 3) ? mode : fallback; }
-
 double Select(SlipSelector sel, double a, double b) {
   return sel == SlipSelector::kMin ? std::min(a, b) : std::max(a, b);
 }
@@ -65,7 +61,7 @@ WheelSlipSignals SelectSlipSource(SlipSelector selector, bool use_virtual_slips,
   return out;
 }
 
-WheelSlipSignals DistributeSlips(int mode, SlipSelector selector,
+WheelSlipSignals DistributeSlips(SlipOperationMode mode, SlipSelector selector,
                                  const WheelSlipSignals& src) noexcept {
   auto axle = [&](WheelSlipSignals& out, std::size_t left) {
     const double slip = Select(selector, src.slip[left], src.slip[left + 1]);
@@ -81,13 +77,13 @@ WheelSlipSignals DistributeSlips(int mode, SlipSelector selector,
   };
   WheelSlipSignals out;
   switch (mode) {
-    case 0:
+    case SlipOperationMode::kIndividual:
       return src;
-    case 1:
+    case SlipOperationMode::kAxleSplit:
       axle(out, kFL);
       axle(out, kRL);
       return out;
-    case 2: {
+    case SlipOperationMode::kAllTogether: {
       const double slip =
           selector == SlipSelector::kMin ? MinElement(src.slip) : MaxElement(src.slip);
       std::size_t first = 0;
@@ -99,17 +95,20 @@ WheelSlipSignals DistributeSlips(int mode, SlipSelector selector,
       out.slip_rate = {rate, rate, rate, rate};
       return out;
     }
-    default:  // 3: rear only, fronts neutralised
+    case SlipOperationMode::kRearOnly:
       axle(out, kRL);
       return out;
   }
+  return out;
 }
 
 SlipControl::SlipControl(const params::StabilityParams& p, const params::StabilityOptions& options)
     : p_(p),
       options_(options),
-      abs_mode_(ModeOrDefault(p.SlipControl.ABS.operation_mode, 1)),
-      tc_mode_(ModeOrDefault(p.SlipControl.TC.operation_mode, kRearOnly)),
+      abs_mode_(SlipOperationModeFromInt(p.SlipControl.ABS.operation_mode,
+                                         SlipOperationMode::kAxleSplit)),
+      tc_mode_(
+          SlipOperationModeFromInt(p.SlipControl.TC.operation_mode, SlipOperationMode::kRearOnly)),
       sample_time_(std::max(p.tS, 1e-6)),
       k_axle_front_(AxlePressurePerForce(p.tires.front_left.radius.radius_20mps, p.vehicle.brake)),
       k_axle_rear_(AxlePressurePerForce(p.tires.rear_left.radius.radius_20mps, p.vehicle.brake)),
@@ -196,7 +195,8 @@ SlipControl::Output SlipControl::Step(const Input& in, State* s) const noexcept 
     out.abs_phase[i] = s->abs[i].phase;
   }
   for (std::size_t i = 0; i < 4; ++i) {
-    const bool allowed = tc_base && (IsFront(i) ? tc_mode_ != kRearOnly : tc_rear_ok);
+    const bool allowed =
+        tc_base && (IsFront(i) ? tc_mode_ != SlipOperationMode::kRearOnly : tc_rear_ok);
     const TcWheelController::Input wi{.allowed = allowed,
                                       .slip = out.tc_input.slip[i],
                                       .slip_angle_abs = out.tc_input.slip_angle_abs[i],
@@ -210,7 +210,7 @@ SlipControl::Output SlipControl::Step(const Input& in, State* s) const noexcept 
 
   // 6. Output selection.
   out.abs_latched = std::any_of(out.abs_phase.begin(), out.abs_phase.end(), IsActive);
-  const std::size_t tc_first = tc_mode_ == kRearOnly ? kRL : kFL;
+  const std::size_t tc_first = tc_mode_ == SlipOperationMode::kRearOnly ? kRL : kFL;
   out.tc_latched = std::any_of(out.tc_phase.begin() + static_cast<std::ptrdiff_t>(tc_first),
                                out.tc_phase.end(), IsActive);
   out.active = out.abs_latched || out.tc_latched;

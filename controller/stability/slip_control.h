@@ -11,8 +11,9 @@
 //  1. λ̇_raw,i = (λ_i − λ_prev,i)/max(T_s, 1e-6) [%/s]; |α̃_i| = |LPF(slip_angle_filter_pole)(α_i)|.
 //  2. Source slips (SelectSlipSource, table of §3.1 step 4; ABS picks the smaller slip, TC the
 //     larger; per-axle load weighting λ_w = Σ Fz·λ / Σ Fz when Σ Fz > 1e-6; ties → right wheel).
-//  3. Distribution by operation mode (DistributeSlips; 0 individual, 1 axle split, 2 all together,
-//     3 rear only; out-of-range → code default ABS 1 / TC 3).
+//  3. Distribution by operation mode (DistributeSlips, SlipOperationMode; parameter values 0
+//     individual, 1 axle split, 2 all together, 3 rear only; out-of-range → code default ABS 1 /
+//     TC 3).
 //  4. Gear flanks: a change of the engaged gear stamps t_gear, of the request t_req (detectors
 //     start at 0, spec §10.2 #24, unless options.ignore_initial_gear_change).
 //     ABS allowed = ABS.enabled ∧ slip_valid ∧ v_x > ABS.min_activation_velocity; rears also need
@@ -50,13 +51,29 @@ struct WheelSlipSignals {
 /// ABS selects the smaller (more negative) slip, TC the larger.
 enum class SlipSelector : std::uint8_t { kMin, kMax };
 
+/// Slip distribution of ABS or TC (§3.1 step 6). The integer values are those of the car's
+/// `operation_mode` parameter, the only place the integer form is used.
+enum class SlipOperationMode : std::uint8_t {
+  kIndividual = 0,   ///< each wheel its own slip
+  kAxleSplit = 1,    ///< the selected wheel of each axle for both wheels of the axle
+  kAllTogether = 2,  ///< the selected wheel of the car for all four
+  kRearOnly = 3,     ///< rear axle as one unit, fronts neutralised
+};
+
+/// The `operation_mode` parameter; a value outside 0..3 gives `fallback` (the node's code
+/// defaults: ABS kAxleSplit, TC kRearOnly).
+constexpr SlipOperationMode SlipOperationModeFromInt(int mode, SlipOperationMode fallback) {
+  return (mode >= 0 && mode <= 3) ? static_cast<SlipOperationMode>(mode) : fallback;
+}
+constexpr int ToInt(SlipOperationMode m) { return static_cast<int>(m); }
+
 /// §3.1 step 4/5 table. `slip_rate` is the raw rate of the raw slips.
 WheelSlipSignals SelectSlipSource(SlipSelector selector, bool use_virtual_slips, bool load_weighted,
                                   const Wheels& slip, const Wheels& virtual_slip, const Wheels& fz,
                                   const Wheels& slip_rate, const Wheels& slip_angle_abs) noexcept;
 
-/// §3.1 step 6. `mode` must be 0..3.
-WheelSlipSignals DistributeSlips(int mode, SlipSelector selector,
+/// §3.1 step 6.
+WheelSlipSignals DistributeSlips(SlipOperationMode mode, SlipSelector selector,
                                  const WheelSlipSignals& source) noexcept;
 
 class SlipControl {
@@ -113,14 +130,14 @@ class SlipControl {
 
   Output Step(const Input& in, State* s) const noexcept;
 
-  int abs_mode() const noexcept { return abs_mode_; }
-  int tc_mode() const noexcept { return tc_mode_; }
+  SlipOperationMode abs_mode() const noexcept { return abs_mode_; }
+  SlipOperationMode tc_mode() const noexcept { return tc_mode_; }
 
  private:
   params::StabilityParams p_;
   params::StabilityOptions options_;
-  int abs_mode_;
-  int tc_mode_;
+  SlipOperationMode abs_mode_;
+  SlipOperationMode tc_mode_;
   double sample_time_;
   double k_axle_front_;
   double k_axle_rear_;

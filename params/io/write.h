@@ -3,8 +3,7 @@
 //   doubles: shortest round-trip text (std::to_chars), always with '.' or an exponent (8.0, 4e-05)
 //   integers: plain decimal; booleans: true/false; strings: double-quoted
 //   arrays: flow style [a, b], non-empty; nested maps in schema order; each key once; no anchors.
-// Files are written through AtomicWriter (params/io/atomic_writer.h): a regular file atomically
-// (temporary file in the same folder, then rename), a device, FIFO or `-` directly.
+// This renders text only; files are written with io::WriteFileAtomic (params/io/atomic_file.h).
 #pragma once
 
 #include <functional>
@@ -14,7 +13,6 @@
 #include <utility>
 #include <vector>
 
-#include "params/io/atomic_writer.h"
 #include "params/schema/field.h"
 
 namespace scw::params {

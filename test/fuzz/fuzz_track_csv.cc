@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "params/io/csv.h"
 #include "test/fuzz/fuzz_targets.h"
 #include "test/fuzz/fuzz_util.h"
 #include "tuning/io/track_csv.h"
@@ -15,7 +16,7 @@ int scw::fuzz::FuzzTrackCsv(const std::uint8_t* data, std::size_t size) {
   static scw::fuzz::MemFile file;
   const std::string& path = file.Write(data, size);
   try {
-    (void)scw::tuning::ReadCsvTable(path, {"x_m", "y_m"}, {"friction_scale"});
+    (void)scw::io::ReadCsvTable(path, {"x_m", "y_m"}, {"friction_scale"});
   } catch (const ConfigError&) {
   }
   try {

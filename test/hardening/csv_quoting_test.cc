@@ -8,9 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "params/io/csv.h"
 #include "params/io/yaml_doc.h"
-#include "tuning/csv_writer.h"
-#include "tuning/io/csv.h"
 
 namespace scw::tuning {
 namespace {
@@ -47,7 +46,7 @@ TEST_F(CsvQuotingTest, CommaQuoteAndLineBreaksRoundTripThroughTheWriter) {
       ",",                 // only a separator
   };
   {
-    CsvWriter w(path, {"scenario", "mean lap, s", "count"});
+    io::CsvWriter w(path, {"scenario", "mean lap, s", "count"});
     for (std::size_t i = 0; i < names.size(); ++i) {
       w.Add(names[i]);
       w.Add(0.5 + static_cast<double>(i));
@@ -56,7 +55,7 @@ TEST_F(CsvQuotingTest, CommaQuoteAndLineBreaksRoundTripThroughTheWriter) {
     }
     w.Commit();
   }
-  const auto records = ParseCsv(params::ReadTextFile(path));
+  const auto records = io::ParseCsv(params::ReadTextFile(path));
   ASSERT_EQ(records.size(), names.size() + 1);
   EXPECT_EQ(records[0], (std::vector<std::string>{"scenario", "mean lap, s", "count"}));
   for (std::size_t i = 0; i < names.size(); ++i) {
@@ -68,17 +67,17 @@ TEST_F(CsvQuotingTest, CommaQuoteAndLineBreaksRoundTripThroughTheWriter) {
 }
 
 TEST_F(CsvQuotingTest, QuotingFollowsRfc4180AndLeavesPlainFieldsAlone) {
-  EXPECT_EQ(CsvField("plain"), "plain");
-  EXPECT_EQ(CsvField("1.25e-05"), "1.25e-05");
-  EXPECT_EQ(CsvField("a,b"), "\"a,b\"");
-  EXPECT_EQ(CsvField("say \"hi\""), "\"say \"\"hi\"\"\"");
-  EXPECT_EQ(CsvField("a\nb"), "\"a\nb\"");
-  EXPECT_EQ(CsvField("a\rb"), "\"a\rb\"");
-  EXPECT_EQ(CsvRecord({"x", "y,z", ""}), "x,\"y,z\",");
+  EXPECT_EQ(io::CsvField("plain"), "plain");
+  EXPECT_EQ(io::CsvField("1.25e-05"), "1.25e-05");
+  EXPECT_EQ(io::CsvField("a,b"), "\"a,b\"");
+  EXPECT_EQ(io::CsvField("say \"hi\""), "\"say \"\"hi\"\"\"");
+  EXPECT_EQ(io::CsvField("a\nb"), "\"a\nb\"");
+  EXPECT_EQ(io::CsvField("a\rb"), "\"a\rb\"");
+  EXPECT_EQ(io::CsvRecord({"x", "y,z", ""}), "x,\"y,z\",");
 
   const std::string path = (dir_ / "plain.csv").string();
   {
-    CsvWriter w(path, {"t", "status"});
+    io::CsvWriter w(path, {"t", "status"});
     w.Add(0.25);
     w.Add(std::string("ok"));
     w.EndRow();
@@ -88,11 +87,11 @@ TEST_F(CsvQuotingTest, QuotingFollowsRfc4180AndLeavesPlainFieldsAlone) {
 }
 
 TEST_F(CsvQuotingTest, ParserAcceptsCrLfAndRefusesBrokenQuoting) {
-  EXPECT_EQ(ParseCsv("a,b\r\n1,\"x\"\"y\"\r\n"),
+  EXPECT_EQ(io::ParseCsv("a,b\r\n1,\"x\"\"y\"\r\n"),
             (std::vector<std::vector<std::string>>{{"a", "b"}, {"1", "x\"y"}}));
-  EXPECT_EQ(ParseCsv("a,\n"), (std::vector<std::vector<std::string>>{{"a", ""}}));
-  EXPECT_THROW(ParseCsv("a,\"open\n"), std::invalid_argument);
-  EXPECT_THROW(ParseCsv("\"closed\"tail,b\n"), std::invalid_argument);
+  EXPECT_EQ(io::ParseCsv("a,\n"), (std::vector<std::vector<std::string>>{{"a", ""}}));
+  EXPECT_THROW(io::ParseCsv("a,\"open\n"), std::invalid_argument);
+  EXPECT_THROW(io::ParseCsv("\"closed\"tail,b\n"), std::invalid_argument);
 }
 
 }  // namespace

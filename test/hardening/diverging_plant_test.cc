@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "params/io/atomic_file.h"
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "params/schema/vehicle_params.h"
@@ -39,7 +40,7 @@ TEST(DivergingPlantTest, BrokenScenariosEndWithAStatusAndTheBatchContinues) {
   v.tires.kinematics.relaxation_length_lat = 0.01;
   v.tires.kinematics.relaxation_speed_min = 50.0;
   v.simulation.time_step = 0.005;
-  params::WriteFileAtomic((dir / "absurd.yaml").string(), params::ToPlainYaml(v));
+  io::WriteFileAtomic((dir / "absurd.yaml").string(), params::ToPlainYaml(v));
 
   const std::vector<ScenarioEntry> entries = {
       {"healthy", 1.0, "", {"laps=1", "gg_scale=1.0"}},

@@ -19,9 +19,10 @@
 #include <vector>
 
 #include "controller/stability/stability_controller.h"
+#include "params/io/atomic_file.h"
+#include "params/io/csv.h"
 #include "params/io/write.h"
 #include "params/io/yaml_doc.h"
-#include "tuning/csv_writer.h"
 #include "tuning/optim/tuner.h"
 #include "tuning/replay/controller_log.h"
 
@@ -102,7 +103,7 @@ std::string Big(std::size_t bytes) {
 
 TEST_F(WriteFailureTest, WriteFileAtomicIntoAMissingFolderNamesThePath) {
   const std::string path = Path("missing/sub/stability.yaml");
-  const std::string msg = Message([&] { params::WriteFileAtomic(path, "a: 1.0\n"); });
+  const std::string msg = Message([&] { io::WriteFileAtomic(path, "a: 1.0\n"); });
   EXPECT_NE(msg.find(path), std::string::npos) << msg;
   EXPECT_TRUE(Listing().empty());
 }
@@ -110,7 +111,7 @@ TEST_F(WriteFailureTest, WriteFileAtomicIntoAMissingFolderNamesThePath) {
 TEST_F(WriteFailureTest, WriteFileAtomicOntoAFolderLeavesItAndNoTemporary) {
   const std::string path = Path("a_folder");
   fs::create_directory(path);
-  const std::string msg = Message([&] { params::WriteFileAtomic(path, "a: 1.0\n"); });
+  const std::string msg = Message([&] { io::WriteFileAtomic(path, "a: 1.0\n"); });
   EXPECT_NE(msg.find(path), std::string::npos) << msg;
   EXPECT_TRUE(fs::is_directory(path));
   EXPECT_EQ(Listing(), std::set<std::string>{"a_folder"});
@@ -121,7 +122,7 @@ TEST_F(WriteFailureTest, WriteFileAtomicIntoAReadOnlyFolder) {
   const std::string path = Path("stability.yaml");
   WriteOld(path);
   fs::permissions(dir_, fs::perms::owner_read | fs::perms::owner_exec);
-  const std::string msg = Message([&] { params::WriteFileAtomic(path, "a: 1.0\n"); });
+  const std::string msg = Message([&] { io::WriteFileAtomic(path, "a: 1.0\n"); });
   fs::permissions(dir_, fs::perms::owner_all);
   EXPECT_NE(msg.find(path), std::string::npos) << msg;
   EXPECT_EQ(Read(path), "old content\n");
@@ -134,7 +135,7 @@ TEST_F(WriteFailureTest, WriteFileAtomicOnAFullDiskKeepsThePreviousFile) {
   std::string msg;
   {
     DiskFull full(4096);
-    msg = Message([&] { params::WriteFileAtomic(path, Big(64 * 1024)); });
+    msg = Message([&] { io::WriteFileAtomic(path, Big(64 * 1024)); });
   }
   EXPECT_NE(msg.find(path), std::string::npos) << msg;
   EXPECT_EQ(Read(path), "old content\n");
@@ -142,11 +143,11 @@ TEST_F(WriteFailureTest, WriteFileAtomicOnAFullDiskKeepsThePreviousFile) {
 }
 
 // ------------------------------------------------------------------------------------------------
-// CsvWriter (trace, comparison, sweep tables)
+// io::CsvWriter (trace, comparison, sweep tables)
 
 TEST_F(WriteFailureTest, CsvWriterIntoAMissingFolderNamesThePath) {
   const std::string path = Path("missing/trace.csv");
-  const std::string msg = Message([&] { CsvWriter w(path, {"a", "b"}); });
+  const std::string msg = Message([&] { io::CsvWriter w(path, {"a", "b"}); });
   EXPECT_NE(msg.find(path), std::string::npos) << msg;
   EXPECT_TRUE(Listing().empty());
 }
@@ -156,7 +157,7 @@ TEST_F(WriteFailureTest, CsvWriterOntoAFolderFailsAtCommitAndCleansUp) {
   fs::create_directory(path);
   std::string msg;
   {
-    CsvWriter w(path, {"a", "b"});
+    io::CsvWriter w(path, {"a", "b"});
     w.Add(1.0);
     w.Add(2.0);
     w.EndRow();
@@ -173,7 +174,7 @@ TEST_F(WriteFailureTest, CsvWriterOnAFullDiskKeepsThePreviousFile) {
   std::string msg;
   {
     DiskFull full(8192);
-    CsvWriter w(path, {"t", "x", "y"});
+    io::CsvWriter w(path, {"t", "x", "y"});
     for (int k = 0; k < 20000; ++k) {
       w.Add(0.001 * k);
       w.Add(1.0 / (k + 1));
@@ -190,7 +191,7 @@ TEST_F(WriteFailureTest, CsvWriterOnAFullDiskKeepsThePreviousFile) {
 TEST_F(WriteFailureTest, CsvWriterWithoutCommitLeavesNothing) {
   const std::string path = Path("trace.csv");
   {
-    CsvWriter w(path, {"a"});
+    io::CsvWriter w(path, {"a"});
     w.Add(1.0);
     w.EndRow();
   }  // e.g. an exception unwound the run

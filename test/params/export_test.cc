@@ -5,6 +5,7 @@
 #include <set>
 #include <string>
 
+#include "params/io/atomic_file.h"
 #include "params/io/load.h"
 #include "params/io/ros2_check.h"
 #include "params/io/write.h"
@@ -140,13 +141,13 @@ TEST(ExportTest, AtomicWriteLeavesNoPartialFile) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const std::string path = (dir / "out.yml").string();
-  WriteFileAtomic(path, "first\n");
-  WriteFileAtomic(path, "second\n");
+  io::WriteFileAtomic(path, "first\n");
+  io::WriteFileAtomic(path, "second\n");
   EXPECT_EQ(ReadTextFile(path), "second\n");
   // A folder that does not exist: error names the path, nothing is left behind.
   const std::string bad = (dir / "missing" / "out.yml").string();
   try {
-    WriteFileAtomic(bad, "x");
+    io::WriteFileAtomic(bad, "x");
     FAIL();
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find(bad), std::string::npos);

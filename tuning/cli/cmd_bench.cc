@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "params/io/csv.h"
 #include "params/io/load.h"
 #include "params/schema/vehicle_params.h"
 #include "plant/vehicle/maneuver.h"
@@ -15,7 +16,6 @@
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
 #include "tuning/closed_loop.h"
-#include "tuning/csv_writer.h"
 #include "tuning/evaluator.h"
 #include "tuning/parallel/mpi_backend.h"
 #include "tuning/scenario.h"
@@ -103,7 +103,7 @@ int BenchClosedLoop(const BenchOptions& o) {
 // one after another on this thread (the job lengths a scheduler across many workers must balance;
 // experiments/scaling_model.py turns them into predicted speed-ups).
 void WriteJobTimes(const tuning::BatchEvaluator& ev, const std::string& path) {
-  tuning::CsvWriter csv(path, {"scenario", "kind", "status", "simulated_s", "wall_s"});
+  io::CsvWriter csv(path, {"scenario", "kind", "status", "simulated_s", "wall_s"});
   std::vector<double> wall;
   tuning::RunOptions ro;  // as the evaluator runs them
   ro.sideslip_allowed_deg = ev.cost().sideslip_allowed_deg;

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "params/io/atomic_file.h"
 #include "params/io/docs.h"
 #include "params/io/load.h"
 #include "params/io/ros2_check.h"
@@ -71,7 +72,7 @@ int Import(const ParamsOptions& o) {
   const std::string text =
       params::ToRosYaml(p, node, rep.present, "Imported by scw from " + o.file);
   CheckBeforeWrite<P>(text, node, true, o.out);
-  params::WriteFileAtomic(o.out, text);
+  io::WriteFileAtomic(o.out, text);
   std::cerr << "imported " << rep.present.size() << " keys from " << o.file << " into " << o.out
             << " (" << rep.notes.size() << " note(s))\n";
   return kExitOk;
@@ -93,7 +94,7 @@ int Export(const ParamsOptions& o) {
     text = params::ToRosYaml(p, node, rep.present, "Exported by scw from " + o.file);
   }
   CheckBeforeWrite<P>(text, node, !o.overrides_only, o.out);
-  params::WriteFileAtomic(o.out, text);
+  io::WriteFileAtomic(o.out, text);
   std::cerr << "wrote " << o.out << '\n';
   return kExitOk;
 }
@@ -180,7 +181,7 @@ int Init(const ParamsOptions& o) {
       "at the node's code defaults are omitted). Regenerate: scw params init --kind " +
           o.kind + " -o FILE");
   CheckBeforeWrite<P>(text, node, true, o.out);
-  params::WriteFileAtomic(o.out, text);
+  io::WriteFileAtomic(o.out, text);
   std::cerr << "wrote " << o.out << '\n';
   return kExitOk;
 }
@@ -193,7 +194,7 @@ int WriteDocs(const ParamsOptions& o, const std::string& title) {
   if (o.out.empty())
     std::cout << text;
   else
-    params::WriteFileAtomic(o.out, text);
+    io::WriteFileAtomic(o.out, text);
   return kExitOk;
 }
 

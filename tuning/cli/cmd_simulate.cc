@@ -6,12 +6,12 @@
 #include <iostream>
 #include <memory>
 
+#include "params/io/csv.h"
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/progress.h"
 #include "tuning/closed_loop.h"
-#include "tuning/csv_writer.h"
 #include "tuning/replay/controller_log.h"
 #include "tuning/replay/log_setup.h"
 #include "tuning/report.h"
@@ -52,8 +52,8 @@ int RunSimulate(const SimulateOptions& o) {
   const tuning::ResolvedScenario sc =
       tuning::Resolve(spec, base, o.scenario.empty() ? "built-in" : o.scenario);
   const auto t1 = std::chrono::steady_clock::now();
-  std::unique_ptr<tuning::CsvWriter> trace;
-  if (!o.trace.empty()) trace = std::make_unique<tuning::CsvWriter>(o.trace, tuning::TraceHeader());
+  std::unique_ptr<io::CsvWriter> trace;
+  if (!o.trace.empty()) trace = std::make_unique<io::CsvWriter>(o.trace, tuning::TraceHeader());
   std::unique_ptr<tuning::ControllerLogWriter> log;
   if (!o.controller_log.empty())
     log = std::make_unique<tuning::ControllerLogWriter>(o.controller_log);
@@ -89,7 +89,7 @@ int RunSimulate(const SimulateOptions& o) {
   if (log && tuning::CommitWithSetup(*log, tuning::ClosedLoopSetup(sc, sc.stability)).empty())
     std::cerr << "note: no setup file for a controller log written to " << o.controller_log
               << " (scw replay needs --vehicle FILE to reproduce the run's vehicle constants)\n";
-  if (!o.summary.empty()) params::WriteFileAtomic(o.summary, tuning::RunSummaryYaml(spec.name, m));
+  if (!o.summary.empty()) io::WriteFileAtomic(o.summary, tuning::RunSummaryYaml(spec.name, m));
   std::cout << tuning::FormatRunSummary(spec.name, m);
   const double sim_s = std::chrono::duration<double>(t2 - t1).count();
   char line[512];

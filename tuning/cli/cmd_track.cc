@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include "params/io/atomic_file.h"
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "params/schema/track_params.h"
@@ -100,7 +101,7 @@ int Line(const TrackOptions& o) {
         << ',' << FormatNumber(r.a_x[i]) << ',' << FormatNumber(r.a_y[i]) << ','
         << FormatNumber(r.t[i]) << '\n';
   try {
-    params::WriteFileAtomic(o.out, csv.str());
+    io::WriteFileAtomic(o.out, csv.str());
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << '\n';
     return kExitFailed;

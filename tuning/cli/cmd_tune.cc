@@ -15,6 +15,7 @@
 
 #include <nlopt.hpp>
 
+#include "params/io/atomic_file.h"
 #include "params/io/load.h"
 #include "params/io/ros2_check.h"
 #include "params/io/write.h"
@@ -453,10 +454,10 @@ int RunTune(const TuneOptions& o) {
                                                        tuning::TunedFileHeader(prov, true));
   CheckExport(full_text, true, full);
   CheckExport(over_text, false, over);
-  params::WriteFileAtomic(full, full_text);
-  params::WriteFileAtomic(over, over_text);
+  io::WriteFileAtomic(full, full_text);
+  io::WriteFileAtomic(over, over_text);
   // The plots read comparison.csv and evaluations.csv; comparison.md embeds them.
-  params::WriteFileAtomic((fs::path(dir) / "comparison.csv").string(), csv);
+  io::WriteFileAtomic((fs::path(dir) / "comparison.csv").string(), csv);
   std::string plot_message;
   const bool plots = tuning::WriteTunePlots(dir, &plot_message);
   if (!plots)
@@ -464,7 +465,7 @@ int RunTune(const TuneOptions& o) {
               << "); the run's other outputs are complete\n";
   const std::string plots_md = plots ? tuning::TunePlotsMarkdown() : std::string();
   const std::string md_path = (fs::path(dir) / "comparison.md").string();
-  params::WriteFileAtomic(md_path, md + plots_md);
+  io::WriteFileAtomic(md_path, md + plots_md);
 
   // The parameter sensitivity around the tuned point comes last: the manifest is written before
   // it (the folder is then complete; a run stopped during the phase keeps it so) and again after
@@ -545,7 +546,7 @@ int RunTune(const TuneOptions& o) {
           "comparison.csv", "sensitivity.csv", "convergence.png", "comparison.png"})
       if (fs::exists(fs::path(dir) / f))
         man << "  " << f << ": " << FileSha256((fs::path(dir) / f).string()) << "\n";
-    params::WriteFileAtomic((fs::path(dir) / "manifest.yaml").string(), man.str());
+    io::WriteFileAtomic((fs::path(dir) / "manifest.yaml").string(), man.str());
   };
   write_manifest();
   if (sensitivity == "pending") {
@@ -557,9 +558,8 @@ int RunTune(const TuneOptions& o) {
         training, space, plan, PhaseProgress(progress, "sensitivity", 0, n_runs, "runs"));
     progress.Finish();
     md += "\n" + tuning::SensitivityMarkdown(sens, "the tuned set");
-    params::WriteFileAtomic((fs::path(dir) / "sensitivity.csv").string(),
-                            tuning::SensitivityCsv(sens));
-    params::WriteFileAtomic(md_path, md + plots_md);
+    io::WriteFileAtomic((fs::path(dir) / "sensitivity.csv").string(), tuning::SensitivityCsv(sens));
+    io::WriteFileAtomic(md_path, md + plots_md);
     sensitivity = "done";
     sensitivity_sets = sens.sets;
     not_exercised = sens.NotExercised();
@@ -655,7 +655,7 @@ int RunEvaluate(const TuneOptions& o) {
   }
   progress.Finish();
   std::cout << AlignMarkdownTables(md);
-  if (!o.csv.empty()) params::WriteFileAtomic(o.csv, csv);
+  if (!o.csv.empty()) io::WriteFileAtomic(o.csv, csv);
   return kExitOk;
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "params/io/atomic_file.h"
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "params/schema/vehicle_params.h"
@@ -251,7 +252,7 @@ void AddVehicle(CLI::App& app) {
   init->add_option("-o,--output", o->out, "Output file (e.g. params/vehicles/eav24.yaml)")
       ->required();
   init->callback([o] {
-    params::WriteFileAtomic(
+    io::WriteFileAtomic(
         o->out,
         params::ToPlainYaml(
             params::VehicleParams{},

@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "params/io/atomic_writer.h"
+#include "params/io/atomic_file.h"
 #include "params/schema/field.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
@@ -219,7 +219,7 @@ int main(int argc, char** argv) {
   namespace mpi = scw::tuning::mpi;
   // Ctrl-C or a kill in any command removes the temporary files of unfinished outputs (the
   // targets keep their previous content), then ends the program by that signal.
-  scw::params::InstallTemporaryFileCleanup();
+  scw::io::InstallTemporaryFileCleanup();
   // Under mpirun: rank 0 runs the command, the other ranks serve its jobs until it ends.
   mpi::Init(&argc, &argv);
   if (!mpi::StartupError().empty()) {

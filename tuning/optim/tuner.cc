@@ -18,6 +18,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "params/io/csv.h"
 #include "params/io/write.h"
 #include "params/io/yaml_doc.h"
 
@@ -94,24 +95,6 @@ class SplitMix64 {
   std::uint64_t state_;
 };
 
-std::vector<std::string> SplitCsvLine(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cell;
-  std::istringstream in(line);
-  while (std::getline(in, cell, ',')) out.push_back(cell);
-  if (!line.empty() && line.back() == ',') out.emplace_back();
-  return out;
-}
-
-std::string JoinCsv(const std::vector<std::string>& cells) {
-  std::string out;
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    if (i) out += ',';
-    out += cells[i];
-  }
-  return out;
-}
-
 class Run {
  public:
   Run(const Objective& f, const BatchObjective& fb, const TunerOptions& o, int n)
@@ -127,7 +110,7 @@ class Run {
       if (!resume_) throw std::runtime_error("cannot read the resume log " + o.resume_path);
       std::string first;
       std::getline(resume_, first);
-      if (first != JoinCsv(header_))
+      if (first != io::CsvRecord(header_))
         throw std::runtime_error("the resume log " + o.resume_path +
                                  " was written for a different problem (its header differs)");
     }
@@ -136,7 +119,7 @@ class Run {
       log_file_ = o.log_path == o.resume_path ? o.log_path + ".resume.tmp" : o.log_path;
       log_.open(log_file_, std::ios::trunc);
       if (!log_) throw std::runtime_error("cannot write the evaluation log " + log_file_);
-      const std::string head = JoinCsv(header_) + '\n';
+      const std::string head = io::CsvRecord(header_) + '\n';
       log_ << head << std::flush;
       if (!log_) throw std::runtime_error("cannot write the evaluation log " + log_file_);
       log_bytes_ = head.size();
@@ -491,9 +474,15 @@ class Run {
       resume_.close();  // log exhausted: continue with real evaluations
       return Replayed::kNo;
     }
-    const auto cells = SplitCsvLine(line);
+    std::vector<std::string> cells;
+    bool match = true;
+    try {
+      io::SplitCsvLine(line, &cells, false);
+    } catch (const std::invalid_argument&) {
+      match = false;  // a malformed row cannot be the logged point
+    }
     const std::size_t nu = static_cast<std::size_t>(n_);
-    bool match = cells.size() == header_.size();
+    match = match && cells.size() == header_.size();
     for (std::size_t i = 0; match && i < nu; ++i) match = cells[5 + i] == ucells[i];
     if (!match) {
       error_ = "the resume log " + o_.resume_path + " diverges at evaluation " +
@@ -576,7 +565,7 @@ class Run {
       row.insert(row.end(), ucells.begin(), ucells.end());
       ev.columns.resize(o_.log_extra_header.size());
       row.insert(row.end(), ev.columns.begin(), ev.columns.end());
-      const std::string line = JoinCsv(row) + '\n';
+      const std::string line = io::CsvRecord(row) + '\n';
       log_ << line << std::flush;
       if (!log_) {
         // Disk full or similar: cut the log back to its last whole row, so that it stays a valid

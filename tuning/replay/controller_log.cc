@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "params/io/suggest.h"
+#include "params/io/text.h"
 
 namespace scw::tuning {
 
@@ -85,12 +86,7 @@ std::string LinePath(std::int64_t line, const std::string& column) {
   return p;
 }
 
-std::string_view Trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
-    s.remove_suffix(1);
-  return s;
-}
+using io::Trim;
 
 bool IsNanText(std::string_view s) {
   if (!s.empty() && (s.front() == '-' || s.front() == '+')) s.remove_prefix(1);
@@ -186,7 +182,7 @@ void AppendInteger(std::string* out, long long x) {
 
 struct ControllerLogWriter::Impl {
   explicit Impl(const std::string& path) : file(path) {}
-  detail::AtomicFile file;
+  io::AtomicWriter file;
   std::string row;
   std::int64_t rows = 0;
   std::int64_t bytes = 0;
@@ -251,7 +247,7 @@ const std::string& ControllerLogWriter::path() const noexcept { return impl_->fi
 std::int64_t ControllerLogWriter::rows() const noexcept { return impl_->rows; }
 std::int64_t ControllerLogWriter::bytes() const noexcept { return impl_->bytes; }
 bool ControllerLogWriter::is_file() const noexcept {
-  return impl_->file.mode() == detail::AtomicFile::Mode::kReplace;
+  return impl_->file.mode() == io::AtomicWriter::Mode::kReplace;
 }
 
 // ---------------------------------------------------------------------------------------------

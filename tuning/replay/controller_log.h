@@ -37,7 +37,7 @@
 #include <vector>
 
 #include "controller/stability/stability_controller.h"
-#include "params/io/atomic_writer.h"
+#include "params/io/atomic_file.h"
 #include "params/schema/field.h"
 
 namespace scw::tuning {
@@ -85,7 +85,7 @@ class LogFormatError : public ConfigError {
 /// Commit() makes the log appear under `path` at once. Destroying the writer without Commit()
 /// (an exception, an aborted run, Ctrl-C) removes the temporary file and leaves `path`
 /// untouched. A symlink's target is written the same way; a FIFO, a character device or `-`
-/// (standard output) is written directly (params/io/atomic_writer.h). Every column of
+/// (standard output) is written directly (params/io/atomic_file.h). Every column of
 /// kInputColumns is written, unavailable signals as `nan`.
 ///
 /// Usage (closed loop):
@@ -175,11 +175,6 @@ namespace detail {
 /// Appends the shortest round-trip text of x (`nan` for any NaN, `inf`/`-inf`).
 void AppendNumber(std::string* out, double x);
 void AppendInteger(std::string* out, long long x);
-
-/// The output file of the log and replay writers: the workspace's one atomic writer (a regular
-/// target through a temporary file and a rename, a symlink's target likewise, a device, FIFO or
-/// `-` directly; see params/io/atomic_writer.h).
-using AtomicFile = params::AtomicWriter;
 
 }  // namespace detail
 

@@ -6,6 +6,7 @@
 #include <system_error>
 #include <type_traits>
 
+#include "params/io/atomic_file.h"
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "tuning/replay/controller_log.h"
@@ -45,7 +46,7 @@ std::string CommitWithSetup(ControllerLogWriter& log, ControllerLogSetup setup) 
   setup.log_rows = static_cast<int>(log.rows());
   setup.log_bytes = static_cast<double>(log.bytes());
   const std::string path = SetupPathFor(log.path());
-  params::WriteFileAtomic(path, SetupYaml(setup, log.path()));
+  io::WriteFileAtomic(path, SetupYaml(setup, log.path()));
   try {
     log.Commit();
   } catch (...) {

@@ -30,6 +30,7 @@
 #include <string_view>
 
 #include "controller/stability/stability_controller.h"
+#include "params/io/atomic_file.h"
 #include "tuning/replay/controller_log.h"
 
 namespace scw::tuning {
@@ -55,7 +56,7 @@ class ReplayOutputWriter {
   std::int64_t rows() const noexcept { return rows_; }
 
  private:
-  detail::AtomicFile file_;
+  io::AtomicWriter file_;
   std::string row_;
   std::int64_t rows_ = 0;
 };

@@ -21,9 +21,10 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "params/io/csv.h"
+#include "params/io/text.h"
 #include "params/io/write.h"
 #include "tuning/closed_loop.h"
-#include "tuning/csv_writer.h"
 #include "tuning/optim/parallel.h"
 #include "tuning/parallel/mpi_backend.h"
 #include "tuning/parallel/wire.h"
@@ -36,13 +37,6 @@ namespace fs = std::filesystem;
 
 constexpr int kMaxAxisValues = 10000;
 
-std::string Trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t");
-  return s.substr(b, e - b + 1);
-}
-
 /// Splits at commas outside [...] (list values such as [0.8, 1.0] stay whole).
 std::vector<std::string> SplitTopLevel(const std::string& s) {
   std::vector<std::string> out;
@@ -52,13 +46,13 @@ std::vector<std::string> SplitTopLevel(const std::string& s) {
     if (c == '[') ++depth;
     if (c == ']' && depth > 0) --depth;
     if (c == ',' && depth == 0) {
-      out.push_back(Trim(cur));
+      out.push_back(std::string(io::Trim(cur)));
       cur.clear();
     } else {
       cur += c;
     }
   }
-  out.push_back(Trim(cur));
+  out.push_back(std::string(io::Trim(cur)));
   return out;
 }
 
@@ -211,8 +205,8 @@ SweepAxis ParseVary(const std::string& arg) {
   if (eq == std::string::npos || eq == 0)
     throw ConfigError(where, "", "must look like key=v1,v2,... or key=start:step:stop");
   SweepAxis axis;
-  axis.key = Trim(arg.substr(0, eq));
-  const std::string rhs = Trim(arg.substr(eq + 1));
+  axis.key = std::string(io::Trim(arg.substr(0, eq)));
+  const std::string rhs = std::string(io::Trim(arg.substr(eq + 1)));
   if (axis.key.empty() || rhs.empty())
     throw ConfigError(where, "", "must look like key=v1,v2,... or key=start:step:stop");
   if (axis.key == "config")
@@ -224,8 +218,9 @@ SweepAxis ParseVary(const std::string& arg) {
   if (maybe_range) {
     const auto c1 = rhs.find(':');
     const auto c2 = rhs.find(':', c1 + 1);
-    const std::string parts[3] = {Trim(rhs.substr(0, c1)), Trim(rhs.substr(c1 + 1, c2 - c1 - 1)),
-                                  Trim(rhs.substr(c2 + 1))};
+    const std::string parts[3] = {std::string(io::Trim(rhs.substr(0, c1))),
+                                  std::string(io::Trim(rhs.substr(c1 + 1, c2 - c1 - 1))),
+                                  std::string(io::Trim(rhs.substr(c2 + 1)))};
     double v[3];
     for (int i = 0; i < 3; ++i)
       if (!ParseNumber(parts[i], &v[i]))
@@ -262,14 +257,14 @@ SweepConfig ParseConfig(const std::string& arg) {
   const std::string where = "--config " + arg;
   const auto colon = arg.find(':');
   SweepConfig c;
-  c.name = Trim(arg.substr(0, colon));
+  c.name = std::string(io::Trim(arg.substr(0, colon)));
   if (!ValidName(c.name))
     throw ConfigError(where, "",
                       "must look like name:key=v,key=v with a name of letters, digits and _.+- "
                       "(got '" +
                           c.name + "')");
   if (colon == std::string::npos) return c;
-  const std::string rest = Trim(arg.substr(colon + 1));
+  const std::string rest = std::string(io::Trim(arg.substr(colon + 1)));
   if (rest.empty()) return c;
   for (const auto& o : SplitTopLevel(rest)) {
     const auto eq = o.find('=');
@@ -979,7 +974,7 @@ SweepResult RunSweep(const SweepDefinition& d, const SweepExecution& exec,
     ParallelFor(static_cast<int>(selected.size()), threads, [&](int k) {
       const int i = selected[static_cast<std::size_t>(k)];
       const ResolvedScenario sc = resolutions.Scenario(i);
-      CsvWriter w(
+      io::CsvWriter w(
           (fs::path(traces.dir) / TraceFileName(r, r.runs[static_cast<std::size_t>(i)])).string(),
           TraceHeader());
       RunOptions ro;
@@ -1018,7 +1013,7 @@ void WriteSweepCsv(const std::string& path, const SweepResult& r) {
         "cs_count", "abs_count", "tc_count", "esc_time_s", "cs_time_s", "abs_time_s", "tc_time_s",
         "esc_brake_energy_J", "end_lap", "end_s_m", "ideal_lap_time_s"})
     header.emplace_back(h);
-  CsvWriter w(path, header);
+  io::CsvWriter w(path, header);
   constexpr double kDeg = 180.0 / M_PI;
   for (const auto& run : r.runs) {
     if (!run.reported) continue;

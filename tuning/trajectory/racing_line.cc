@@ -7,8 +7,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "params/io/csv.h"
 #include "params/schema/field.h"
-#include "tuning/io/track_csv.h"
 
 namespace scw::tuning {
 namespace {
@@ -169,7 +169,7 @@ RacingLine MinimumCurvatureLine(const plant::Track& track, const RacingLineOptio
 }
 
 RacingLine LoadRacingLine(const std::string& path, const plant::Track& track, double output_step) {
-  const tuning::CsvTable t = tuning::ReadCsvTable(path, {}, {"x_m", "y_m", "s_opt", "n_opt"});
+  const io::CsvTable t = io::ReadCsvTable(path, {}, {"x_m", "y_m", "s_opt", "n_opt"});
   const bool xy = t.Column("x_m") && t.Column("y_m");
   const bool sn = t.Column("s_opt") && t.Column("n_opt");
   if (!xy && !sn)

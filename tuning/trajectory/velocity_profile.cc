@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "params/io/csv.h"
 #include "params/schema/field.h"
-#include "tuning/io/track_csv.h"
 
 namespace scw::tuning {
 namespace {
@@ -168,8 +168,8 @@ controller::planning::GgvTable RepresentativeGgv() {
 }
 
 controller::planning::GgvTable LoadGgvCsv(const std::string& path, double exponent) {
-  const tuning::CsvTable t = tuning::ReadCsvTable(
-      path, {"v_mps", "ay_max_mps2", "ax_drive_max_mps2", "ax_brake_max_mps2"});
+  const io::CsvTable t =
+      io::ReadCsvTable(path, {"v_mps", "ay_max_mps2", "ax_drive_max_mps2", "ax_brake_max_mps2"});
   controller::planning::GgvTable g;
   g.speed = *t.Column("v_mps");
   g.ay_max = *t.Column("ay_max_mps2");

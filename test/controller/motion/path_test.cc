@@ -8,7 +8,10 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <string>
 #include <vector>
+
+#include "params/schema/field.h"
 
 namespace scw::controller::motion {
 namespace {
@@ -54,7 +57,21 @@ TEST(PathTest, WrapsAtTheStartLine) {
 TEST(PathTest, RejectsBadStations) {
   std::vector<PathPoint> pts = {
       {0, 0, 0, 0, 0, 1, 0}, {1, 1, 0, 0, 0, 1, 0}, {1, 2, 0, 0, 0, 1, 0}};
-  EXPECT_THROW(Path(pts, 5.0), std::invalid_argument);
+  EXPECT_THROW(Path(pts, 5.0), ConfigError);
+  // Every problem at once, each under its key.
+  pts[0].s = 0.5;
+  pts[2].v = std::numeric_limits<double>::quiet_NaN();
+  try {
+    Path(pts, 0.5);
+    ADD_FAILURE() << "no ConfigError";
+  } catch (const ConfigError& e) {
+    std::vector<std::string> keys;
+    for (const auto& p : e.problems()) keys.push_back(p.path);
+    EXPECT_EQ(keys, (std::vector<std::string>{"stations[0].s", "stations[2].s", "length",
+                                              "stations[2]"}));
+    EXPECT_EQ(e.file(), "reference path");
+  }
+  EXPECT_THROW(Path({}, 1.0), ConfigError);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -172,40 +172,78 @@ TEST(EscTest, DeactivatesWhenAllThreeErrorsAreSmall) {
   EXPECT_EQ(esc.Step(Slide(25.0, -0.01, 0.4, 0.4, 0.0), &s).yaw_moment, 0.0);
 }
 
-TEST(EscTest, TransitionPredicatesAtTheBoundaries) {
-  EscThresholds th{.beta_activate = 0.03,
-                   .psi_dot_error_activate = 0.04,
-                   .beta_error_activate = 0.06,
-                   .beta_deactivate = 0.035,
-                   .psi_dot_error_deactivate = 0.026,
-                   .beta_error_deactivate = 0.018,
-                   .min_velocity = 7.0};
-  const EscSignals over{true, 20.0, -0.1, 0.5, -0.1, 0.1};
-  EXPECT_EQ(NextEscPhase(EscPhase::kInactive, over, th), EscPhase::kActive);
-  EscSignals s = over;
-  s.e_psi = 0.1;  // understeer sign of the yaw-rate error
-  EXPECT_EQ(NextEscPhase(EscPhase::kInactive, s, th), EscPhase::kInactive);
-  s = over;
-  s.beta = -0.03;  // not strictly above
-  EXPECT_EQ(NextEscPhase(EscPhase::kInactive, s, th), EscPhase::kInactive);
-  s = over;
-  s.enabled = false;
-  EXPECT_EQ(NextEscPhase(EscPhase::kActive, s, th), EscPhase::kInactive);
-  s = over;
-  s.speed = 6.9;
-  EXPECT_EQ(NextEscPhase(EscPhase::kActive, s, th), EscPhase::kInactive);
-  s = over;
-  s.speed = 7.0;  // deactivation needs v < v_min
-  EXPECT_EQ(NextEscPhase(EscPhase::kActive, s, th), EscPhase::kActive);
-  const EscSignals small{true, 20.0, -0.03, 0.5, -0.02, 0.01};
-  EXPECT_EQ(NextEscPhase(EscPhase::kActive, small, th), EscPhase::kInactive);
-  EscSignals one_large = small;
-  one_large.e_beta = 0.02;  // one condition not met: stays active
-  EXPECT_EQ(NextEscPhase(EscPhase::kActive, one_large, th), EscPhase::kActive);
+// One row per edge of the activation state machine (step 4), each condition at its boundary and
+// each oversteer sign condition failing alone.
+struct EscRow {
+  std::string name;
+  EscPhase from;
+  EscSignals sig;
+  EscPhase expected;
+};
+
+EscSignals Sig(double beta, double yaw_rate, double e_psi, double e_beta, double speed = 20.0,
+               bool enabled = true) {
+  return {.enabled = enabled,
+          .speed = speed,
+          .beta = beta,
+          .yaw_rate = yaw_rate,
+          .e_psi = e_psi,
+          .e_beta = e_beta};
 }
 
+std::vector<EscRow> Rows() {
+  using P = EscPhase;
+  // Left-hand oversteer slide: every activation condition met by a margin.
+  const EscSignals over = Sig(-0.1, 0.5, -0.1, 0.1);
+  // Every deactivation magnitude strictly below its threshold.
+  const EscSignals small = Sig(-0.03, 0.5, -0.02, 0.01);
+  return {
+      // Inactive
+      {"I_act_oversteer_left", P::kInactive, over, P::kActive},
+      {"I_act_oversteer_right", P::kInactive, Sig(0.1, -0.5, 0.1, -0.1), P::kActive},
+      {"I_no_act_disabled", P::kInactive, Sig(-0.1, 0.5, -0.1, 0.1, 20.0, false), P::kInactive},
+      {"I_no_act_at_min_speed", P::kInactive, Sig(-0.1, 0.5, -0.1, 0.1, 7.0), P::kInactive},
+      {"I_no_act_beta_at_threshold", P::kInactive, Sig(-0.03, 0.5, -0.1, 0.1), P::kInactive},
+      {"I_no_act_beta_error_at_threshold", P::kInactive, Sig(-0.1, 0.5, -0.1, 0.06), P::kInactive},
+      {"I_no_act_yaw_error_at_threshold", P::kInactive, Sig(-0.1, 0.5, -0.04, 0.1), P::kInactive},
+      {"I_no_act_understeer_yaw_error", P::kInactive, Sig(-0.1, 0.5, 0.1, 0.1), P::kInactive},
+      {"I_no_act_yaw_rate_sign", P::kInactive, Sig(-0.1, -0.5, -0.1, 0.1), P::kInactive},
+      {"I_no_act_zero_yaw_rate", P::kInactive, Sig(-0.1, 0.0, -0.1, 0.1), P::kInactive},
+      {"I_no_act_beta_sign", P::kInactive, Sig(0.1, 0.5, -0.1, 0.1), P::kInactive},
+      {"I_no_act_error_signs_agree", P::kInactive, Sig(0.1, 0.5, -0.1, -0.1), P::kInactive},
+      // Active
+      {"A_deact_disabled", P::kActive, Sig(-0.1, 0.5, -0.1, 0.1, 20.0, false), P::kInactive},
+      {"A_deact_below_min_speed", P::kActive, Sig(-0.1, 0.5, -0.1, 0.1, 6.9), P::kInactive},
+      {"A_stay_at_min_speed", P::kActive, Sig(-0.1, 0.5, -0.1, 0.1, 7.0), P::kActive},
+      {"A_deact_all_small", P::kActive, small, P::kInactive},
+      {"A_deact_all_small_any_sign", P::kActive, Sig(0.03, 0.5, 0.02, 0.01), P::kInactive},
+      {"A_stay_beta_at_threshold", P::kActive, Sig(-0.035, 0.5, -0.02, 0.01), P::kActive},
+      {"A_stay_beta_error_large", P::kActive, Sig(-0.03, 0.5, -0.02, 0.02), P::kActive},
+      {"A_stay_yaw_error_at_threshold", P::kActive, Sig(-0.03, 0.5, -0.026, 0.01), P::kActive},
+      {"A_stay_oversteer", P::kActive, over, P::kActive},
+  };
+}
+
+std::string RowName(const ::testing::TestParamInfo<EscRow>& row) { return row.param.name; }
+
+class EscTransitionTest : public ::testing::TestWithParam<EscRow> {};
+
+TEST_P(EscTransitionTest, Edge) {
+  const EscThresholds th{.beta_activate = 0.03,
+                         .psi_dot_error_activate = 0.04,
+                         .beta_error_activate = 0.06,
+                         .beta_deactivate = 0.035,
+                         .psi_dot_error_deactivate = 0.026,
+                         .beta_error_deactivate = 0.018,
+                         .min_velocity = 7.0};
+  const EscRow& row = GetParam();
+  EXPECT_EQ(NextEscPhase(row.from, row.sig, th), row.expected);
+}
+
+INSTANTIATE_TEST_SUITE_P(Boundaries, EscTransitionTest, ::testing::ValuesIn(Rows()), RowName);
+
 TEST(EscTest, ReferencesFromAyRequestOrSingleTrack) {
-  const SingleTrackModel m;
+  const EscReferenceModel m;
   const double nan = std::nan("");
   const EscReference ay = EscReferences(20.0, 0.1, 4.0, nan, nan, m);
   EXPECT_DOUBLE_EQ(ay.curvature, 4.0 / 400.0);

@@ -46,29 +46,45 @@ TEST(SlipSourceTest, TableOfSpec31) {
 
 TEST(SlipDistributionTest, OperationModes) {
   const WheelSlipSignals src{{-5.0, -15.0, 3.0, 12.0}, {0.01, 0.02, 0.04, 0.03}, {1, 2, 3, 4}};
-  EXPECT_EQ(DistributeSlips(0, SlipSelector::kMin, src).slip, src.slip);
+  EXPECT_EQ(DistributeSlips(SlipOperationMode::kIndividual, SlipSelector::kMin, src).slip,
+            src.slip);
   // Axle split (ABS: min per axle; |α̃| max of axle; rate of the wheel with the larger |slip|).
-  auto d = DistributeSlips(1, SlipSelector::kMin, src);
+  auto d = DistributeSlips(SlipOperationMode::kAxleSplit, SlipSelector::kMin, src);
   EXPECT_EQ(d.slip, (Wheels{-15.0, -15.0, 3.0, 3.0}));
   EXPECT_EQ(d.slip_angle_abs, (Wheels{0.02, 0.02, 0.04, 0.04}));
   EXPECT_EQ(d.slip_rate, (Wheels{2, 2, 4, 4}));
-  d = DistributeSlips(1, SlipSelector::kMax, src);
+  d = DistributeSlips(SlipOperationMode::kAxleSplit, SlipSelector::kMax, src);
   EXPECT_EQ(d.slip, (Wheels{-5.0, -5.0, 12.0, 12.0}));
   // All together.
-  d = DistributeSlips(2, SlipSelector::kMax, src);
+  d = DistributeSlips(SlipOperationMode::kAllTogether, SlipSelector::kMax, src);
   EXPECT_EQ(d.slip, (Wheels{12.0, 12.0, 12.0, 12.0}));
   EXPECT_EQ(d.slip_angle_abs, (Wheels{0.04, 0.04, 0.04, 0.04}));
   EXPECT_EQ(d.slip_rate, (Wheels{4, 4, 4, 4}));
-  d = DistributeSlips(2, SlipSelector::kMin, src);
+  d = DistributeSlips(SlipOperationMode::kAllTogether, SlipSelector::kMin, src);
   EXPECT_EQ(d.slip_rate, (Wheels{2, 2, 2, 2}));
   // Rear only.
-  d = DistributeSlips(3, SlipSelector::kMax, src);
+  d = DistributeSlips(SlipOperationMode::kRearOnly, SlipSelector::kMax, src);
   EXPECT_EQ(d.slip, (Wheels{0.0, 0.0, 12.0, 12.0}));
   EXPECT_EQ(d.slip_angle_abs, (Wheels{0.0, 0.0, 0.04, 0.04}));
   EXPECT_EQ(d.slip_rate, (Wheels{0, 0, 4, 4}));
   // Ties go to the right wheel for the rate.
   const WheelSlipSignals tie{{-5.0, -5.0, 0.0, 0.0}, {}, {1, 2, 3, 4}};
-  EXPECT_EQ(DistributeSlips(1, SlipSelector::kMin, tie).slip_rate[kFL], 2);
+  EXPECT_EQ(DistributeSlips(SlipOperationMode::kAxleSplit, SlipSelector::kMin, tie).slip_rate[kFL],
+            2);
+}
+
+TEST(SlipDistributionTest, OperationModeParameterValues) {
+  using M = SlipOperationMode;
+  for (const M m : {M::kIndividual, M::kAxleSplit, M::kAllTogether, M::kRearOnly})
+    EXPECT_EQ(SlipOperationModeFromInt(ToInt(m), M::kAxleSplit), m);
+  EXPECT_EQ(ToInt(M::kRearOnly), 3);
+  EXPECT_EQ(SlipOperationModeFromInt(-1, M::kAxleSplit), M::kAxleSplit);
+  EXPECT_EQ(SlipOperationModeFromInt(4, M::kRearOnly), M::kRearOnly);
+  params::StabilityParams p;
+  p.SlipControl.ABS.operation_mode = 2;  // TC keeps rear only: its front thresholds stay unused
+  const SlipControl sc(p);
+  EXPECT_EQ(sc.abs_mode(), M::kAllTogether);
+  EXPECT_EQ(sc.tc_mode(), M::kRearOnly);
 }
 
 class SlipControlTest : public ::testing::Test {

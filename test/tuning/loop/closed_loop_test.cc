@@ -6,8 +6,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "params/io/csv.h"
 #include "params/io/yaml_doc.h"
-#include "tuning/csv_writer.h"
 
 namespace scw::tuning {
 namespace {
@@ -86,7 +86,7 @@ TEST(ClosedLoopTest, TraceHasOneRowPerLogPeriodAndUnitsInTheHeader) {
       (std::filesystem::temp_directory_path() / "scw_closed_loop_trace.csv").string();
   RunMetrics m;
   {
-    CsvWriter trace(path, TraceHeader());
+    io::CsvWriter trace(path, TraceHeader());
     RunOptions ro;
     ro.trace = &trace;
     m = RunClosedLoop(sc, sc.stability, ro);

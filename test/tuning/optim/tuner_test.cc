@@ -13,6 +13,7 @@
 #include <thread>
 #include <utility>
 
+#include "params/io/atomic_file.h"
 #include "params/io/write.h"
 #include "params/io/yaml_doc.h"
 
@@ -423,7 +424,7 @@ TEST(TunerBatchTest, StopAndResumeGiveTheUninterruptedLog) {
     SCOPED_TRACE(rows);
     std::size_t at = 0;
     for (int line = 0; line <= rows; ++line) at = full_log.find('\n', at) + 1;
-    params::WriteFileAtomic(TempPath("scw_tuner_batch_cut.csv"), full_log.substr(0, at));
+    io::WriteFileAtomic(TempPath("scw_tuner_batch_cut.csv"), full_log.substr(0, at));
     o.resume_path = TempPath("scw_tuner_batch_cut.csv");
     o.log_path = TempPath("scw_tuner_batch_cut.csv");
     ThreadedBatch fresh{Shifted, 2};

@@ -2,6 +2,7 @@
 // short hand-made log, exactness against the controller run directly, repeatability, the
 // comparison of two parameter sets, and the command's exit codes.
 #include "tuning/replay/replay.h"
+#include "params/io/atomic_file.h"
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -274,8 +275,8 @@ TEST(ReplayCommand, SummaryCompareOutputAndExitCodes) {
   const std::string log = dir.File("log.csv");
   const std::string txt = dir.File("stdout.txt");
   testing::WriteLog(log, MildSlides(shipped));
-  params::WriteFileAtomic(dir.File("halved.yaml"), params::ToRosYaml(HalvedEscThresholds(shipped),
-                                                                     params::kStabilityNodeKey));
+  io::WriteFileAtomic(dir.File("halved.yaml"),
+                      params::ToRosYaml(HalvedEscThresholds(shipped), params::kStabilityNodeKey));
 
   EXPECT_EQ(RunScw("replay " + log + " --params " + Shipped(), txt), 0);
   std::string s = testing::ReadFile(txt);

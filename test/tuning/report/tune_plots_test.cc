@@ -2,6 +2,7 @@
 // with the real writers: the tuner's evaluation log and ComparisonCsv. Tests that need python3
 // with matplotlib skip when it is absent.
 #include "tuning/plots/tune_plots.h"
+#include "params/io/atomic_file.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -120,7 +121,7 @@ class TunePlotsTest : public ::testing::Test {
              Metrics(RunStatus::kWheelLock, 0, 0.9, 22, 40)})};
     const std::string csv = ComparisonCsv("training", training, labels, train, true) +
                             ComparisonCsv("held_out", held, labels, held_res, false);
-    params::WriteFileAtomic((dir_ / "comparison.csv").string(), csv);
+    io::WriteFileAtomic((dir_ / "comparison.csv").string(), csv);
   }
 
   fs::path dir_;

@@ -1,5 +1,6 @@
 // The one writer behind every output file of the workspace (params exports, tuned files,
-// comparisons, manifests, summaries, traces, controller logs, replay outputs, sweep tables).
+// comparisons, manifests, summaries, traces, controller logs, replay outputs, sweep tables, a
+// resumed tune's evaluation log). No other code renames a temporary file onto an output.
 //
 // What the target path is decides how it is written (issue 15, "output files never damage
 // anything"):
@@ -32,7 +33,7 @@
 #include <string>
 #include <string_view>
 
-namespace scw::params {
+namespace scw::io {
 
 class AtomicWriter {
  public:
@@ -56,6 +57,10 @@ class AtomicWriter {
   /// further calls throw std::logic_error.
   void Append(std::string_view text);
 
+  /// Writes what is buffered to the file (kReplace: still the temporary file) without finishing
+  /// it, for a log that must report a full disk at the row that did not fit. Throws like Append.
+  void Flush();
+
   /// Writes what is buffered and finishes the file: kReplace: fsync, close, rename onto the
   /// target; kDirect: close; kStdout: flush only. Throws std::runtime_error naming the path on
   /// failure (kReplace: the target is then unchanged and the temporary file removed).
@@ -69,7 +74,6 @@ class AtomicWriter {
   bool committed() const noexcept { return committed_; }
 
  private:
-  void Flush();
   void CloseQuietly() noexcept;
   [[noreturn]] void Fail(const std::string& what, int error);
 
@@ -103,4 +107,4 @@ void InstallTemporaryFileCleanup();
 /// Number of temporary files currently registered (tests).
 int RegisteredTemporaryFiles() noexcept;
 
-}  // namespace scw::params
+}  // namespace scw::io

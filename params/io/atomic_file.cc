@@ -1,4 +1,4 @@
-#include "params/io/atomic_writer.h"
+#include "params/io/atomic_file.h"
 
 #include <fcntl.h>
 #include <limits.h>
@@ -13,7 +13,7 @@
 #include <stdexcept>
 #include <utility>
 
-namespace scw::params {
+namespace scw::io {
 
 namespace {
 
@@ -228,6 +228,7 @@ void AtomicWriter::Fail(const std::string& what, int error) {
 }
 
 void AtomicWriter::Flush() {
+  if (fd_ < 0) throw std::logic_error("AtomicWriter::Flush after Commit or a failure: " + path_);
   if (buffer_.empty()) return;
   // Text the command printed to standard output before must come first.
   if (stdout_first_) std::fflush(stdout);
@@ -314,4 +315,4 @@ int RegisteredTemporaryFiles() noexcept {
   return n;
 }
 
-}  // namespace scw::params
+}  // namespace scw::io

@@ -6,7 +6,7 @@
 // No test writes to a real device node or to /dev/stdout itself: a regression would then damage
 // the machine running the tests (as `scw params init -o /dev/stdout` did, run as root). Links and
 // device nodes are made inside the test's own folder.
-#include "params/io/atomic_writer.h"
+#include "params/io/atomic_file.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -24,10 +24,11 @@
 
 #include "params/io/yaml_doc.h"
 
-namespace scw::params {
+namespace scw::io {
 namespace {
 
 namespace fs = std::filesystem;
+using params::ReadTextFile;
 
 class AtomicWriterTest : public ::testing::Test {
  protected:
@@ -308,4 +309,4 @@ TEST_F(AtomicWriterTest, LargeStreamedFileArrivesWhole) {
 }
 
 }  // namespace
-}  // namespace scw::params
+}  // namespace scw::io

@@ -1,0 +1,343 @@
+#include "params/io/csv.h"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "params/io/text.h"
+#include "params/schema/field.h"
+
+namespace scw::io {
+
+namespace {
+
+bool IsBlank(char c) { return kBlanks.find(c) != std::string_view::npos; }
+
+/// "\n" or "\r\n" at `i`; a lone '\r' is data (or a blank when trimming).
+bool LineEndAt(std::string_view text, std::size_t i) {
+  return text[i] == '\n' || (text[i] == '\r' && i + 1 < text.size() && text[i + 1] == '\n');
+}
+
+/// A malformed field: thrown by the tokenizer, worded with its context by each reader.
+struct Malformed {
+  std::size_t line;
+  const char* what;
+};
+
+/// The tokenizer behind every reader: scans the field that starts at `*i` into `*field` and
+/// stops at the ',' or line end after it (or the end of the text). `*line` counts the line
+/// breaks inside a quoted field.
+void ScanField(std::string_view text, std::size_t* i, std::size_t* line, bool trim,
+               std::string* field) {
+  const std::size_t n = text.size();
+  std::size_t p = *i;
+  if (trim)
+    while (p < n && IsBlank(text[p]) && !LineEndAt(text, p)) ++p;
+  if (p < n && text[p] == '"') {
+    const std::size_t opened = *line;
+    ++p;
+    while (true) {
+      if (p >= n) throw Malformed{opened, "a quoted field is not closed"};
+      const char c = text[p++];
+      if (c == '"') {
+        if (p < n && text[p] == '"') {
+          field->push_back('"');
+          ++p;
+          continue;
+        }
+        break;
+      }
+      if (c == '\n') ++*line;
+      field->push_back(c);
+    }
+    if (trim)
+      while (p < n && IsBlank(text[p]) && !LineEndAt(text, p)) ++p;
+    if (p < n && text[p] != ',' && !LineEndAt(text, p))
+      throw Malformed{*line, "text after the closing quote of a field"};
+  } else {
+    const std::size_t start = p;
+    while (p < n && text[p] != ',' && !LineEndAt(text, p)) ++p;
+    std::string_view cell = text.substr(start, p - start);
+    if (trim) cell = Trim(cell);
+    field->append(cell);
+  }
+  *i = p;
+}
+
+std::string Where(int line, const std::string& column) {
+  return "line " + std::to_string(line) + ", column " + column;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Fields
+
+bool CsvNeedsQuotes(std::string_view field) noexcept {
+  return field.find_first_of(",\"\r\n") != std::string_view::npos;
+}
+
+void AppendCsvField(std::string* out, std::string_view field) {
+  if (!CsvNeedsQuotes(field)) {
+    out->append(field);
+    return;
+  }
+  out->push_back('"');
+  for (char c : field) {
+    if (c == '"') out->push_back('"');
+    out->push_back(c);
+  }
+  out->push_back('"');
+}
+
+std::string CsvField(std::string_view field) {
+  std::string out;
+  AppendCsvField(&out, field);
+  return out;
+}
+
+std::string CsvRecord(const std::vector<std::string>& fields) {
+  std::string out;
+  for (std::size_t i = 0; i < fields.size(); ++i) {
+    if (i) out.push_back(',');
+    AppendCsvField(&out, fields[i]);
+  }
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// CsvWriter
+
+CsvWriter::CsvWriter(std::string path, const std::vector<std::string>& header)
+    : path_(std::move(path)),
+      file_(std::make_unique<AtomicWriter>(path_)),
+      columns_(header.size()) {
+  for (std::size_t i = 0; i < header.size(); ++i) {
+    if (i) row_ += ',';
+    AppendCsvField(&row_, header[i]);
+  }
+  row_ += '\n';
+  Put(row_);
+  row_.clear();
+}
+
+CsvWriter::~CsvWriter() = default;
+
+void CsvWriter::Put(std::string_view text) {
+  if (!error_.empty()) return;
+  try {
+    file_->Append(text);
+  } catch (const std::exception& e) {
+    error_ = e.what();
+  }
+}
+
+void CsvWriter::Add(double v) {
+  if (in_row_++) row_ += ',';
+  if (std::isnan(v)) {
+    row_ += "nan";
+    return;
+  }
+  char buf[32];
+  auto r = std::to_chars(buf, buf + sizeof(buf), v);
+  row_.append(buf, r.ptr);
+}
+
+void CsvWriter::Add(int v) {
+  if (in_row_++) row_ += ',';
+  char buf[16];
+  auto r = std::to_chars(buf, buf + sizeof(buf), v);
+  row_.append(buf, r.ptr);
+}
+
+void CsvWriter::Add(const std::string& text) {
+  if (in_row_++) row_ += ',';
+  AppendCsvField(&row_, text);
+}
+
+void CsvWriter::EndRow() {
+  if (in_row_ != columns_) {
+    // A row of the wrong width would shift every later column under the wrong name, silently.
+    const std::size_t cells = in_row_;
+    row_.clear();
+    in_row_ = 0;
+    throw std::logic_error("CsvWriter " + path_ + ": row " + std::to_string(rows_ + 1) + " has " +
+                           std::to_string(cells) + " cells, the header has " +
+                           std::to_string(columns_) + " columns");
+  }
+  row_ += '\n';
+  Put(row_);
+  row_.clear();
+  in_row_ = 0;
+  ++rows_;
+}
+
+void CsvWriter::Commit() {
+  if (!file_) throw std::runtime_error("cannot write " + path_ + ": the writer already failed");
+  if (!error_.empty()) {
+    file_.reset();  // removes the temporary file (already gone after a failed write)
+    throw std::runtime_error(error_);
+  }
+  file_->Commit();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading
+
+std::vector<std::vector<std::string>> ParseCsv(std::string_view text) {
+  std::vector<std::vector<std::string>> records;
+  std::vector<std::string> record;
+  std::string field;
+  std::size_t line = 1;
+  std::size_t i = 0;
+  const std::size_t n = text.size();
+  try {
+    while (i < n) {
+      ScanField(text, &i, &line, false, &field);
+      record.push_back(std::move(field));
+      field.clear();
+      // The separator after it.
+      if (i >= n) break;
+      if (text[i] == ',') {
+        ++i;
+        if (i == n) record.emplace_back();  // "a," at the very end: a last, empty field
+        continue;
+      }
+      i += text[i] == '\r' ? 2 : 1;  // line end
+      ++line;
+      records.push_back(std::move(record));
+      record.clear();
+    }
+  } catch (const Malformed& m) {
+    throw std::invalid_argument("CSV line " + std::to_string(m.line) + ": " + m.what);
+  }
+  if (!record.empty()) records.push_back(std::move(record));
+  return records;
+}
+
+void SplitCsvLine(std::string_view line, std::vector<std::string>* cells, bool trim) {
+  std::size_t k = 0, i = 0, line_no = 1;
+  try {
+    while (true) {
+      if (cells->size() <= k) cells->emplace_back();
+      std::string& cell = (*cells)[k++];
+      cell.clear();
+      ScanField(line, &i, &line_no, trim, &cell);
+      if (i >= line.size() || line[i] != ',') break;
+      ++i;
+    }
+  } catch (const Malformed& m) {
+    throw std::invalid_argument(m.what);
+  }
+  cells->resize(k);
+}
+
+const std::vector<double>* CsvTable::Column(const std::string& name) const {
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return &values[i];
+  return nullptr;
+}
+
+CsvTable ReadCsvTable(const std::string& path, const std::vector<std::string>& required,
+                      const std::vector<std::string>& optional) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError(path, "", "cannot open the file for reading");
+  std::string line;
+  int line_no = 0;
+  std::vector<std::string> header;
+  int header_line = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    std::string_view t = Trim(line);
+    if (t.empty()) continue;
+    if (t.front() == '#') t = Trim(t.substr(1));
+    try {
+      SplitCsvLine(t, &header, true);
+    } catch (const std::invalid_argument& e) {
+      throw ConfigError(path, "line " + std::to_string(line_no), e.what());
+    }
+    header_line = line_no;
+    break;
+  }
+  std::string expected;
+  for (const auto& r : required) expected += (expected.empty() ? "" : ",") + r;
+  if (header.empty())
+    throw ConfigError(path, "", "the file is empty (expected a header " + expected + ")");
+
+  CsvTable table;
+  std::vector<std::size_t> index;
+  Problems pr;
+  auto find = [&](const std::string& name) -> long {
+    for (std::size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) return static_cast<long>(i);
+    return -1;
+  };
+  for (const auto& r : required) {
+    const long i = find(r);
+    if (i < 0) {
+      std::string have;
+      for (const auto& h : header) have += (have.empty() ? "" : ",") + h;
+      pr.Add(Where(header_line, r), "missing column '" + r + "' in the header (the header is '" +
+                                        have + "'; expected columns " + expected + ")");
+    } else {
+      table.names.push_back(r);
+      index.push_back(static_cast<std::size_t>(i));
+    }
+  }
+  if (!pr.empty()) throw ConfigError(path, pr.items());
+  for (const auto& o : optional) {
+    const long i = find(o);
+    if (i >= 0) {
+      table.names.push_back(o);
+      index.push_back(static_cast<std::size_t>(i));
+    }
+  }
+  table.values.assign(table.names.size(), {});
+
+  int shown = 0;
+  std::vector<std::string> cells;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::string_view t = Trim(line);
+    if (t.empty() || t.front() == '#') continue;
+    try {
+      SplitCsvLine(t, &cells, true);
+    } catch (const std::invalid_argument& e) {
+      if (shown++ < 20) pr.Add("line " + std::to_string(line_no), e.what());
+      continue;
+    }
+    table.lines.push_back(line_no);
+    for (std::size_t c = 0; c < index.size(); ++c) {
+      double v = std::numeric_limits<double>::quiet_NaN();
+      std::string problem;
+      if (index[c] >= cells.size()) {
+        problem = "missing value (the row has " + std::to_string(cells.size()) + " cells, the " +
+                  "header " + std::to_string(header.size()) + ")";
+      } else {
+        const std::string& cell = cells[index[c]];
+        const char* b = cell.data();
+        const char* e = b + cell.size();
+        if (b != e && *b == '+') ++b;
+        const auto res = std::from_chars(b, e, v);
+        if (cell.empty())
+          problem = "empty cell, expected a number";
+        else if (res.ec != std::errc() || res.ptr != e)
+          problem = "'" + cell + "' is not a number";
+        else if (!std::isfinite(v))
+          problem = "'" + cell + "' is not a finite number";
+      }
+      if (!problem.empty() && shown < 20) {
+        pr.Add(Where(line_no, table.names[c]), problem);
+        ++shown;
+      }
+      table.values[c].push_back(v);
+    }
+  }
+  if (!pr.empty()) throw ConfigError(path, pr.items());
+  return table;
+}
+
+}  // namespace scw::io

@@ -1,0 +1,124 @@
+// CSV, the one dialect of every table scw writes (traces, sweep tables, comparison tables, bench
+// tables) and reads (track tables, controller logs, a tune's evaluation log). RFC 4180:
+//  * fields are separated by ',' and records end with '\n' (readers also accept "\r\n");
+//  * a field that contains ',', '"', CR or LF is enclosed in double quotes, and each '"' inside
+//    it is doubled: `He said "hi", then left` → `"He said ""hi"", then left"`;
+//  * any other field is written as is (numbers, names without those characters), so files
+//    without such text are byte-for-byte what they were before quoting existed.
+// A scenario or configuration name with a comma therefore stays one cell instead of shifting
+// every column after it.
+//
+// Writing: CsvWriter streams rows through io::AtomicWriter (params/io/atomic_file.h): a regular
+// target appears whole at Commit() or not at all, a device, FIFO or `-` is written directly.
+// Numbers are written with the shortest round-trip text (bit-exact when read back), NaN as `nan`.
+//
+// Reading: ParseCsv (whole text, quoted fields may span lines), SplitCsvLine (one line, for
+// streaming readers) and ReadCsvTable (numeric columns by name from a file with a header, comment
+// and blank lines) share one tokenizer. Blank = ' ', '\t', '\r' (params/io/text.h).
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "params/io/atomic_file.h"
+
+namespace scw::io {
+
+// ---------------------------------------------------------------------------------------------
+// Fields
+
+/// Whether `field` must be quoted (contains ',', '"', CR or LF).
+bool CsvNeedsQuotes(std::string_view field) noexcept;
+
+/// Appends `field` to `*out`, quoted when CsvNeedsQuotes().
+void AppendCsvField(std::string* out, std::string_view field);
+
+/// `field` as one CSV cell (quoted when needed).
+std::string CsvField(std::string_view field);
+
+/// One record (fields joined by ',', each through CsvField), without the line end.
+std::string CsvRecord(const std::vector<std::string>& fields);
+
+// ---------------------------------------------------------------------------------------------
+// Writing
+
+/// A CSV file written row by row (memory stays flat whatever the run length). Every row must have
+/// exactly as many cells as the header: EndRow() throws std::logic_error otherwise (a bug in the
+/// caller, never bad input). Without Commit() the target keeps its previous content.
+/// Not thread-safe (one writer per thread).
+class CsvWriter {
+ public:
+  /// Opens the target (see io::AtomicWriter) and writes the header. Throws std::runtime_error
+  /// naming the path if the file cannot be created.
+  CsvWriter(std::string path, const std::vector<std::string>& header);
+  ~CsvWriter();
+  CsvWriter(const CsvWriter&) = delete;
+  CsvWriter& operator=(const CsvWriter&) = delete;
+
+  /// Appends one value to the current row (row ends with EndRow()). Never throws: a write error
+  /// is reported by Commit().
+  void Add(double v);
+  void Add(int v);
+  /// A text cell, written verbatim unless it needs RFC 4180 quoting. Pass raw text: a value that
+  /// is already quoted would be quoted again.
+  void Add(const std::string& text);
+  /// Ends the row. Throws std::logic_error naming the file, the row (1 = first row after the
+  /// header) and both counts when the row does not have columns() cells; nothing of that row is
+  /// written.
+  void EndRow();
+  std::size_t columns() const { return columns_; }
+  std::size_t rows() const { return rows_; }
+  const std::string& path() const { return path_; }
+
+  /// Finishes the file and renames it to the target path. Throws std::runtime_error naming the
+  /// path on any write error (the target then keeps its previous content).
+  void Commit();
+
+ private:
+  void Put(std::string_view text);
+  std::string path_;
+  std::unique_ptr<AtomicWriter> file_;
+  std::size_t columns_ = 0, in_row_ = 0, rows_ = 0;
+  std::string error_;  ///< first write error (reported by Commit)
+  std::string row_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Reading
+
+/// Splits CSV text into records of unquoted fields. Quoted fields may hold commas, doubled
+/// quotes and line breaks; a final line end is optional; a trailing empty line is no record.
+/// Nothing is trimmed. Throws std::invalid_argument `CSV line N: ...` for a quote that is not
+/// closed or text after a closing quote.
+std::vector<std::vector<std::string>> ParseCsv(std::string_view text);
+
+/// Splits one line (without its '\n'; a "\r" left by getline counts as blank) into `*cells`,
+/// reusing the strings already there. With `trim`, blanks around each field (and around the
+/// quotes of a quoted one) are dropped. A line with n commas outside quotes gives n + 1 cells.
+/// Throws std::invalid_argument (message without a line number: the caller knows it) for a quote
+/// that is not closed on the line or text after a closing quote.
+void SplitCsvLine(std::string_view line, std::vector<std::string>* cells, bool trim);
+
+/// Numeric columns of a CSV file with a header line.
+struct CsvTable {
+  std::vector<std::string> names;           ///< requested columns (required then optional found)
+  std::vector<std::vector<double>> values;  ///< values[column][row]
+  std::vector<int> lines;                   ///< source line of each row (1-based)
+
+  /// Column by name, or nullptr.
+  const std::vector<double>* Column(const std::string& name) const;
+};
+
+/// Reads `path`: the first non-blank line is the header (a leading '#' is allowed), columns are
+/// found by name in any order and extra ones are ignored; `required` columns must exist,
+/// `optional` ones are read when present. Later comment lines (#) and blank lines are skipped.
+/// Cells are trimmed and may be quoted. Throws scw::ConfigError naming the file with one problem
+/// per bad cell as `line L, column C: message` (non-numeric, NaN/inf, empty, missing; up to 20),
+/// per missing column, or per malformed line.
+CsvTable ReadCsvTable(const std::string& path, const std::vector<std::string>& required,
+                      const std::vector<std::string>& optional = {});
+
+}  // namespace scw::io
