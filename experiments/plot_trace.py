@@ -44,7 +44,7 @@ from matplotlib.lines import Line2D  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 import numpy as np  # noqa: E402
 
-# Columns every scw trace has (tuning/closed_loop.cc: TraceHeader); the rest are optional.
+# Columns every scw trace has (tuning/sim/closed_loop.cc: TraceHeader); the rest are optional.
 REQUIRED = ["t_s", "lap", "s_m", "vx_mps", "lateral_error_m", "heading_error_deg", "beta_deg"]
 WHEELS = [("fl", "front left", "tab:blue"), ("fr", "front right", "tab:cyan"),
           ("rl", "rear left", "tab:red"), ("rr", "rear right", "tab:orange")]

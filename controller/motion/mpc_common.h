@@ -8,7 +8,7 @@
 //
 // Corridor: for every station of the reference Path the admissible lateral offset n [m] of the
 // CoG from the path (n > 0 left, as PathProjection::lateral_error): −right(s) ≤ n ≤ left(s), both
-// ≥ 0, built by the caller from the track widths (tuning/motion_factory.cc).
+// ≥ 0, built by the caller from the track widths (tuning/sim/motion_factory.cc).
 #pragma once
 
 #include <chrono>

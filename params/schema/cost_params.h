@@ -1,4 +1,5 @@
-// Weights of the tuning cost (tuning/cost.h). Plain YAML, section `cost:` of a scenario-set file.
+// Weights of the tuning cost (tuning/optim/cost.h). Plain YAML, section `cost:` of a scenario-set
+// file.
 #pragma once
 
 #include "params/schema/field.h"

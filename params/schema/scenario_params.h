@@ -160,7 +160,7 @@ struct ScenarioParams {
     v.Field(s.name, {.key = "name", .doc = "Scenario name (reports, file names)."});
     v.Field(s.kind,
             {.key = "kind",
-             .doc = "What the scenario tests, which selects its cost terms (tuning/cost.h): "
+             .doc = "What the scenario tests, which selects its cost terms (tuning/optim/cost.h): "
                     "clean = a lap that should need no intervention (lap time and the cost of "
                     "every intervention count); critical = a situation the stability control "
                     "must save (survival, sideslip above the allowed angle and distance lost "

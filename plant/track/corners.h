@@ -1,7 +1,7 @@
 // The corners of a track, numbered as a driver reads the lap: runs of curvature |κ| > 1/250 m⁻¹
 // (radius below 250 m) of one sign, joined across gaps of less than 20 m, numbered from the first
 // corner after the start line (the scan begins on a straight node, so no corner is split at s = 0).
-// `scw track info` prints them; scenario events name a corner by its number (tuning/events.h).
+// `scw track info` prints them; scenario events name a corner by its number (tuning/sim/events.h).
 #pragma once
 
 #include <vector>

@@ -10,8 +10,8 @@
 
 #include "controller/motion/nmpc.h"
 #include "controller/motion/pmpc.h"
-#include "tuning/motion_factory.h"
-#include "tuning/scenario.h"
+#include "tuning/sim/motion_factory.h"
+#include "tuning/sim/scenario.h"
 
 namespace scw::tuning {
 namespace {

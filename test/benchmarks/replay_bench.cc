@@ -1,13 +1,13 @@
 // `scw replay` speed (issue 10): a 10-minute log at 100 Hz (60 000 rows of the synthetic lap of
-// test/tuning/replay/log_stories.h, every subsystem intervening) read, stepped through the
+// test/tuning/sim/replay/log_stories.h, every subsystem intervening) read, stepped through the
 // stability controller and its outputs written (atomically, with fsync) — the whole command
 // without the params loading. The log is written to a temporary file once. Reported: time per
 // replay of the full log. Run:
 //   build/<dir>/test/scw_benchmarks --benchmark_filter=Replay
 #include <benchmark/benchmark.h>
 
-#include "test/tuning/replay/log_stories.h"
-#include "tuning/replay/replay.h"
+#include "test/tuning/sim/replay/log_stories.h"
+#include "tuning/sim/replay/replay.h"
 
 namespace scw::tuning {
 namespace {

@@ -7,7 +7,7 @@
 
 #include "test/fuzz/fuzz_targets.h"
 #include "test/fuzz/fuzz_util.h"
-#include "tuning/replay/controller_log.h"
+#include "tuning/sim/replay/controller_log.h"
 
 using scw::ConfigError;
 

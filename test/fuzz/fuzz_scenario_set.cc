@@ -6,7 +6,7 @@
 
 #include "test/fuzz/fuzz_targets.h"
 #include "test/fuzz/fuzz_util.h"
-#include "tuning/scenario_set.h"
+#include "tuning/sim/scenario_set.h"
 
 using scw::ConfigError;
 

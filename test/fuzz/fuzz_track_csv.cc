@@ -8,7 +8,7 @@
 #include "params/io/csv.h"
 #include "test/fuzz/fuzz_targets.h"
 #include "test/fuzz/fuzz_util.h"
-#include "tuning/io/track_csv.h"
+#include "tuning/sim/track_csv.h"
 
 using scw::ConfigError;
 

@@ -17,7 +17,7 @@
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "params/schema/vehicle_params.h"
-#include "tuning/evaluator.h"
+#include "tuning/optim/evaluator.h"
 
 namespace scw::tuning {
 namespace {

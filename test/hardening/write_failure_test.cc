@@ -24,7 +24,7 @@
 #include "params/io/write.h"
 #include "params/io/yaml_doc.h"
 #include "tuning/optim/tuner.h"
-#include "tuning/replay/controller_log.h"
+#include "tuning/sim/replay/controller_log.h"
 
 namespace scw::tuning {
 namespace {

@@ -15,10 +15,10 @@
 #include "plant/vehicle/vehicle.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
-#include "tuning/closed_loop.h"
-#include "tuning/evaluator.h"
-#include "tuning/parallel/mpi_backend.h"
-#include "tuning/scenario.h"
+#include "tuning/optim/evaluator.h"
+#include "tuning/sim/closed_loop.h"
+#include "tuning/sim/parallel/mpi_backend.h"
+#include "tuning/sim/scenario.h"
 
 namespace scw::cli {
 namespace {

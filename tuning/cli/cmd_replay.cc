@@ -12,9 +12,9 @@
 #include "params/schema/stability_params.h"
 #include "params/schema/vehicle_params.h"
 #include "tuning/cli/command.h"
-#include "tuning/replay/log_setup.h"
-#include "tuning/replay/replay.h"
-#include "tuning/scenario.h"
+#include "tuning/sim/replay/log_setup.h"
+#include "tuning/sim/replay/replay.h"
+#include "tuning/sim/scenario.h"
 
 namespace scw::cli {
 namespace {
@@ -48,7 +48,7 @@ int RunReplay(const ReplayOptions& o) {
   if (!o.out.empty() && SameFile(o.out, o.log))
     throw ConfigError(o.out, "-o", "the output would overwrite the log; choose another file");
 
-  // What the recorded controller used besides its params file (tuning/replay/log_setup.h).
+  // What the recorded controller used besides its params file (tuning/sim/replay/log_setup.h).
   const std::string setup_path = tuning::SetupPathFor(o.log);
   std::error_code ec;
   const bool use_setup = !o.no_log_setup && std::filesystem::exists(setup_path, ec);

@@ -11,11 +11,11 @@
 #include "params/io/write.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/progress.h"
-#include "tuning/closed_loop.h"
-#include "tuning/replay/controller_log.h"
-#include "tuning/replay/log_setup.h"
-#include "tuning/report.h"
-#include "tuning/scenario.h"
+#include "tuning/sim/closed_loop.h"
+#include "tuning/sim/replay/controller_log.h"
+#include "tuning/sim/replay/log_setup.h"
+#include "tuning/sim/run_summary.h"
+#include "tuning/sim/scenario.h"
 
 namespace scw::cli {
 namespace {

@@ -1,4 +1,5 @@
-// scw sweep — a scenario over a grid of overrides and named configurations (tuning/sweep/sweep.h).
+// scw sweep — a scenario over a grid of overrides and named configurations
+// (tuning/sim/sweep/sweep.h).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -11,8 +12,8 @@
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
 #include "tuning/cli/progress.h"
-#include "tuning/motion_factory.h"
-#include "tuning/sweep/sweep.h"
+#include "tuning/sim/motion_factory.h"
+#include "tuning/sim/sweep/sweep.h"
 
 namespace scw::cli {
 namespace {

@@ -15,9 +15,9 @@
 #include "plant/track/yas_north.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
-#include "tuning/io/track_csv.h"
-#include "tuning/trajectory/racing_line.h"
-#include "tuning/trajectory/velocity_profile.h"
+#include "tuning/sim/track_csv.h"
+#include "tuning/sim/trajectory/racing_line.h"
+#include "tuning/sim/trajectory/velocity_profile.h"
 
 namespace scw::cli {
 namespace {

@@ -18,21 +18,21 @@
 #include "params/io/atomic_file.h"
 #include "params/io/load.h"
 #include "params/io/ros2_check.h"
+#include "params/io/sha256.h"
 #include "params/io/write.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/console.h"
 #include "tuning/cli/options.h"
 #include "tuning/cli/progress.h"
-#include "tuning/evaluator.h"
-#include "tuning/io/sha256.h"
+#include "tuning/optim/comparison.h"
+#include "tuning/optim/evaluator.h"
+#include "tuning/optim/plots/tune_plots.h"
+#include "tuning/optim/sensitivity.h"
+#include "tuning/optim/set_check.h"
 #include "tuning/optim/space.h"
 #include "tuning/optim/tuner.h"
-#include "tuning/parallel/mpi_backend.h"
-#include "tuning/plots/tune_plots.h"
-#include "tuning/report.h"
-#include "tuning/scenario_set.h"
-#include "tuning/sensitivity.h"
-#include "tuning/set_check.h"
+#include "tuning/sim/parallel/mpi_backend.h"
+#include "tuning/sim/scenario_set.h"
 
 namespace scw::cli {
 namespace {
@@ -93,7 +93,7 @@ std::string FileSha256(const std::string& path) {
   if (!in) return "unreadable";
   std::ostringstream bytes;
   bytes << in.rdbuf();
-  return tuning::Sha256Hex(bytes.str());
+  return io::Sha256Hex(bytes.str());
 }
 
 void CreateFolder(const std::string& dir) {
@@ -493,18 +493,18 @@ int RunTune(const TuneOptions& o) {
         << "command_line: " << params::QuoteString(cmdline) << "\n"
         << "base: " << params::QuoteString(o.base.empty() ? "built-in" : o.base) << "\n"
         << "base_hash: "
-        << (o.base.empty() ? tuning::Sha256Hex(params::ToRosYaml(base, params::kStabilityNodeKey))
+        << (o.base.empty() ? io::Sha256Hex(params::ToRosYaml(base, params::kStabilityNodeKey))
                            : FileSha256(o.base))
         << "\n"
         << "space: " << params::QuoteString(o.space.empty() ? "built-in default" : o.space) << "\n"
-        << "space_hash: "
-        << (o.space.empty() ? tuning::Sha256Hex(space.ToYaml()) : FileSha256(o.space)) << "\n"
+        << "space_hash: " << (o.space.empty() ? io::Sha256Hex(space.ToYaml()) : FileSha256(o.space))
+        << "\n"
         << "base_outside_space: " << o.base_outside << "\n"
         << "grown_ranges: " << grown.size() << "\n"
         << "scenarios: "
         << params::QuoteString(o.scenarios.empty() ? "built-in default" : o.scenarios) << "\n"
         << "scenarios_hash: "
-        << (o.scenarios.empty() ? tuning::Sha256Hex(set.ToYaml()) : FileSha256(o.scenarios)) << "\n"
+        << (o.scenarios.empty() ? io::Sha256Hex(set.ToYaml()) : FileSha256(o.scenarios)) << "\n"
         << "algorithm: " << o.algorithm << "\n"
         << "batch: " << o.batch << "\n"
         << "seed: " << o.seed << "\n"

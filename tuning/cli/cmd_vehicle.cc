@@ -15,8 +15,8 @@
 #include "plant/vehicle/quasi_steady.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
-#include "tuning/plant_envelope.h"
-#include "tuning/scenario.h"
+#include "tuning/sim/plant_envelope.h"
+#include "tuning/sim/scenario.h"
 
 namespace scw::cli {
 namespace {

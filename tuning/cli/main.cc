@@ -10,9 +10,9 @@
 #include "params/schema/field.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
-#include "tuning/evaluator.h"
-#include "tuning/parallel/mpi_backend.h"
-#include "tuning/sweep/sweep.h"
+#include "tuning/optim/evaluator.h"
+#include "tuning/sim/parallel/mpi_backend.h"
+#include "tuning/sim/sweep/sweep.h"
 
 namespace scw::cli {
 namespace {

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <vector>
 
-#include "controller/stability/vehicle_model.h"
 #include "params/schema/stability_params.h"
 
 namespace scw::controller {
@@ -46,18 +45,6 @@ TEST(InterpTest, ShippedEscThresholdsExtrapolateAsSpec44) {
   EXPECT_NEAR(beta(70.0), 0.0033, 5e-5);
   EXPECT_NEAR(beta(80.0), -0.0037, 5e-5);  // negative: the extrapolation artefact is kept
   EXPECT_NEAR(ebeta(80.0), 0.0038, 5e-5);
-}
-
-TEST(InterpTest, BrakeBiasOfAppendixB) {
-  const params::StabilityParams p;
-  auto b = [&](double v) {
-    return FrontBrakeBias(v, p.P_VDC_brake_bias_front, p.brake_bias_shift);
-  };
-  EXPECT_NEAR(b(7.0), 0.433, 5e-4);
-  EXPECT_NEAR(b(25.0), 0.497, 5e-4);
-  EXPECT_NEAR(b(50.0), 0.561, 5e-4);
-  EXPECT_NEAR(b(60.0), 0.58, 5e-4);
-  EXPECT_NEAR(b(80.0), 0.618, 5e-4);
 }
 
 }  // namespace

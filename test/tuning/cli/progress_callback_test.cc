@@ -6,8 +6,8 @@
 #include <atomic>
 #include <vector>
 
-#include "tuning/evaluator.h"
-#include "tuning/sweep/sweep.h"
+#include "tuning/optim/evaluator.h"
+#include "tuning/sim/sweep/sweep.h"
 
 namespace scw::tuning {
 namespace {

@@ -1,4 +1,4 @@
-#include "tuning/cost.h"
+#include "tuning/optim/cost.h"
 
 #include <gtest/gtest.h>
 

@@ -13,9 +13,9 @@
 #include "params/io/ros2_check.h"
 #include "params/io/write.h"
 #include "params/io/yaml_doc.h"
+#include "tuning/optim/comparison.h"
 #include "tuning/optim/space.h"
 #include "tuning/optim/tuner.h"
-#include "tuning/report.h"
 
 namespace scw::tuning {
 namespace {

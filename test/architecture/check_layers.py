@@ -1,0 +1,158 @@
+#!/usr/bin/env python3
+"""Checks the layering of the source tree (docs/architecture.md): what each folder may include,
+that no model opens files, and that every library source is listed in its CMakeLists.txt.
+
+Usage: check_layers.py ROOT          check the tree at ROOT (exit 1 with one line per violation)
+       check_layers.py --self-test   plant violations in a scratch tree and require that each is
+                                     reported (so the check itself cannot silently pass)
+"""
+import os
+import re
+import sys
+import tempfile
+
+# (folder prefix, forbidden include pattern, why). A folder inherits the rules of its prefixes.
+YAML = (r'<yaml-cpp/|<yaml\.h>', 'YAML belongs to scw::params')
+NLOPT = (r'<nlopt', 'NLopt belongs to the optimisation (and the racing line in scw::sim)')
+IPOPT = (r'<Ip[A-Z]\w*\.hpp>|<coin/|<HSLLoader\.h>', 'Ipopt belongs to scw::motion')
+MPI = (r'<mpi\.h>', 'MPI belongs to tuning/sim/parallel/mpi_backend.cc')
+THREADS = (r'<(thread|future|condition_variable)>', 'models create no threads')
+FILES = (r'<(fstream|filesystem)>', 'models open no files')
+RULES = [
+    ('controller/', YAML), ('controller/', NLOPT), ('controller/', MPI), ('controller/', THREADS),
+    ('controller/', FILES),
+    ('controller/', (r'"(tuning|plant|params/io)/', 'controllers know no simulation, plant or file I/O')),
+    ('controller/common/', IPOPT), ('controller/stability/', IPOPT),
+    ('controller/common/', (r'"controller/(stability|motion|planning)/', 'common/ is the bottom layer')),
+    ('controller/stability/', (r'"controller/(motion|planning)/', 'scw::stability ships alone to the car')),
+    ('controller/stability/', (r'<mutex>|<atomic>', 'the car\'s controller takes no locks')),
+    ('controller/planning/', IPOPT), ('controller/planning/', (r'"controller/(motion|stability)/', 'planning sits below motion')),
+    ('plant/', YAML), ('plant/', NLOPT), ('plant/', IPOPT), ('plant/', MPI), ('plant/', THREADS),
+    ('plant/', FILES), ('plant/', (r'<mutex>', 'models take no locks')),
+    ('plant/', (r'"(tuning|controller|params/io)/', 'the plant knows no controller, simulation or file I/O')),
+    ('params/schema/', YAML), ('params/schema/', (r'"(params/io|tuning|controller|plant)/', 'the schema is the bottom layer')),
+    ('tuning/sim/', (r'"tuning/(optim|cli)/', 'simulation sits below optimisation and the CLI')),
+    ('tuning/optim/', (r'"tuning/cli/', 'the CLI sits on top')),
+]
+# scw::io (plain files) sits in params/io beside the YAML code: these files may not use YAML.
+IO_FILES = ('params/io/atomic_file', 'params/io/csv', 'params/io/text', 'params/io/sha256',
+            'params/io/suggest')
+IO_RULES = [YAML, (r'"params/io/(load|write|yaml_doc|docs|ros2_check|stability_lint)\.h"', 'scw::io is below scw::params')]
+# Calls that open files, forbidden in the models whatever the include.
+OPEN_CALL = re.compile(r'\b(fopen|freopen|std::ifstream|std::ofstream|std::fstream|::open\s*\()')
+LIBRARY_FOLDERS = ('controller', 'plant', 'params', 'tuning')
+INCLUDE = re.compile(r'^\s*#\s*include\s*([<"][^>"]+[>"])', re.M)
+
+
+def sources(root):
+    for top in LIBRARY_FOLDERS:
+        for d, _, files in os.walk(os.path.join(root, top)):
+            for f in sorted(files):
+                if f.endswith(('.h', '.cc', '.in')):
+                    p = os.path.join(d, f)
+                    yield os.path.relpath(p, root).replace(os.sep, '/'), p
+
+
+def strip_comments(text):
+    text = re.sub(r'/\*.*?\*/', '', text, flags=re.S)
+    return re.sub(r'//[^\n]*', '', text)
+
+
+def check(root):
+    problems = []
+    for rel, path in sources(root):
+        text = open(path, encoding='utf-8', errors='replace').read()
+        code = strip_comments(text)
+        includes = INCLUDE.findall(text)
+        rules = [r for prefix, r in RULES if rel.startswith(prefix)]
+        if rel.startswith(IO_FILES):
+            rules += IO_RULES
+        for pattern, why in rules:
+            for inc in includes:
+                if re.search(pattern, inc):
+                    problems.append(f'{rel}: includes {inc}: {why}')
+        if rel.startswith(('plant/', 'controller/')) and OPEN_CALL.search(code):
+            problems.append(f'{rel}: opens a file ({OPEN_CALL.search(code).group(0)}): models open no files')
+    # Every library .cc is named in a CMakeLists.txt of its folder or a parent, and no library
+    # folder globs its sources.
+    for top in LIBRARY_FOLDERS:
+        for d, _, files in os.walk(os.path.join(root, top)):
+            if 'CMakeLists.txt' in files:
+                cm = open(os.path.join(d, 'CMakeLists.txt')).read()
+                if re.search(r'file\s*\(\s*GLOB', strip_cmake_comments(cm)):
+                    problems.append(f'{os.path.relpath(os.path.join(d, "CMakeLists.txt"), root)}: '
+                                    'globs its sources: list them explicitly')
+            for f in files:
+                if not f.endswith('.cc'):
+                    continue
+                if not listed(root, os.path.join(d, f)):
+                    problems.append(f'{os.path.relpath(os.path.join(d, f), root)}: not listed in any '
+                                    'CMakeLists.txt of its folder or above (never built)')
+    return problems
+
+
+def strip_cmake_comments(text):
+    return re.sub(r'#[^\n]*', '', text)
+
+
+def listed(root, cc):
+    d = os.path.dirname(cc)
+    root = os.path.abspath(root)
+    while True:
+        cm = os.path.join(d, 'CMakeLists.txt')
+        if os.path.exists(cm):
+            rel = os.path.relpath(cc, d).replace(os.sep, '/')
+            if re.search(r'(?<![\w/.])' + re.escape(rel) + r'(?![\w])', strip_cmake_comments(open(cm).read())):
+                return True
+        if os.path.abspath(d) == root:
+            return False
+        d = os.path.dirname(d)
+
+
+def self_test():
+    planted = {
+        'controller/stability/bad.cc': '#include <IpIpoptApplication.hpp>\n',
+        'controller/stability/bad2.cc': '#include "controller/motion/pmpc.h"\n',
+        'controller/common/bad.cc': '#include <yaml-cpp/yaml.h>\n',
+        'plant/vehicle/bad.cc': 'void F() { std::ifstream in("x"); }\n',
+        'plant/tire/bad.cc': '#include <fstream>\n',
+        'params/io/csv.cc': '#include <yaml-cpp/yaml.h>\n',
+        'tuning/sim/bad.cc': '#include "tuning/optim/tuner.h"\n',
+        'tuning/optim/CMakeLists.txt': 'file(GLOB X *.cc)\n',
+    }
+    with tempfile.TemporaryDirectory() as root:
+        for rel, text in planted.items():
+            os.makedirs(os.path.join(root, os.path.dirname(rel)), exist_ok=True)
+            open(os.path.join(root, rel), 'w').write(text)
+        open(os.path.join(root, 'CMakeLists.txt'), 'w').write(
+            ' '.join(r for r in planted if r.endswith('.cc') and r != 'tuning/sim/bad.cc'))
+        found = check(root)
+    expected = ['controller/stability/bad.cc: includes <IpIpoptApplication.hpp>',
+                'controller/stability/bad2.cc: includes "controller/motion/pmpc.h"',
+                'controller/common/bad.cc: includes <yaml-cpp/yaml.h>',
+                'plant/vehicle/bad.cc: opens a file', 'plant/tire/bad.cc: includes <fstream>',
+                'params/io/csv.cc: includes <yaml-cpp/yaml.h>',
+                'tuning/sim/bad.cc: includes "tuning/optim/tuner.h"',
+                'tuning/optim/CMakeLists.txt: globs its sources',
+                'tuning/sim/bad.cc: not listed']
+    missing = [e for e in expected if not any(f.startswith(e) for f in found)]
+    for e in missing:
+        print(f'self-test: the planted violation "{e}" was not reported')
+    return 1 if missing else 0
+
+
+def main():
+    if len(sys.argv) == 2 and sys.argv[1] == '--self-test':
+        return self_test()
+    if len(sys.argv) != 2:
+        print(__doc__, file=sys.stderr)
+        return 2
+    problems = check(sys.argv[1])
+    for p in problems:
+        print(p)
+    print(f'layers: {len(problems)} violation(s)')
+    return 1 if problems else 0
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,406 @@
+// The MPC motion controllers (controller/motion/pmpc.h, nmpc.h): model derivatives against
+// finite differences, constraint satisfaction of solved plans, full laps of the default track
+// without stability control, solve-time statistics. Built on the resolved default scenario (track,
+// reference, g-g-v limits), hence in the tuning test area.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "controller/motion/nmpc.h"
+#include "controller/motion/pmpc.h"
+#include "tuning/sim/closed_loop.h"
+#include "tuning/sim/motion_factory.h"
+
+namespace scw::tuning {
+namespace {
+
+namespace cm = controller::motion;
+using PM = cm::PointMassModel;
+using ST = cm::SingleTrackModel;
+
+const ResolvedScenario& Scenario(const std::string& controller) {
+  static const ResolvedScenario pmpc = Resolve(DefaultScenario({"motion.controller=pmpc"}));
+  static const ResolvedScenario nmpc = Resolve(DefaultScenario({"motion.controller=nmpc"}));
+  return controller == "pmpc" ? pmpc : nmpc;
+}
+
+// A measured input on the reference at arc length s, displaced by n [m] to the left, with a
+// heading error, speed factor and body slip.
+cm::MotionInput OnPath(const cm::Path& path, double t, double s, double n = 0.0,
+                       double heading_error = 0.0, double speed_factor = 1.0, double v_y = 0.0) {
+  const cm::PathPoint p = path.Sample(s);
+  cm::MotionInput in;
+  in.t = t;
+  in.x = p.x - n * std::sin(p.psi);
+  in.y = p.y + n * std::cos(p.psi);
+  in.psi = p.psi + heading_error;
+  in.v_x = p.v * speed_factor;
+  in.v_y = v_y;
+  in.yaw_rate = p.kappa * in.v_x;
+  return in;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Model derivatives against central differences.
+
+TEST(PointMassModelTest, JacobiansMatchFiniteDifferences) {
+  const double dt = 0.125;
+  for (const double kappa : {0.0, 0.02, -0.05}) {
+    for (const PM::StateVec& x : {PM::StateVec(0.0, 0.0, 50.0), PM::StateVec(1.2, -0.8, 30.0),
+                                  PM::StateVec(-2.0, 1.5, 12.0)}) {
+      const PM::InputVec u(-5.0, 8.0);
+      Eigen::Matrix3d a;
+      Eigen::Matrix<double, 3, 2> b;
+      PM::Jacobians(x, u, kappa, dt, &a, &b);
+      for (int j = 0; j < 3; ++j) {
+        const double h = 1e-6 * std::max(1.0, std::abs(x[j]));
+        PM::StateVec xp = x, xm = x;
+        xp[j] += h;
+        xm[j] -= h;
+        const PM::StateVec fd = (PM::Step(xp, u, kappa, dt) - PM::Step(xm, u, kappa, dt)) / (2 * h);
+        for (int i = 0; i < 3; ++i) EXPECT_NEAR(a(i, j), fd[i], 1e-6) << i << "," << j;
+      }
+      for (int j = 0; j < 2; ++j) {
+        PM::InputVec up = u, um = u;
+        up[j] += 1e-6;
+        um[j] -= 1e-6;
+        const PM::StateVec fd = (PM::Step(x, up, kappa, dt) - PM::Step(x, um, kappa, dt)) / 2e-6;
+        for (int i = 0; i < 3; ++i) EXPECT_NEAR(b(i, j), fd[i], 1e-6) << i << "," << j;
+      }
+    }
+  }
+}
+
+// States around the operating envelope: straight, cornering with slip, low speed, past the peak.
+std::vector<std::pair<ST::StateVec, ST::InputVec>> SingleTrackPoints() {
+  std::vector<std::pair<ST::StateVec, ST::InputVec>> pts;
+  ST::StateVec x;
+  x << 0.0, 0.0, 60.0, 0.0, 0.0;
+  pts.push_back({x, ST::InputVec(0.0, 2.0)});
+  x << 0.8, 0.05, 40.0, -0.6, 0.35;
+  pts.push_back({x, ST::InputVec(0.04, -8.0)});
+  x << -1.5, -0.2, 12.0, 0.9, -0.6;
+  pts.push_back({x, ST::InputVec(-0.2, 3.0)});
+  x << 0.3, 0.1, 25.0, -2.0, 0.8;  // large slip angles, beyond the tyre peak
+  pts.push_back({x, ST::InputVec(0.25, -12.0)});
+  return pts;
+}
+
+TEST(SingleTrackModelTest, ContinuousJacobianMatchesFiniteDifferences) {
+  const auto p = cm::SingleTrackParamsFrom(Scenario("nmpc").vehicle);
+  for (const double kappa : {0.0, 0.03, -0.1}) {
+    for (const auto& [x, u] : SingleTrackPoints()) {
+      ST::Jac jac;
+      ST::Derivatives(p, x, u, kappa, &jac);
+      for (int j = 0; j < ST::kNz; ++j) {
+        const double h = 1e-6 * std::max(1.0, j < ST::kNx ? std::abs(x[j]) : std::abs(u[j - 5]));
+        ST::StateVec xp = x, xm = x;
+        ST::InputVec up = u, um = u;
+        if (j < ST::kNx) {
+          xp[j] += h;
+          xm[j] -= h;
+        } else {
+          up[j - ST::kNx] += h;
+          um[j - ST::kNx] -= h;
+        }
+        const ST::StateVec fd =
+            (ST::Derivatives(p, xp, up, kappa) - ST::Derivatives(p, xm, um, kappa)) / (2 * h);
+        for (int i = 0; i < ST::kNx; ++i)
+          EXPECT_NEAR(jac(i, j), fd[i], 1e-5 * std::max(1.0, std::abs(fd[i])))
+              << "row " << i << " col " << j << " kappa " << kappa;
+      }
+      // Lateral acceleration gradient.
+      ST::Row grad;
+      ST::LateralAcceleration(p, x, u, &grad);
+      for (int j = 0; j < ST::kNz; ++j) {
+        ST::StateVec xp = x, xm = x;
+        ST::InputVec up = u, um = u;
+        const double h = 1e-6;
+        if (j < ST::kNx) {
+          xp[j] += h;
+          xm[j] -= h;
+        } else {
+          up[j - ST::kNx] += h;
+          um[j - ST::kNx] -= h;
+        }
+        const double fd =
+            (ST::LateralAcceleration(p, xp, up) - ST::LateralAcceleration(p, xm, um)) / (2 * h);
+        EXPECT_NEAR(grad[j], fd, 1e-5 * std::max(1.0, std::abs(fd))) << "a_y col " << j;
+      }
+    }
+  }
+}
+
+TEST(SingleTrackModelTest, DiscreteJacobianMatchesFiniteDifferences) {
+  const auto p = cm::SingleTrackParamsFrom(Scenario("nmpc").vehicle);
+  for (const auto& [x, u] : SingleTrackPoints()) {
+    ST::Jac jac;
+    ST::Discrete(p, x, u, 0.02, 0.1, 2, &jac);
+    for (int j = 0; j < ST::kNz; ++j) {
+      const double h = 1e-6 * std::max(1.0, j < ST::kNx ? std::abs(x[j]) : std::abs(u[j - 5]));
+      ST::StateVec xp = x, xm = x;
+      ST::InputVec up = u, um = u;
+      if (j < ST::kNx) {
+        xp[j] += h;
+        xm[j] -= h;
+      } else {
+        up[j - ST::kNx] += h;
+        um[j - ST::kNx] -= h;
+      }
+      const ST::StateVec fd =
+          (ST::Discrete(p, xp, up, 0.02, 0.1, 2) - ST::Discrete(p, xm, um, 0.02, 0.1, 2)) / (2 * h);
+      for (int i = 0; i < ST::kNx; ++i)
+        EXPECT_NEAR(jac(i, j), fd[i], 1e-5 * std::max(1.0, std::abs(fd[i])))
+            << "row " << i << " col " << j;
+    }
+  }
+}
+
+TEST(SingleTrackModelTest, TyreForcesAreOddAndBoundedByPeakFriction) {
+  const auto p = cm::SingleTrackParamsFrom(Scenario("nmpc").vehicle);
+  for (const double vy : {0.5, 2.0, 8.0}) {
+    ST::StateVec x, xm;
+    x << 0.0, 0.0, 30.0, vy, 0.0;
+    xm << 0.0, 0.0, 30.0, -vy, 0.0;
+    const double ay = ST::LateralAcceleration(p, x, ST::InputVec(0.0, 0.0));
+    EXPECT_NEAR(ay, -ST::LateralAcceleration(p, xm, ST::InputVec(0.0, 0.0)), 1e-9);
+    EXPECT_LT(ay, 0.0);  // sliding left pushes right
+    const double fz = p.mass * p.gravity + (p.downforce_front + p.downforce_rear) * 900.0;
+    EXPECT_LE(std::abs(ay) * p.mass, std::max(p.front.mu, p.rear.mu) * fz + 1e-6);
+  }
+  // The linear single track of the plant's tyres is near neutral (|K_us| small) [rad/(m/s²)].
+  EXPECT_LT(std::abs(cm::UndersteerGradient(p, 50.0)), 5e-3);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Constraint satisfaction of solved plans.
+
+struct Case {
+  double s, n, heading_error, speed_factor;
+};
+const Case kCases[] = {{110.0, 0.0, 0.0, 1.0},     {160.0, 0.5, 0.02, 1.05},
+                       {700.0, -0.8, -0.03, 0.95}, {1330.0, 0.3, 0.0, 1.0},
+                       {2500.0, 0.0, 0.0, 1.1},    {1900.0, -0.3, 0.05, 1.0}};
+
+TEST(PmpcTest, SolvedPlansSatisfyGgTrackAndDynamics) {
+  const auto& sc = Scenario("pmpc");
+  const auto ctl = MakeMotionController(sc);
+  const auto& mpc = dynamic_cast<const cm::PointMassMpc&>(*ctl);
+  const auto& o = mpc.options();
+  for (const Case& c : kCases) {
+    auto base = mpc.MakeState();
+    auto* st = static_cast<cm::PointMassMpc::State*>(base.get());
+    // Three solves along the path (cold start, then warm starts from the shifted plan).
+    for (int i = 0; i < 3; ++i) {
+      const double t = i * o.solve_period;
+      const double v = sc.path->Sample(c.s).v * c.speed_factor;
+      const auto out =
+          mpc.Step(OnPath(*sc.path, t, c.s + v * t, c.n, c.heading_error, c.speed_factor), st);
+      EXPECT_TRUE(std::isfinite(out.steering_request) && std::isfinite(out.ax_request));
+    }
+    ASSERT_EQ(st->diagnostics.failures, 0) << "s = " << c.s;
+    const auto& p = st->plan;
+    ASSERT_TRUE(p.valid);
+    const double tol = 1e-4;
+    for (int k = 0; k < o.horizon_steps; ++k) {
+      const auto K = static_cast<std::size_t>(k);
+      // g-g: inside the exact law (the inscribed polygon is inside it) at the node's speed; the
+      // limits were frozen at the warm start's speed, so allow 3 %.
+      const double v = p.v[K];
+      const double ay = o.nominal_fraction * mpc.limits().AyMax(v);
+      const double ax = p.at[K] >= 0.0 ? o.nominal_fraction * mpc.limits().AxDriveMax(v)
+                                       : o.nominal_fraction * mpc.limits().AxBrakeMax(v);
+      const double r = std::abs(p.an[K]) / ay;
+      EXPECT_LE(r, 1.03) << "s = " << c.s << " k = " << k;
+      const double comb = controller::planning::GgvTable::Combine(
+          std::min(r, 1.0),
+          p.at[K] >= 0.0 ? mpc.limits().DriveExponent(v) : mpc.limits().BrakeExponent(v));
+      EXPECT_LE(std::abs(p.at[K]), 1.03 * ax * comb + 0.05) << "s = " << c.s << " k = " << k;
+      // Track bounds (tightened by the tube) after the first node.
+      const double up = mpc.CorridorLeft(p.s[K + 1]) - o.tube_lateral;
+      const double lo = -(mpc.CorridorRight(p.s[K + 1]) - o.tube_lateral);
+      EXPECT_LE(p.n[K + 1], up + 0.05) << "s = " << c.s << " k = " << k;
+      EXPECT_GE(p.n[K + 1], lo - 0.05) << "s = " << c.s << " k = " << k;
+      // The plan follows the nonlinear model (LTV linearisation error only).
+      const PM::StateVec next = PM::Step(PM::StateVec(p.n[K], p.w[K], p.v[K]),
+                                         PM::InputVec(p.at[K], p.an[K]), p.kappa[K], o.step);
+      EXPECT_NEAR(next[0], p.n[K + 1], 0.05);
+      EXPECT_NEAR(next[1], p.w[K + 1], 0.2);
+      EXPECT_NEAR(next[2], p.v[K + 1], tol);
+    }
+  }
+}
+
+// The fast solver path (quasi-definite LDLᵀ, warm start from shifted multipliers) solves the same
+// QP as Ipopt with MUMPS from a cold start: the plans agree to the solver tolerance over a
+// sequence of warm-started solves with a lateral and heading disturbance.
+TEST(PmpcTest, FastSolverGivesTheMumpsColdStartPlans) {
+  const auto& sc = Scenario("pmpc");
+  const auto ctl = MakeMotionController(sc);
+  const auto& fast = dynamic_cast<const cm::PointMassMpc&>(*ctl);
+  cm::Corridor corridor;
+  for (const auto& pt : sc.path->points()) {
+    corridor.left.push_back(fast.CorridorLeft(pt.s));
+    corridor.right.push_back(fast.CorridorRight(pt.s));
+  }
+  cm::PmpcOptions o = fast.options();
+  o.mumps = true;
+  o.warm_start = false;
+  const cm::PointMassMpc reference(o, fast.limits(), corridor, sc.path);
+  auto fast_base = fast.MakeState(), ref_base = reference.MakeState();
+  auto* a = static_cast<cm::PointMassMpc::State*>(fast_base.get());
+  auto* b = static_cast<cm::PointMassMpc::State*>(ref_base.get());
+  double s = 500.0, worst_n = 0.0, worst_v = 0.0, worst_a = 0.0;
+  for (int i = 0; i < 40; ++i) {
+    const double t = i * o.solve_period;
+    const double v = sc.path->Sample(s).v;
+    const auto in = OnPath(*sc.path, t, s, 0.3 * std::sin(0.3 * i), 0.02 * std::cos(0.2 * i));
+    fast.Step(in, a);
+    reference.Step(in, b);
+    ASSERT_TRUE(a->plan.valid && b->plan.valid) << i;
+    for (std::size_t k = 0; k < a->plan.at.size(); ++k) {
+      worst_n = std::max(worst_n, std::abs(a->plan.n[k + 1] - b->plan.n[k + 1]));
+      worst_v = std::max(worst_v, std::abs(a->plan.v[k + 1] - b->plan.v[k + 1]));
+      worst_a = std::max({worst_a, std::abs(a->plan.at[k] - b->plan.at[k]),
+                          std::abs(a->plan.an[k] - b->plan.an[k])});
+    }
+    s += v * o.solve_period;
+  }
+  EXPECT_EQ(a->diagnostics.failures, 0);
+  EXPECT_EQ(b->diagnostics.failures, 0);
+  EXPECT_LT(worst_n, 1e-3) << "lateral offset [m]";
+  EXPECT_LT(worst_v, 1e-3) << "speed [m/s]";
+  EXPECT_LT(worst_a, 1e-2) << "accelerations [m/s²]";
+  // The warm start pays off: fewer Ipopt iterations than the cold start.
+  EXPECT_LT(a->diagnostics.iterations, b->diagnostics.iterations);
+  std::printf(
+      "pmpc fast vs MUMPS cold: max |dn| %.2e m, |dv| %.2e m/s, |da| %.2e m/s2; "
+      "iterations %lld vs %lld; median solve %.2f vs %.2f ms\n",
+      worst_n, worst_v, worst_a, static_cast<long long>(a->diagnostics.iterations),
+      static_cast<long long>(b->diagnostics.iterations), 1e3 * a->diagnostics.solve_time.Median(),
+      1e3 * b->diagnostics.solve_time.Median());
+}
+
+TEST(NmpcTest, SolvedPlansSatisfyGgTrackSteeringAndDynamics) {
+  const auto& sc = Scenario("nmpc");
+  const auto ctl = MakeMotionController(sc);
+  const auto& mpc = dynamic_cast<const cm::SingleTrackMpc&>(*ctl);
+  const auto& o = mpc.options();
+  for (const Case& c : kCases) {
+    auto base = mpc.MakeState();
+    auto* st = static_cast<cm::SingleTrackMpc::State*>(base.get());
+    for (int i = 0; i < 3; ++i) {
+      const double t = i * o.sample_time;
+      const double v = sc.path->Sample(c.s).v * c.speed_factor;
+      const auto out =
+          mpc.Step(OnPath(*sc.path, t, c.s + v * t, c.n, c.heading_error, c.speed_factor), st);
+      EXPECT_TRUE(std::isfinite(out.steering_request) && std::isfinite(out.ax_request));
+      EXPECT_TRUE(std::isfinite(out.ay_request) && std::isfinite(out.yaw_rate_request));
+    }
+    ASSERT_EQ(st->diagnostics.failures, 0) << "s = " << c.s;
+    const auto& p = st->plan;
+    ASSERT_TRUE(p.valid);
+    for (int k = 0; k < o.horizon_steps; ++k) {
+      const auto K = static_cast<std::size_t>(k);
+      const ST::StateVec x = Eigen::Map<const ST::StateVec>(&p.x[K * 5]);
+      const ST::StateVec x1 = Eigen::Map<const ST::StateVec>(&p.x[(K + 1) * 5]);
+      const ST::InputVec u = Eigen::Map<const ST::InputVec>(&p.u[K * 2]);
+      // Dynamics (the exact discretisation the NLP uses).
+      const ST::StateVec f = ST::Discrete(mpc.model(), x, u, p.kappa[K], o.step, o.substeps);
+      EXPECT_LT((f - x1).cwiseAbs().maxCoeff(), 1e-3) << "s = " << c.s << " k = " << k;
+      // Steering angle and rate.
+      EXPECT_LE(std::abs(u[0]), o.max_steering + 1e-6);
+      if (k > 0) {
+        EXPECT_LE(std::abs(u[0] - p.u[(K - 1) * 2]), o.max_steering_rate * o.step + 1e-4);
+      }
+      // g-g ellipse at the node's speed (limits frozen at the warm start's: 3 %).
+      const double v = std::max(x[ST::kVx], 1.0);
+      const double ay = ST::LateralAcceleration(mpc.model(), x, u);
+      const double e = std::pow(u[1] / (o.accel_fraction * mpc.limits().AxBrakeMax(v)), 2) +
+                       std::pow(ay / (o.accel_fraction * mpc.limits().AyMax(v)), 2);
+      EXPECT_LE(e, 1.06) << "s = " << c.s << " k = " << k;
+      EXPECT_LE(u[1], 1.03 * o.accel_fraction * mpc.limits().AxDriveMax(v) + 1e-3);
+      // Track bounds (tightened by the margin).
+      EXPECT_LE(x1[ST::kN], mpc.CorridorLeft(p.s[K + 1]) - o.margin + 0.05);
+      EXPECT_GE(x1[ST::kN], -(mpc.CorridorRight(p.s[K + 1]) - o.margin) - 0.05);
+    }
+  }
+}
+
+TEST(MpcTest, StepStaysFiniteOnBadInput) {
+  for (const std::string name : {"pmpc", "nmpc"}) {
+    const auto& sc = Scenario(name);
+    const auto ctl = MakeMotionController(sc);
+    auto st = ctl->MakeState();
+    cm::MotionInput in = OnPath(*sc.path, 0.0, 500.0);
+    in.v_x = std::nan("");
+    in.yaw_rate = std::nan("");
+    for (int i = 0; i < 3; ++i) {
+      in.t = i * ctl->sample_time();
+      const auto out = ctl->Step(in, st.get());
+      EXPECT_TRUE(std::isfinite(out.steering_request)) << name;
+      EXPECT_TRUE(std::isfinite(out.ax_request)) << name;
+      EXPECT_TRUE(std::isfinite(out.ay_request)) << name;
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Solve times over a drive along the reference (printed; the bound asserted is generous, the
+// measurement proper is test/benchmarks/mpc_bench.cc).
+
+template <class Mpc>
+void SolveTimes(const std::string& name, double period) {
+  const auto& sc = Scenario(name);
+  const auto ctl = MakeMotionController(sc);
+  auto base = ctl->MakeState();
+  auto* st = static_cast<typename Mpc::State*>(base.get());
+  double s = 100.0;
+  for (int i = 0; i < 120; ++i) {
+    const double t = i * period;
+    ctl->Step(OnPath(*sc.path, t, s, 0.2 * std::sin(0.1 * i), 0.01 * std::cos(0.13 * i)),
+              base.get());
+    s += sc.path->Sample(s).v * period;
+  }
+  const auto& d = st->diagnostics;
+  std::printf(
+      "[ %s ] %ld solves, median %.2f ms, max %.2f ms, mean %.1f iterations, "
+      "%ld failures (period %.0f ms)\n",
+      name.c_str(), static_cast<long>(d.solve_time.count()), 1e3 * d.solve_time.Median(),
+      1e3 * d.solve_time.max(), double(d.iterations) / std::max<double>(d.solves, 1),
+      static_cast<long>(d.failures), 1e3 * period);
+  EXPECT_EQ(d.failures, 0);
+  EXPECT_LT(d.solve_time.Median(), 4.0 * period);  // generous: shared, loaded CI machines
+}
+
+TEST(MpcTest, SolveTimesArePrinted) {
+  SolveTimes<cm::PointMassMpc>("pmpc", cm::PmpcOptions{}.solve_period);
+  SolveTimes<cm::SingleTrackMpc>("nmpc", cm::NmpcOptions{}.sample_time);
+}
+
+// ---------------------------------------------------------------------------------------------
+// One lap of the default track at GG 1.0 without stability control.
+
+void Lap(const std::string& name) {
+  const ResolvedScenario sc = Resolve(DefaultScenario(
+      {"motion.controller=" + name, "laps=1", "gg_scale=1.0", "subsystems.esc=false",
+       "subsystems.cs=false", "subsystems.abs=false", "subsystems.tc=false"}));
+  const RunMetrics m = RunClosedLoop(sc, sc.stability);
+  ASSERT_EQ(m.status, RunStatus::kCompleted)
+      << name << ": " << RunStatusName(m.status) << " at s = " << m.end_s;
+  ASSERT_EQ(m.lap_times.size(), 1u);
+  std::printf(
+      "[ %s ] lap %.3f s (reference %.3f s), max |lateral error| %.2f m, max |beta| "
+      "%.2f deg\n",
+      name.c_str(), m.lap_times[0], sc.ideal_lap_time, m.max_abs_lateral_error,
+      m.max_abs_sideslip * 180.0 / M_PI);
+  EXPECT_GT(m.lap_times[0], 0.97 * sc.ideal_lap_time);
+  EXPECT_LT(m.lap_times[0], 1.05 * sc.ideal_lap_time);
+}
+
+TEST(MpcLapTest, PmpcLapsTheDefaultTrackWithoutStabilityControl) { Lap("pmpc"); }
+TEST(MpcLapTest, NmpcLapsTheDefaultTrackWithoutStabilityControl) { Lap("nmpc"); }
+
+}  // namespace
+}  // namespace scw::tuning

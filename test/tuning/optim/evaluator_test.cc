@@ -1,0 +1,156 @@
+#include "tuning/optim/evaluator.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "tuning/optim/space.h"
+#include "tuning/optim/tuner.h"
+
+namespace scw::tuning {
+namespace {
+
+std::vector<ScenarioEntry> SmallSet() {
+  return {{"short_nominal", 1.0, "", {"laps=1", "gg_scale=1.1"}},
+          {"short_oversteer",
+           2.0,
+           "",
+           {"laps=1", "grip.rear_mu_y=0.8", "gg_scale=1.3", "abort.lock_slip_pct=100"}}};
+}
+
+TEST(EvaluatorTest, DefaultSetFileEqualsBuiltIn) {
+  const auto file =
+      ScenarioSet::FromFile(std::string(SCW_SOURCE_DIR) + "/params/scenarios/default_set.yaml");
+  EXPECT_EQ(file.ToYaml(), ScenarioSet::Default().ToYaml())
+      << "regenerate with: scw tune --print-scenarios > params/scenarios/default_set.yaml";
+}
+
+TEST(EvaluatorTest, BadSetFilesNameEntryAndRule) {
+  const char* bad[] = {
+      "training: []\n",
+      "training:\n  - {weight: 1.0}\n",
+      "training:\n  - {name: a, weight: -1.0}\n",
+      "training:\n  - {name: a, set: [gg_scale]}\n",
+      "training:\n  - {name: a, colour: red}\n",
+      "name: x\n",
+      "training:\n  - {name: a}\ncost: {sideslip_weight: -2.0}\n",
+  };
+  for (const char* text : bad) {
+    SCOPED_TRACE(text);
+    EXPECT_THROW(ScenarioSet::FromYamlText(text, "set.yaml"), ConfigError);
+  }
+}
+
+TEST(EvaluatorTest, ResultsAreIdenticalForOneAndTwoThreads) {
+  const params::CostWeights w;
+  const auto one = BatchEvaluator::FromEntries(SmallSet(), "", w, 1);
+  const auto two = BatchEvaluator::FromEntries(SmallSet(), "", w, 2);
+  params::StabilityParams a, b;
+  b.ESC.kp_psi_dot = 4.0;
+  const auto r1 = one.Evaluate(std::vector<params::StabilityParams>{a, b});
+  const auto r2 = two.Evaluate(std::vector<params::StabilityParams>{a, b});
+  ASSERT_EQ(r1.size(), 2u);
+  for (std::size_t s = 0; s < 2; ++s) {
+    EXPECT_EQ(r1[s].total, r2[s].total);
+    for (std::size_t k = 0; k < r1[s].runs.size(); ++k) {
+      EXPECT_EQ(r1[s].runs[k].lap_times, r2[s].runs[k].lap_times);
+      EXPECT_EQ(r1[s].runs[k].max_abs_sideslip, r2[s].runs[k].max_abs_sideslip);
+    }
+  }
+  // Weighted sum of the per-scenario costs.
+  EXPECT_DOUBLE_EQ(r1[0].total, r1[0].costs[0].total + 2.0 * r1[0].costs[1].total);
+}
+
+TEST(EvaluatorTest, LongestFirstSortsByDecreasingLengthTiesByIndex) {
+  EXPECT_EQ(LongestFirst({0.01, 0.07, 0.03, 0.07, 0.0}), (std::vector<int>{1, 3, 2, 0, 4}));
+  EXPECT_TRUE(LongestFirst({}).empty());
+}
+
+// The second call hands the jobs out in the order the first call's run times give (longest
+// first), the first call by planned distance: the results must not depend on it.
+TEST(EvaluatorTest, JobOrderLearnedFromEarlierCallsDoesNotChangeResults) {
+  const params::CostWeights w;
+  std::vector<ScenarioEntry> entries = SmallSet();
+  entries.push_back({"short_abort", 1.0, "", {"laps=1", "grip.rear_mu_y=0.5", "gg_scale=1.4"}});
+  const auto ev = BatchEvaluator::FromEntries(entries, "", w, 2);
+  params::StabilityParams a, b;
+  b.ESC.kp_psi_dot = 4.0;
+  const std::vector<params::StabilityParams> sets{a, b};
+  const auto first = ev.Evaluate(sets);
+  const auto second = ev.Evaluate(sets);
+  const auto fresh = BatchEvaluator::FromEntries(entries, "", w, 1).Evaluate(sets);
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    EXPECT_EQ(first[s].total, second[s].total);
+    EXPECT_EQ(first[s].total, fresh[s].total);
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+      EXPECT_EQ(EncodeRunMetrics(first[s].runs[k]), EncodeRunMetrics(second[s].runs[k]));
+      EXPECT_EQ(EncodeRunMetrics(first[s].runs[k]), EncodeRunMetrics(fresh[s].runs[k]));
+    }
+  }
+}
+
+TEST(EvaluatorTest, AnInvalidSetIsAResultWithAStatus) {
+  const auto ev = BatchEvaluator::FromEntries({SmallSet()[0]}, "", params::CostWeights{}, 2);
+  params::StabilityParams bad;
+  bad.ESC.beta_threshold_activate = {0.1, 0.2, 0.3};  // unequal array lengths
+  const auto r = ev.Evaluate(bad);
+  EXPECT_EQ(r.runs[0].status, RunStatus::kInvalidParams);
+  EXPECT_FALSE(r.invalid.empty());
+  EXPECT_TRUE(std::isfinite(r.total));
+}
+
+TEST(EvaluatorTest, TuneIsDeterministicForOneAndTwoThreads) {
+  const auto space = ParameterSpace::Default();
+  const params::StabilityParams base;
+  auto run = [&](int threads, const std::string& log) {
+    const auto ev =
+        BatchEvaluator::FromEntries({SmallSet()[1]}, "", params::CostWeights{}, threads);
+    TunerOptions o;
+    o.max_evals = 8;
+    o.seed = 5;
+    o.log_path = log;
+    return Tune(
+        space.Encode(base),
+        [&](const std::vector<double>& u) {
+          Problems pr;
+          const auto p = space.Decode(u, base, &pr);
+          return Evaluation{pr.empty() ? ev.Evaluate(p).total : 1e4, "ok", {}};
+        },
+        o);
+  };
+  const auto dir = std::filesystem::temp_directory_path();
+  const auto a = run(1, (dir / "scw_tune_t1.csv").string());
+  const auto b = run(2, (dir / "scw_tune_t2.csv").string());
+  EXPECT_EQ(a.best_u, b.best_u);
+  EXPECT_EQ(a.best_cost, b.best_cost);
+}
+
+}  // namespace
+}  // namespace scw::tuning
+
+#include "params/io/write.h"
+#include "tuning/sim/scenario.h"
+
+namespace scw::tuning {
+namespace {
+
+TEST(ScenarioFilesTest, ShippedScenarioFilesLoadAndDefaultEqualsBuiltIn) {
+  const std::string dir = std::string(SCW_SOURCE_DIR) + "/params/scenarios";
+  int loaded = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    // Scenario sets (*_set.yaml) are read by their own tests; the rest are scenario files.
+    const bool set_file = name.size() > 9 && name.substr(name.size() - 9) == "_set.yaml";
+    if (set_file || entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(name);
+    EXPECT_NO_THROW(LoadScenario(entry.path().string()));
+    ++loaded;
+  }
+  EXPECT_GE(loaded, 4);
+  EXPECT_EQ(params::ToPlainYaml(LoadScenario(dir + "/default.yaml")),
+            params::ToPlainYaml(DefaultScenario()))
+      << "regenerate with: scw simulate --print-scenario > params/scenarios/default.yaml";
+}
+
+}  // namespace
+}  // namespace scw::tuning

@@ -1,0 +1,132 @@
+// Issue 14, part 2 and prerequisite P2: the planner's g-g-v table comes from the plant's own
+// combined envelope, the reference planned at 100 % of it is quasi-steady feasible for the plant,
+// and the full-limit lap of Yas North is 60 s ± 3 % (public team targets 59.5 s real / 60.0 s sim).
+// Issue 18, part 4: Resolve's preparation cache shares a table only between equal vehicles and
+// gives, from any number of threads, what a computation from scratch gives.
+#include "tuning/sim/plant_envelope.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "plant/track/yas_north.h"
+#include "plant/vehicle/quasi_steady.h"
+#include "tuning/sim/parallel/parallel_for.h"
+#include "tuning/sim/scenario.h"
+#include "tuning/sim/trajectory/racing_line.h"
+#include "tuning/sim/trajectory/velocity_profile.h"
+
+namespace scw::tuning {
+namespace {
+
+TEST(PlantEnvelope, FittedLawLiesInsideTheSampledEnvelope) {
+  const params::VehicleParams p;
+  const auto rows = SampleEnvelope(p, 0.58, {20.0, 40.0, 60.0});
+  const auto g = FitEnvelope(rows);
+  for (const EnvelopeRow& r : rows)
+    for (std::size_t j = 0; j < kEnvelopeLevels.size(); ++j) {
+      const double ay = kEnvelopeLevels[j] * r.ay_max;
+      EXPECT_LE(g.AxDriveMax(r.speed) * g.DriveFactor(ay, g.AyMax(r.speed), r.speed),
+                r.drive[j] + 1e-9);
+      EXPECT_LE(g.AxBrakeMax(r.speed) * g.BrakeFactor(ay, g.AyMax(r.speed), r.speed),
+                r.brake[j] + 1e-9);
+    }
+  // Both capacities fall with lateral load.
+  EXPECT_LT(rows[0].drive.back(), rows[0].drive.front());
+  EXPECT_LT(rows[0].brake.back(), rows[0].brake.front());
+}
+
+TEST(PlantEnvelope, FullLimitLapOfYasNorthIsAbout60Seconds) {
+  const ResolvedScenario sc = Resolve(DefaultScenario());
+  EXPECT_GE(sc.limit_lap_time, 60.0 * 0.97);
+  EXPECT_LE(sc.limit_lap_time, 60.0 * 1.03);
+}
+
+TEST(PlantEnvelope, ReferenceAtFullLimitsIsQuasiSteadyFeasible) {
+  // GG × limit_fraction = 1: the planner uses 100 % of the envelope.
+  params::ScenarioParams spec = DefaultScenario();
+  spec.gg_scale = 1.0 / spec.limit_fraction;
+  const ResolvedScenario sc = Resolve(spec);
+  const plant::QuasiSteadyModel qs(sc.vehicle,
+                                   {.brake_bias_front = spec.motion.longitudinal.brake_bias_front});
+  const auto& pts = sc.path->points();
+  int infeasible = 0, checked = 0;
+  for (std::size_t i = 0; i < pts.size(); i += 2) {
+    const double v = pts[i].v, ay = v * v * pts[i].kappa;
+    // 1 % tolerance: the table is interpolated linearly between speeds 10 m/s apart.
+    if (!qs.Solve(v, 0.99 * pts[i].a_x, 0.99 * ay).feasible) ++infeasible;
+    ++checked;
+  }
+  EXPECT_EQ(infeasible, 0) << "of " << checked << " reference points";
+}
+
+bool SameTable(const controller::planning::GgvTable& a, const controller::planning::GgvTable& b) {
+  return a.speed == b.speed && a.ay_max == b.ay_max && a.ax_drive_max == b.ax_drive_max &&
+         a.ax_brake_max == b.ax_brake_max && a.drive_exponent == b.drive_exponent &&
+         a.brake_exponent == b.brake_exponent;
+}
+
+bool SamePath(const controller::motion::Path& a, const controller::motion::Path& b) {
+  if (a.size() != b.size() || a.length() != b.length()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const auto &p = a.points()[i], &q = b.points()[i];
+    if (p.s != q.s || p.x != q.x || p.y != q.y || p.psi != q.psi || p.kappa != q.kappa ||
+        p.v != q.v || p.a_x != q.a_x)
+      return false;
+  }
+  return true;
+}
+
+TEST(PreparationCache, ScenariosWithTheSamePlannedVehicleShareTheTable) {
+  const ResolvedScenario a = Resolve(DefaultScenario());
+  // Fewer laps, sensor noise (the envelope ignores it) and a slippery car planned with the
+  // nominal grip all plan with the same vehicle.
+  const ResolvedScenario b = Resolve(DefaultScenario({"laps=1", "sensor_noise=true"}));
+  const ResolvedScenario c =
+      Resolve(DefaultScenario({"grip.mu=0.8", "plan_with_nominal_grip=true"}));
+  for (const ResolvedScenario* r : {&b, &c}) {
+    EXPECT_TRUE(SameTable(r->ggv, a.ggv));
+    EXPECT_TRUE(SamePath(*r->path, *a.path));
+    EXPECT_EQ(r->ideal_lap_time, a.ideal_lap_time);
+    EXPECT_EQ(r->limit_lap_time, a.limit_lap_time);
+  }
+}
+
+TEST(PreparationCache, AnyOtherVehicleValueGetsItsOwnTable) {
+  const ResolvedScenario base = Resolve(DefaultScenario());
+  const ResolvedScenario wet = Resolve(DefaultScenario({"grip.mu=0.9"}));
+  EXPECT_FALSE(SameTable(wet.ggv, base.ggv));
+  EXPECT_GT(wet.ideal_lap_time, base.ideal_lap_time + 0.5);
+  EXPECT_GT(wet.limit_lap_time, base.limit_lap_time + 0.5);
+  const ResolvedScenario bias =
+      Resolve(DefaultScenario({"motion.longitudinal.brake_bias_front=0.62"}));
+  EXPECT_FALSE(SameTable(bias.ggv, base.ggv));
+}
+
+TEST(PreparationCache, ConcurrentResolutionGivesTheSerialResult) {
+  // A grip no other test plans with: the threads meet an empty cache for its table.
+  const params::ScenarioParams spec = DefaultScenario({"grip.front_mu_y=0.95", "laps=1"});
+  std::vector<ResolvedScenario> got(4);
+  ParallelFor(static_cast<int>(got.size()), static_cast<int>(got.size()),
+              [&](int i) { got[static_cast<std::size_t>(i)] = Resolve(spec); });
+  // Serial and without the cache: the line, the table and both profiles from scratch.
+  RacingLineOptions ro;
+  ro.margin = spec.motion.raceline_margin;
+  const plant::Track line = MinimumCurvatureLine(plant::YasNorthTrack(), ro).line;
+  const auto table = PlantEnvelope(got[0].vehicle, spec.motion.longitudinal.brake_bias_front);
+  VelocityProfileOptions vo;
+  vo.gg_scale = spec.gg_scale * spec.limit_fraction;
+  const double ideal = ComputeVelocityProfile(line, table, vo).lap_time;
+  const double limit = ComputeVelocityProfile(line, table, VelocityProfileOptions{}).lap_time;
+  const ResolvedScenario serial = Resolve(spec);
+  for (const ResolvedScenario& r : got) {
+    EXPECT_TRUE(SameTable(r.ggv, table));
+    EXPECT_EQ(r.ideal_lap_time, ideal);
+    EXPECT_EQ(r.limit_lap_time, limit);
+    EXPECT_TRUE(SamePath(*r.path, *serial.path));
+  }
+}
+
+}  // namespace
+}  // namespace scw::tuning

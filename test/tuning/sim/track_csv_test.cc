@@ -1,0 +1,104 @@
+// CSV loaders: both public formats load; bad cells fail naming file, line and column.
+#include "tuning/sim/track_csv.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "test/test_data.h"
+
+namespace scw::plant {
+namespace {
+
+using tuning::LoadTrackCsv;
+
+class TrackCsvBad : public ::testing::Test {
+ protected:
+  std::string Write(const std::string& name, const std::string& text) {
+    const auto p = std::filesystem::temp_directory_path() /
+                   ("scw_track_csv_" + std::to_string(::getpid()) + "_" + name);
+    std::ofstream(p) << text;
+    files_.push_back(p);
+    return p.string();
+  }
+  void TearDown() override {
+    for (const auto& f : files_) std::filesystem::remove(f);
+  }
+  // A closed 12-point loop in the racetrack-database format with one line replaced.
+  std::string Loop(int bad_row = -1, const std::string& bad_line = "") {
+    std::string text = "# x_m,y_m,w_tr_right_m,w_tr_left_m\n";
+    for (int i = 0; i < 12; ++i) {
+      const double a = 2 * 3.141592653589793 * i / 12;
+      text += i == bad_row ? bad_line + "\n"
+                           : std::to_string(40 * std::cos(a)) + "," +
+                                 std::to_string(40 * std::sin(a)) + ",4.0,4.0\n";
+    }
+    return text;
+  }
+  static std::string Message(const std::string& path) {
+    try {
+      LoadTrackCsv(path);
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "no error";
+  }
+  std::vector<std::filesystem::path> files_;
+};
+
+TEST_F(TrackCsvBad, ValidLoopLoads) {
+  const Track t = LoadTrackCsv(Write("ok.csv", Loop()));
+  EXPECT_NEAR(t.length(), 2 * 3.141592653589793 * 40, 2.0);
+}
+
+TEST_F(TrackCsvBad, NanCellNamesFileLineAndColumn) {
+  const std::string f = Write("nan.csv", Loop(3, "1.0,nan,4.0,4.0"));
+  const std::string msg = Message(f);
+  EXPECT_NE(msg.find(f), std::string::npos) << msg;
+  EXPECT_NE(msg.find("line 5, column y_m"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("not a finite number"), std::string::npos) << msg;
+}
+
+TEST_F(TrackCsvBad, NonNumericCellNamesFileLineAndColumn) {
+  const std::string msg = Message(Write("text.csv", Loop(6, "1.0,2.0,abc,4.0")));
+  EXPECT_NE(msg.find("line 8, column w_tr_right_m: 'abc' is not a number"), std::string::npos)
+      << msg;
+}
+
+TEST_F(TrackCsvBad, MissingColumnIsNamed) {
+  const std::string msg = Message(Write("col.csv", "x_m,y_m,w_tr_right_m\n1,2,3\n"));
+  EXPECT_NE(msg.find("missing column 'w_tr_left_m'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("line 1"), std::string::npos) << msg;
+}
+
+TEST_F(TrackCsvBad, MissingCellIsNamed) {
+  const std::string msg = Message(Write("short.csv", Loop(2, "1.0,2.0,4.0")));
+  EXPECT_NE(msg.find("line 4, column w_tr_left_m: missing value"), std::string::npos) << msg;
+}
+
+TEST_F(TrackCsvBad, TooFewRowsAndOpenLoopsAreRejected) {
+  const std::string few =
+      Message(Write("few.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m\n0,0,1,1\n1,0,1,1\n"));
+  EXPECT_NE(few.find("too few rows"), std::string::npos) << few;
+  std::string open = "x_m,y_m,w_tr_right_m,w_tr_left_m\n";
+  for (int i = 0; i < 20; ++i) open += std::to_string(10.0 * i) + ",0,3,3\n";
+  const std::string msg = Message(Write("open.csv", open));
+  EXPECT_NE(msg.find("does not close"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("line 21 (last row)"), std::string::npos) << msg;
+}
+
+TEST(TrackCsvPublic, BothPublicFormatsLoad) {
+  const std::string yas = test::SharedData(test::kYasSmoothed);
+  const std::string monza = test::SharedData(test::kMonza);
+  if (yas.empty() || monza.empty()) GTEST_SKIP() << "../shared/data/tracks not present";
+  const Track y = LoadTrackCsv(yas);  // Track3D: negative right widths, closing row repeated
+  EXPECT_NEAR(y.length(), 3004.1, 3.0);
+  EXPECT_GT(y.width_right()[0], 0.0);
+  const Track m = LoadTrackCsv(monza);  // racetrack-database
+  EXPECT_NEAR(m.length(), 5790.2, 10.0);
+  EXPECT_NEAR(std::abs(m.total_turning()), 2 * 3.141592653589793, 1e-9);
+}
+
+}  // namespace
+}  // namespace scw::plant

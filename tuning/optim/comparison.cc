@@ -1,0 +1,348 @@
+#include "tuning/optim/comparison.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "params/io/csv.h"
+#include "params/io/write.h"
+
+namespace scw::tuning {
+namespace {
+std::string Fixed(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*f", digits, x);
+  return buf;
+}
+}  // namespace
+
+std::string ComparisonMarkdown(const std::string& title, const BatchEvaluator& ev,
+                               const std::vector<std::string>& labels,
+                               const std::vector<SetEvaluation>& results) {
+  std::string out = "### " + title + "\n\n";
+  out +=
+      "| scenario | set | status | mean lap [s] | max abs beta [deg] | max lat. err. [m] | "
+      "ESC/CS/ABS/TC [count] | cost |\n| --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  for (std::size_t k = 0; k < ev.scenarios().size(); ++k)
+    for (std::size_t s = 0; s < results.size(); ++s) {
+      const RunMetrics& m = results[s].runs[k];
+      const double lap = m.MeanLapTime();
+      out += "| " + ev.scenarios()[k].spec.name + " | " + labels[s] + " | " +
+             RunStatusName(m.status) +
+             (m.aborted() ? " (" + Fixed(100.0 * m.Progress(), 0) + " %)" : std::string()) + " | " +
+             (std::isfinite(lap) ? Fixed(lap, 3) : std::string("-")) + " | " +
+             Fixed(m.max_abs_sideslip * 180.0 / M_PI, 2) + " | " +
+             Fixed(m.max_abs_lateral_error, 2) + " | " + std::to_string(m.esc_count) + "/" +
+             std::to_string(m.cs_count) + "/" + std::to_string(m.abs_count) + "/" +
+             std::to_string(m.tc_count) + " | " + Fixed(results[s].costs[k].total, 3) + " |\n";
+    }
+  out += "\n| set | total cost |\n| --- | --- |\n";
+  for (std::size_t s = 0; s < results.size(); ++s)
+    out += "| " + labels[s] + " | " + Fixed(results[s].total, 3) + " |\n";
+  return out + "\n";
+}
+
+std::string ComparisonCsv(const std::string& group, const BatchEvaluator& ev,
+                          const std::vector<std::string>& labels,
+                          const std::vector<SetEvaluation>& results, bool header) {
+  auto FormatDouble = [](double x) {
+    return std::isnan(x) ? std::string("nan") : params::FormatDouble(x);
+  };
+  std::string out;
+  if (header)
+    out +=
+        "group,scenario,set,status,progress,mean_lap_time_s,max_abs_sideslip_deg,"
+        "max_abs_lateral_error_m,esc_count,cs_count,abs_count,tc_count,esc_brake_energy_J,"
+        "cost,total_cost\n";
+  for (std::size_t k = 0; k < ev.scenarios().size(); ++k)
+    for (std::size_t s = 0; s < results.size(); ++s) {
+      const RunMetrics& m = results[s].runs[k];
+      out += io::CsvField(group) + "," + io::CsvField(ev.scenarios()[k].spec.name) + "," +
+             io::CsvField(labels[s]) + "," + RunStatusName(m.status) + "," +
+             FormatDouble(m.Progress()) + "," + FormatDouble(m.MeanLapTime()) + "," +
+             FormatDouble(m.max_abs_sideslip * 180.0 / M_PI) + "," +
+             FormatDouble(m.max_abs_lateral_error) + "," + std::to_string(m.esc_count) + "," +
+             std::to_string(m.cs_count) + "," + std::to_string(m.abs_count) + "," +
+             std::to_string(m.tc_count) + "," + FormatDouble(m.esc_brake_energy) + "," +
+             FormatDouble(results[s].costs[k].total) + "," + FormatDouble(results[s].total) + "\n";
+    }
+  return out;
+}
+
+namespace {
+std::string Count(int n, const char* what) {
+  return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
+}
+}  // namespace
+
+std::string TunedFileHeader(const TuneProvenance& p, bool overrides) {
+  std::string out = "Tuned by scw tune " + p.tool_version + " (git " + p.git_revision + ") on " +
+                    p.date_utc + "\n";
+  out += "run folder: " + p.run_folder + "\n";
+  out += "base: " + p.base + "\n";
+  out += "search: " + p.algorithm + ", seed " + std::to_string(p.seed) + ", " +
+         Count(p.evaluations, "evaluation") + " (stop: " + p.stop_reason + "); space " + p.space +
+         ", " + Count(p.dimensions, "dimension") + "\n";
+  for (const auto& g : p.grown) out += "  range grown to include the base: " + g + "\n";
+  out += "cost (lower is better): base -> tuned\n";
+  out += "  training (" + Count(p.training_scenarios, "scenario") +
+         "): " + Fixed(p.training_before, 3) + " -> " + Fixed(p.training_after, 3) + "\n";
+  if (p.held_out_scenarios > 0)
+    out += "  held-out (" + Count(p.held_out_scenarios, "scenario") +
+           ", not used for tuning): " + Fixed(p.held_out_before, 3) + " -> " +
+           Fixed(p.held_out_after, 3) + "\n";
+  if (p.changed.empty()) {
+    out += "changed keys: none (the tuned set equals the base)\n";
+  } else {
+    out += "changed keys (" + std::to_string(p.changed.size()) + "):";
+    std::string line;
+    for (std::size_t i = 0; i < p.changed.size(); ++i) {
+      const std::string item = " " + p.changed[i] + (i + 1 < p.changed.size() ? "," : "");
+      if (!line.empty() && line.size() + item.size() > 90) {
+        out += line + "\n ";
+        line.clear();
+      }
+      line += item;
+    }
+    out += line + "\n";
+  }
+  out +=
+      "Tuned values are rounded to their schema resolution (within one step of the base: the base "
+      "value);\nevery other key is the base value.\n";
+  if (overrides)
+    out +=
+        "Overrides only: load AFTER the base file (later params files win), e.g.\n"
+        "  --ros-args --params-file base.yaml --params-file stability_overrides.yaml";
+  else
+    out +=
+        "Complete params file: load it INSTEAD of the base file, e.g.\n"
+        "  --ros-args --params-file stability_tuned.yaml";
+  return out;
+}
+
+double CostNoiseThreshold(double baseline) {
+  return std::max(kCostNoiseAbs, kCostNoiseRel * std::abs(baseline));
+}
+
+const char* OutcomeChangeName(OutcomeChange c) {
+  switch (c) {
+    case OutcomeChange::kCompletedBoth:
+      return "completed in both";
+    case OutcomeChange::kAbortedBoth:
+      return "aborted in both";
+    case OutcomeChange::kNewAbort:
+      return "completed -> aborted";
+    case OutcomeChange::kAbortFixed:
+      return "aborted -> completed";
+  }
+  return "?";
+}
+
+const char* CostChangeName(CostChange c) {
+  switch (c) {
+    case CostChange::kBetter:
+      return "better";
+    case CostChange::kNoSignificantChange:
+      return "no significant change";
+    case CostChange::kWorse:
+      return "worse";
+  }
+  return "?";
+}
+
+const char* VerdictName(Verdict v) {
+  switch (v) {
+    case Verdict::kImproves:
+      return "improves";
+    case Verdict::kNoSignificantChange:
+      return "no_significant_change";
+    case Verdict::kWorse:
+      return "worse";
+    case Verdict::kMixed:
+      return "mixed";
+  }
+  return "?";
+}
+
+namespace {
+CostChange Judge(double before, double after, double threshold) {
+  const double d = after - before;
+  if (!(std::abs(d) >= threshold)) return CostChange::kNoSignificantChange;  // NaN: no claim
+  return d < 0 ? CostChange::kBetter : CostChange::kWorse;
+}
+}  // namespace
+
+SetChange CompareSets(const std::vector<std::string>& names, const std::vector<double>& weights,
+                      const SetEvaluation& baseline, const SetEvaluation& tuned) {
+  const std::size_t n = names.size();
+  if (baseline.runs.size() != n || tuned.runs.size() != n || baseline.costs.size() != n ||
+      tuned.costs.size() != n || (!weights.empty() && weights.size() != n))
+    throw std::invalid_argument("CompareSets: the scenario counts of the inputs differ");
+  SetChange out;
+  for (std::size_t k = 0; k < n; ++k) {
+    ScenarioChange c;
+    c.scenario = names[k];
+    c.before = baseline.runs[k];
+    c.after = tuned.runs[k];
+    c.weight = weights.empty() ? 1.0 : weights[k];
+    c.cost_before = baseline.costs[k].total;
+    c.cost_after = tuned.costs[k].total;
+    c.threshold = CostNoiseThreshold(c.cost_before);
+    const bool a0 = c.before.aborted(), a1 = c.after.aborted();
+    c.outcome = a0 ? (a1 ? OutcomeChange::kAbortedBoth : OutcomeChange::kAbortFixed)
+                   : (a1 ? OutcomeChange::kNewAbort : OutcomeChange::kCompletedBoth);
+    if (c.outcome == OutcomeChange::kNewAbort)
+      c.change = CostChange::kWorse;
+    else if (c.outcome == OutcomeChange::kAbortFixed)
+      c.change = CostChange::kBetter;
+    else
+      c.change = Judge(c.cost_before, c.cost_after, c.threshold);
+    out.better += c.change == CostChange::kBetter;
+    out.worse += c.change == CostChange::kWorse;
+    out.new_aborts += c.outcome == OutcomeChange::kNewAbort;
+    out.scenarios.push_back(std::move(c));
+  }
+  out.total_before = baseline.total;
+  out.total_after = tuned.total;
+  out.total_threshold = CostNoiseThreshold(out.total_before);
+  out.total_change = Judge(out.total_before, out.total_after, out.total_threshold);
+  if (out.new_aborts > 0)
+    out.verdict = Verdict::kWorse;
+  else if (out.better == 0 && out.worse == 0)
+    out.verdict = out.total_change == CostChange::kBetter  ? Verdict::kImproves
+                  : out.total_change == CostChange::kWorse ? Verdict::kWorse
+                                                           : Verdict::kNoSignificantChange;
+  else if (out.worse == 0)
+    out.verdict = Verdict::kImproves;
+  else if (out.better == 0)
+    out.verdict = Verdict::kWorse;
+  else
+    out.verdict = Verdict::kMixed;
+  return out;
+}
+
+SetChange CompareSets(const BatchEvaluator& ev, const SetEvaluation& baseline,
+                      const SetEvaluation& tuned) {
+  std::vector<std::string> names;
+  for (const auto& sc : ev.scenarios()) names.push_back(sc.spec.name);
+  return CompareSets(names, ev.weights(), baseline, tuned);
+}
+
+namespace {
+std::string Signed(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%+.*f", digits, x);
+  return buf;
+}
+
+/// "-0.400 (-0.10 %)"
+std::string Delta(double before, double after) {
+  std::string out = Signed(after - before, 3);
+  if (before != 0.0) out += " (" + Signed(100.0 * (after - before) / std::abs(before), 2) + " %)";
+  return out;
+}
+
+std::string Outcome(const RunMetrics& m) {
+  if (!m.aborted()) {
+    const double lap = m.MeanLapTime();
+    return std::isfinite(lap) ? "completed, mean lap " + Fixed(lap, 3) + " s"
+                              : std::string("completed");
+  }
+  return std::string(RunStatusName(m.status)) + " at " + Fixed(100.0 * m.Progress(), 1) +
+         " % of the distance";
+}
+
+std::string Scenarios(int n) { return Count(n, "scenario"); }
+}  // namespace
+
+std::string SetChangeMarkdown(const std::string& group, const SetChange& c) {
+  std::string out = "**" + group + " verdict: ";
+  switch (c.verdict) {
+    case Verdict::kImproves: {
+      int among_aborts = 0;
+      for (const auto& s : c.scenarios)
+        among_aborts += s.change == CostChange::kBetter && s.outcome == OutcomeChange::kAbortedBoth;
+      out +=
+          "the tuned set improves the cost** (better in " + Scenarios(c.better) + ", worse in none";
+      if (c.better > 0 && among_aborts == c.better)
+        out += c.better == 1 ? "; that scenario aborts with both sets: the tuned set gets further "
+                               "or fails more gently, it does not make it drivable"
+                             : "; all of them abort with both sets: the tuned set gets further "
+                               "or fails more gently, it does not make them drivable";
+      out += ").\n";
+      break;
+    }
+    case Verdict::kNoSignificantChange:
+      out +=
+          "no significant change** (no scenario and not the total changes by more than the noise "
+          "threshold).\n";
+      break;
+    case Verdict::kWorse:
+      out += "the tuned set is WORSE** (";
+      if (c.new_aborts > 0)
+        out += Scenarios(c.new_aborts) + " completed by the baseline " +
+               (c.new_aborts == 1 ? "aborts" : "abort") + " with the tuned set";
+      else if (c.worse > 0)
+        out += "worse in " + Scenarios(c.worse) + ", better in " + Scenarios(c.better);
+      else
+        out += "the total cost rises beyond the noise threshold";
+      out +=
+          "): possible over-fitting to the training scenarios; review before using it on the "
+          "car.\n";
+      break;
+    case Verdict::kMixed:
+      out += "mixed** (better in " + Scenarios(c.better) + ", worse in " + Scenarios(c.worse) +
+             "): review the worse ones before using the set on the car.\n";
+      break;
+  }
+  out += "\nTotal cost " + Fixed(c.total_before, 3) + " -> " + Fixed(c.total_after, 3) + ": " +
+         Delta(c.total_before, c.total_after) + ", " + CostChangeName(c.total_change) +
+         " (noise threshold " + Fixed(c.total_threshold, 3) + ").\n\n";
+
+  bool weighted = false;
+  for (const auto& s : c.scenarios) weighted = weighted || s.weight != 1.0;
+  out += std::string("| scenario class | scenarios | cost change") +
+         (weighted ? " (weighted)" : "") +
+         " | better | no significant change | worse |\n| --- | --- | --- | --- | --- | --- |\n";
+  for (OutcomeChange oc : {OutcomeChange::kCompletedBoth, OutcomeChange::kAbortedBoth,
+                           OutcomeChange::kNewAbort, OutcomeChange::kAbortFixed}) {
+    int n = 0, counts[3] = {0, 0, 0};
+    double delta = 0.0;
+    for (const auto& s : c.scenarios) {
+      if (s.outcome != oc) continue;
+      ++n;
+      ++counts[static_cast<int>(s.change)];
+      delta += s.weight * (s.cost_after - s.cost_before);
+    }
+    if (n == 0) continue;
+    out += std::string("| ") + OutcomeChangeName(oc) + " | " + std::to_string(n) + " | " +
+           Signed(delta, 3) + " | " + std::to_string(counts[0]) + " | " +
+           std::to_string(counts[1]) + " | " + std::to_string(counts[2]) + " |\n";
+  }
+  out +=
+      "\n| scenario | class | baseline | tuned | cost | change | verdict |\n"
+      "| --- | --- | --- | --- | --- | --- | --- |\n";
+  for (const auto& s : c.scenarios) {
+    std::string tuned = Outcome(s.after);
+    if (s.outcome == OutcomeChange::kAbortedBoth) {
+      const double p0 = s.before.Progress(), p1 = s.after.Progress();
+      if (p1 != p0) tuned += p1 > p0 ? " (later)" : " (earlier)";
+    }
+    out += "| " + s.scenario + " | " + OutcomeChangeName(s.outcome) + " | " + Outcome(s.before) +
+           " | " + tuned + " | " + Fixed(s.cost_before, 3) + " -> " + Fixed(s.cost_after, 3) +
+           " | " + Delta(s.cost_before, s.cost_after) + " | " + CostChangeName(s.change) +
+           (s.change == CostChange::kNoSignificantChange ? " (< " + Fixed(s.threshold, 3) + ")"
+                                                         : std::string()) +
+           " |\n";
+  }
+  out += "\nNoise threshold: a cost change smaller than max(" + Fixed(kCostNoiseAbs, 2) + ", " +
+         Fixed(100.0 * kCostNoiseRel, 1) +
+         " % of the baseline cost), per scenario and for the total, is no significant change "
+         "(a few controller steps of lap time, and below what the plant model resolves); a "
+         "scenario the baseline completes and the tuned set aborts is always worse, the reverse "
+         "always better.\n\n";
+  return out;
+}
+
+}  // namespace scw::tuning

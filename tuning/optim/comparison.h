@@ -1,0 +1,120 @@
+// Comparison of parameter sets on an evaluator's scenarios (scw tune, scw evaluate): tables,
+// the noise threshold, per-scenario changes and the verdict, the tuned file's header.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "tuning/optim/evaluator.h"
+
+namespace scw::tuning {
+
+/// Side-by-side comparison of parameter sets on the scenarios of an evaluator: per scenario and
+/// set the status, mean lap time, max |β|, interventions and cost; then the totals.
+/// `labels[i]` names `results[i]` (one SetEvaluation per parameter set).
+std::string ComparisonMarkdown(const std::string& title, const BatchEvaluator& ev,
+                               const std::vector<std::string>& labels,
+                               const std::vector<SetEvaluation>& results);
+/// The same data as CSV rows (with a header when `header` is true).
+std::string ComparisonCsv(const std::string& group, const BatchEvaluator& ev,
+                          const std::vector<std::string>& labels,
+                          const std::vector<SetEvaluation>& results, bool header);
+
+/// A cost change below the noise threshold max(kCostNoiseAbs, kCostNoiseRel · |J_baseline|) is
+/// "no significant change". The closed loop is deterministic, so this is not random noise but the
+/// resolution below which a change means nothing on the car: the controllers run at 100 Hz, so a
+/// parameter change of no consequence still moves a lap's end by a few 10 ms steps (0.05 s ≈ five
+/// steps, in cost units, which are seconds of lap time), and the reduced plant does not predict
+/// the car to better than about half a percent of a lap (0.5 %; ≈ 0.35 s on a 70 s lap).
+inline constexpr double kCostNoiseAbs = 0.05;
+inline constexpr double kCostNoiseRel = 0.005;
+/// max(kCostNoiseAbs, kCostNoiseRel · |baseline|).
+double CostNoiseThreshold(double baseline);
+
+/// How a scenario's outcome changes from the baseline to the tuned set.
+enum class OutcomeChange {
+  kCompletedBoth,  ///< completed with both sets
+  kAbortedBoth,    ///< aborted with both sets (the cost then mostly measures how far it got)
+  kNewAbort,       ///< completed with the baseline, aborted with the tuned set
+  kAbortFixed,     ///< aborted with the baseline, completed with the tuned set
+};
+const char* OutcomeChangeName(OutcomeChange c);  ///< "completed in both", …
+
+enum class CostChange { kBetter, kNoSignificantChange, kWorse };
+const char* CostChangeName(CostChange c);  ///< "better", "no significant change", "worse"
+
+/// One scenario: baseline vs tuned.
+struct ScenarioChange {
+  std::string scenario;
+  OutcomeChange outcome = OutcomeChange::kCompletedBoth;
+  RunMetrics before, after;                    ///< the baseline's and the tuned set's run
+  double weight = 1.0;                         ///< the scenario's weight in the total
+  double cost_before = 0.0, cost_after = 0.0;  ///< J_s (unweighted)
+  double threshold = 0.0;                      ///< CostNoiseThreshold(cost_before)
+  /// kNewAbort is always kWorse and kAbortFixed always kBetter; otherwise by the cost change
+  /// against the threshold (lower cost = better).
+  CostChange change = CostChange::kNoSignificantChange;
+};
+
+/// Overall judgement of a tuned set on a group of scenarios.
+enum class Verdict {
+  kImproves,             ///< some scenario significantly better, none worse, no new abort
+  kNoSignificantChange,  ///< no scenario and not the total changes beyond the noise threshold
+  kWorse,                ///< a new abort, or some scenario worse and none better
+  kMixed,                ///< significantly better in some scenarios, worse in others
+};
+/// "improves", "no_significant_change", "worse", "mixed" (e.g. for manifest.yaml).
+const char* VerdictName(Verdict v);
+
+struct SetChange {
+  std::vector<ScenarioChange> scenarios;
+  double total_before = 0.0, total_after = 0.0;  ///< Σ weight · J
+  double total_threshold = 0.0;                  ///< CostNoiseThreshold(total_before)
+  CostChange total_change = CostChange::kNoSignificantChange;
+  int better = 0, worse = 0, new_aborts = 0;  ///< scenario counts
+  /// When no scenario changes significantly, the total decides (many small gains can add up);
+  /// otherwise a new abort → kWorse, then better/worse counts as documented at Verdict.
+  Verdict verdict = Verdict::kNoSignificantChange;
+};
+
+/// Compares the tuned set with the baseline scenario by scenario. `names` and `weights` are per
+/// scenario (as in a BatchEvaluator). Throws std::invalid_argument when the sizes differ.
+SetChange CompareSets(const std::vector<std::string>& names, const std::vector<double>& weights,
+                      const SetEvaluation& baseline, const SetEvaluation& tuned);
+SetChange CompareSets(const BatchEvaluator& ev, const SetEvaluation& baseline,
+                      const SetEvaluation& tuned);
+
+/// The verdict as Markdown for comparison.md: one bold line with the overall verdict and the
+/// total's change against its noise threshold, a table of the change per scenario class, a table
+/// per scenario (outcome, cost change, verdict) and the threshold rule. `group` names the
+/// scenarios, e.g. "Held-out".
+std::string SetChangeMarkdown(const std::string& group, const SetChange& c);
+
+/// Where a tuned params file comes from (scw tune), for the comment header of the exported files.
+struct TuneProvenance {
+  std::string tool_version;  ///< scw version
+  std::string git_revision;  ///< of the workspace that built scw
+  std::string run_folder;
+  std::string date_utc;  ///< ISO 8601, e.g. 2026-05-04T10:21:07Z
+  std::string base;      ///< the base params file, or a description of the built-in set
+  std::string algorithm;
+  unsigned long long seed = 0;
+  int evaluations = 0;
+  std::string stop_reason;
+  std::string space;               ///< space file or "built-in default"
+  int dimensions = 0;              ///< tuned dimensions
+  std::vector<std::string> grown;  ///< entries whose range was grown to include the base
+  int training_scenarios = 0;      ///< costs: base set ("before") and tuned set ("after")
+  double training_before = 0, training_after = 0;
+  int held_out_scenarios = 0;  ///< 0: no held-out scenarios (their costs are not printed)
+  double held_out_before = 0, held_out_after = 0;
+  std::vector<std::string> changed;  ///< dotted keys whose exported value differs from the base
+};
+
+/// Comment lines (without the leading '#', joined by '\n') for the head of the tuned full file
+/// (`overrides` false) or the overrides-only file: tool version, git revision, run folder, date,
+/// base, search settings, training and held-out cost before and after, the changed keys and how
+/// to load the file on the car.
+std::string TunedFileHeader(const TuneProvenance& p, bool overrides);
+
+}  // namespace scw::tuning

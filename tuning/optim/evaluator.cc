@@ -1,0 +1,276 @@
+#include "tuning/optim/evaluator.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <mutex>
+#include <numeric>
+#include <stdexcept>
+
+#include "tuning/sim/closed_loop.h"
+#include "tuning/sim/parallel/mpi_backend.h"
+#include "tuning/sim/parallel/parallel_for.h"
+#include "tuning/sim/parallel/wire.h"
+
+namespace scw::tuning {
+namespace {
+
+// Serialises the progress calls of one batch (see evaluator.h); a no-op without a callback.
+class ProgressCounter {
+ public:
+  ProgressCounter(const BatchProgress& progress, int total) : progress_(progress), total_(total) {}
+  void JobDone() {
+    if (!progress_) return;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    progress_(++done_, total_);
+  }
+
+ private:
+  const BatchProgress& progress_;
+  const int total_;
+  int done_ = 0;
+  std::mutex mutex_;
+};
+
+RunOptions OptionsFor(const params::CostWeights& cost) {
+  RunOptions ro;
+  ro.sideslip_allowed_deg = cost.sideslip_allowed_deg;
+  return ro;
+}
+
+// One job: `set` on `sc`. A set the schema rejects is a result (kInvalidParams + the first
+// problem), not an error.
+void RunJob(const ResolvedScenario& sc, const params::StabilityParams& set, const RunOptions& ro,
+            RunMetrics* m, std::string* invalid) {
+  try {
+    *m = RunClosedLoop(sc, set, ro);
+  } catch (const ConfigError& e) {
+    *m = RunMetrics{};
+    m->status = RunStatus::kInvalidParams;
+    m->laps_planned = sc.spec.laps;
+    m->distance_planned = sc.spec.laps * sc.track->length();
+    *invalid =
+        e.problems().empty() ? e.what() : e.problems()[0].path + ": " + e.problems()[0].message;
+  }
+}
+
+// --- What travels to the other ranks (tuning/sim/parallel/wire.h).
+
+std::string EncodeSetup(const std::vector<ScenarioEntry>& entries, const std::string& base_dir,
+                        const params::CostWeights& cost) {
+  WireWriter w;
+  w.Int(static_cast<std::int64_t>(entries.size()));
+  for (const auto& e : entries) {
+    w.String(e.name);
+    w.Double(e.weight);
+    w.String(e.file);
+    w.Int(static_cast<std::int64_t>(e.overrides.size()));
+    for (const auto& o : e.overrides) w.String(o);
+  }
+  w.String(base_dir);
+  w.Params(cost);
+  return w.Take();
+}
+
+std::string EncodeSets(const std::vector<params::StabilityParams>& sets) {
+  WireWriter w;
+  w.Int(static_cast<std::int64_t>(sets.size()));
+  for (const auto& s : sets) w.Params(s);
+  return w.Take();
+}
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+// A job's result: the metrics as exact text, a line break, the job's wall time (for the order of
+// later jobs only), a line break, the invalid-set message.
+std::string EncodeResult(const RunMetrics& m, double wall, const std::string& invalid) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "\n%a\n", wall);
+  return EncodeRunMetrics(m) + buf + invalid;
+}
+
+void DecodeResult(std::string_view bytes, RunMetrics* m, double* wall, std::string* invalid) {
+  const std::string text(bytes);
+  const char* end = DecodeRunMetrics(text.c_str(), m);
+  char* after = nullptr;
+  if (end != nullptr && *end == '\n') *wall = std::strtod(end + 1, &after);
+  if (after == nullptr || after == end + 1 || *after != '\n')
+    throw std::runtime_error("unreadable result from a rank");
+  *invalid = std::string(after + 1);
+}
+
+class EvaluatorWorkerTask final : public mpi::WorkerTask {
+ public:
+  EvaluatorWorkerTask(std::string_view setup, int threads) : ev_(Decode(setup, threads)) {}
+
+  void StartBatch(std::string_view payload) override {
+    WireReader r(payload);
+    const std::int64_t n = r.Int();
+    if (n < 0 || n > 1000000) throw std::runtime_error("malformed batch");
+    sets_.assign(static_cast<std::size_t>(n), params::StabilityParams{});
+    for (auto& s : sets_) r.Params(&s);
+  }
+
+  std::string Run(int index) const override {
+    const std::size_t n_sc = ev_.scenarios().size();
+    const auto j = static_cast<std::size_t>(index);
+    if (n_sc == 0 || index < 0 || j / n_sc >= sets_.size())
+      throw std::runtime_error("job index out of range");
+    RunMetrics m;
+    std::string invalid;
+    const auto t0 = std::chrono::steady_clock::now();
+    RunJob(ev_.scenarios()[j % n_sc], sets_[j / n_sc], OptionsFor(ev_.cost()), &m, &invalid);
+    return EncodeResult(m, Seconds(t0), invalid);
+  }
+
+ private:
+  static BatchEvaluator Decode(std::string_view setup, int threads) {
+    WireReader r(setup);
+    std::vector<ScenarioEntry> entries(static_cast<std::size_t>(r.Int()));
+    for (auto& e : entries) {
+      e.name = r.String();
+      e.weight = r.Double();
+      e.file = r.String();
+      e.overrides.resize(static_cast<std::size_t>(r.Int()));
+      for (auto& o : e.overrides) o = r.String();
+    }
+    const std::string base_dir = r.String();
+    params::CostWeights cost;
+    r.Params(&cost);
+    return BatchEvaluator::FromEntries(entries, base_dir, cost, threads);
+  }
+
+  BatchEvaluator ev_;
+  std::vector<params::StabilityParams> sets_;
+};
+
+}  // namespace
+
+struct BatchEvaluator::JobLengths {
+  std::mutex mutex;
+  std::vector<double> length;  ///< per scenario: [s] wall time, or [m] planned before any run
+};
+
+std::vector<int> LongestFirst(const std::vector<double>& lengths) {
+  std::vector<int> order(lengths.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    return lengths[static_cast<std::size_t>(a)] > lengths[static_cast<std::size_t>(b)];
+  });
+  return order;
+}
+
+BatchEvaluator::BatchEvaluator(std::vector<ResolvedScenario> scenarios, std::vector<double> weights,
+                               params::CostWeights cost, int threads)
+    : scenarios_(std::move(scenarios)),
+      weights_(std::move(weights)),
+      cost_(cost),
+      threads_(ResolveThreads(threads)),
+      lengths_(std::make_shared<JobLengths>()) {
+  weights_.resize(scenarios_.size(), 1.0);
+  for (const auto& sc : scenarios_)
+    lengths_->length.push_back(sc.track ? sc.spec.laps * sc.track->length() : 0.0);
+}
+
+BatchEvaluator BatchEvaluator::FromEntries(const std::vector<ScenarioEntry>& entries,
+                                           const std::string& base_dir,
+                                           const params::CostWeights& cost, int threads,
+                                           const BatchProgress& progress) {
+  // The other ranks (MPI) resolve the same scenarios meanwhile.
+  auto remote = mpi::MaybeRemote(
+      "evaluate", [&] { return EncodeSetup(entries, base_dir, cost); }, ResolveThreads(threads));
+  std::vector<ResolvedScenario> resolved(entries.size());
+  std::vector<double> weights;
+  for (const auto& e : entries) weights.push_back(e.weight);
+  ProgressCounter counter(progress, static_cast<int>(entries.size()));
+  ParallelFor(static_cast<int>(entries.size()), threads, [&](int i) {
+    const ScenarioEntry& e = entries[static_cast<std::size_t>(i)];
+    const params::ScenarioParams spec = LoadEntry(e, base_dir);
+    std::string dir = base_dir;
+    if (!e.file.empty()) {
+      const std::filesystem::path f = std::filesystem::path(e.file).is_absolute()
+                                          ? std::filesystem::path(e.file)
+                                          : std::filesystem::path(base_dir) / e.file;
+      dir = f.parent_path().string();
+    }
+    resolved[static_cast<std::size_t>(i)] =
+        Resolve(spec, dir, e.file.empty() ? "built-in" : e.file);
+    counter.JobDone();
+  });
+  BatchEvaluator ev(std::move(resolved), std::move(weights), cost, threads);
+  ev.remote_ = std::move(remote);
+  return ev;
+}
+
+std::vector<SetEvaluation> BatchEvaluator::Evaluate(
+    const std::vector<params::StabilityParams>& sets, const BatchProgress& progress) const {
+  const int n_sc = static_cast<int>(scenarios_.size());
+  const int n_jobs = static_cast<int>(sets.size()) * n_sc;
+  std::vector<RunMetrics> slots(static_cast<std::size_t>(n_jobs));
+  std::vector<std::string> invalid(static_cast<std::size_t>(n_jobs));
+  std::vector<double> wall(static_cast<std::size_t>(n_jobs), 0.0);
+  const RunOptions ro = OptionsFor(cost_);
+  ProgressCounter counter(progress, n_jobs);
+  std::vector<int> order;
+  {
+    const std::lock_guard<std::mutex> lock(lengths_->mutex);
+    std::vector<double> job_length(static_cast<std::size_t>(n_jobs));
+    for (int j = 0; j < n_jobs; ++j)
+      job_length[static_cast<std::size_t>(j)] =
+          lengths_->length[static_cast<std::size_t>(j % n_sc)];
+    order = LongestFirst(job_length);
+  }
+  const auto job = [&](int j) {
+    const auto t0 = std::chrono::steady_clock::now();
+    RunJob(scenarios_[static_cast<std::size_t>(j % n_sc)], sets[static_cast<std::size_t>(j / n_sc)],
+           ro, &slots[static_cast<std::size_t>(j)], &invalid[static_cast<std::size_t>(j)]);
+    wall[static_cast<std::size_t>(j)] = Seconds(t0);
+    counter.JobDone();
+  };
+  if (remote_) {
+    remote_->Run(
+        EncodeSets(sets), n_jobs, job,
+        [&](int j, std::string_view bytes) {
+          const auto k = static_cast<std::size_t>(j);
+          DecodeResult(bytes, &slots[k], &wall[k], &invalid[k]);
+          counter.JobDone();
+        },
+        order);
+  } else {
+    ParallelFor(n_jobs, threads_, [&](int p) { job(order[static_cast<std::size_t>(p)]); });
+  }
+  if (n_jobs > 0) {  // this call's lengths order the next call's jobs
+    const std::lock_guard<std::mutex> lock(lengths_->mutex);
+    std::fill(lengths_->length.begin(), lengths_->length.end(), 0.0);
+    for (int j = 0; j < n_jobs; ++j) {
+      double& l = lengths_->length[static_cast<std::size_t>(j % n_sc)];
+      l = std::max(l, wall[static_cast<std::size_t>(j)]);
+    }
+  }
+  std::vector<SetEvaluation> out(sets.size());
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    SetEvaluation& ev = out[s];
+    for (int k = 0; k < n_sc; ++k) {
+      const std::size_t j = s * static_cast<std::size_t>(n_sc) + static_cast<std::size_t>(k);
+      ev.runs.push_back(slots[j]);
+      ev.costs.push_back(ScenarioCost(
+          slots[j], cost_, scenarios_[static_cast<std::size_t>(k)].spec.kind == "critical"));
+      if (ev.invalid.empty()) ev.invalid = invalid[j];
+    }
+    ev.total = TotalCost(ev.costs, weights_);
+  }
+  return out;
+}
+
+SetEvaluation BatchEvaluator::Evaluate(const params::StabilityParams& set) const {
+  return Evaluate(std::vector<params::StabilityParams>{set}).front();
+}
+
+std::unique_ptr<mpi::WorkerTask> MakeEvaluatorWorkerTask(std::string_view setup, int threads) {
+  return std::make_unique<EvaluatorWorkerTask>(setup, threads);
+}
+
+}  // namespace scw::tuning

@@ -1,0 +1,94 @@
+// Batch evaluation of (parameter set × scenario) jobs on a thread pool.
+//
+// Every job is a pure function of its inputs (the resolved scenario, the parameter set and the
+// scenario's seed); results land in per-index slots and are aggregated serially in index order,
+// so the results are bit-identical for any thread count. A failed run (abort, NaN, invalid set)
+// is a result with a status, never an exception.
+//
+// Thread safety: an evaluator is immutable after construction; Evaluate may be called from one
+// thread at a time (it owns the worker threads of its call).
+//
+// MPI (tuning/sim/parallel/mpi_backend.h): on rank 0 of a run with more than one rank, FromEntries
+// also sends the entries to every other rank, which resolves the same scenarios; Evaluate then
+// sends the sets and hands the jobs out to all ranks (rank 0 included, `threads` each). Results
+// travel bit for bit into the same slots, so they equal those of one process.
+//
+// Order of the jobs: longest first (a batch ends when its last job ends, so a long job started
+// last leaves the other workers idle). The length of a scenario's job is its wall time in the
+// previous call (the longest over the sets), or its planned distance before the first call. The
+// order decides only when a job runs, never its result.
+//
+// Progress: FromEntries and Evaluate optionally report (jobs done, jobs in the call) after every
+// finished job, from the worker threads but never two calls at once, with `done` increasing by 1
+// from 1 to the total. The callback only observes: the results do not depend on it (or on its
+// timing), so they stay bit-identical for any thread count.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "params/schema/cost_params.h"
+#include "params/schema/stability_params.h"
+#include "tuning/optim/cost.h"
+#include "tuning/sim/metrics.h"
+#include "tuning/sim/scenario.h"
+#include "tuning/sim/scenario_set.h"
+
+namespace scw::tuning {
+
+namespace mpi {
+class RemoteTask;
+class WorkerTask;
+}  // namespace mpi
+
+struct SetEvaluation {
+  std::vector<RunMetrics> runs;      ///< per scenario
+  std::vector<CostBreakdown> costs;  ///< per scenario
+  double total = 0.0;                ///< Σ weight · J
+  std::string invalid;               ///< non-empty: the set was rejected (first problem)
+};
+
+/// Progress of one batch: (jobs finished, jobs in the batch). See the header comment.
+using BatchProgress = std::function<void(int done, int total)>;
+
+class BatchEvaluator {
+ public:
+  BatchEvaluator(std::vector<ResolvedScenario> scenarios, std::vector<double> weights,
+                 params::CostWeights cost, int threads = 0);
+
+  /// Resolves the entries of a set (training or held-out) in parallel; `progress` counts the
+  /// resolved scenarios.
+  static BatchEvaluator FromEntries(const std::vector<ScenarioEntry>& entries,
+                                    const std::string& base_dir, const params::CostWeights& cost,
+                                    int threads = 0, const BatchProgress& progress = {});
+
+  /// Every set on every scenario (sets.size() × scenarios jobs); `progress` counts the runs.
+  std::vector<SetEvaluation> Evaluate(const std::vector<params::StabilityParams>& sets,
+                                      const BatchProgress& progress = {}) const;
+  SetEvaluation Evaluate(const params::StabilityParams& set) const;
+
+  const std::vector<ResolvedScenario>& scenarios() const { return scenarios_; }
+  const std::vector<double>& weights() const { return weights_; }
+  const params::CostWeights& cost() const { return cost_; }
+  int threads() const { return threads_; }
+
+ private:
+  std::vector<ResolvedScenario> scenarios_;
+  std::vector<double> weights_;
+  params::CostWeights cost_;
+  int threads_;
+  std::shared_ptr<const mpi::RemoteTask> remote_;  ///< the other ranks' copies (MPI), or null
+  struct JobLengths;
+  std::shared_ptr<JobLengths> lengths_;  ///< per scenario, for the job order (see above)
+};
+
+/// Longest first: the job indices [0, lengths.size()) sorted by decreasing length, ties by index.
+std::vector<int> LongestFirst(const std::vector<double>& lengths);
+
+/// The other ranks' side of an evaluator under MPI (main registers it as task kind "evaluate").
+std::unique_ptr<mpi::WorkerTask> MakeEvaluatorWorkerTask(std::string_view setup, int threads);
+
+}  // namespace scw::tuning

@@ -1,0 +1,50 @@
+// Figures of a `scw tune` run folder, drawn with Python and matplotlib.
+//
+//   convergence.png  training cost of every evaluation (log scale; colour = optimiser phase from
+//                    the log's `phase` column: start, then e.g. crs2 and sbplx; marker = whether
+//                    the training runs completed, aborted or the set was rejected), the best cost
+//                    so far, phase boundaries; below, the best cost so far on a linear scale
+//   comparison.png   per scenario (training, then held-out) and parameter set (baseline, tuned):
+//                    how the run ended, mean lap time, max |sideslip| and the ESC/CS/ABS/TC
+//                    intervention counts, with the change tuned − baseline
+//
+// Inputs: the run folder's evaluations.csv (the tuner's log) and comparison.csv (ComparisonCsv).
+// The script is tuning/optim/plots/tune_plots.py, compiled into the library as text (CMake
+// generates a header with it as a raw string literal), so an installed scw needs no checkout; it is
+// run as `PYTHON - RUN_DIR` with the script on stdin. It writes each PNG under a temporary name in
+// the run folder and renames it into place, with the Agg backend and no date or software metadata,
+// so the same inputs give byte-identical files (for the same matplotlib version).
+//
+// Interpreter: TunePlotOptions::python, else the environment variable SCW_PYTHON, else `python3`
+// from PATH and, if that one lacks matplotlib (a pyenv or venv python first on PATH),
+// /usr/bin/python3 (Debian's, where python3-matplotlib installs).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace scw::tuning {
+
+inline constexpr const char* kConvergencePlotFile = "convergence.png";
+inline constexpr const char* kComparisonPlotFile = "comparison.png";
+
+struct TunePlotOptions {
+  std::string python;  ///< interpreter (a name looked up in PATH, or a path); "" = the default
+};
+
+/// Writes convergence.png and comparison.png into `run_dir` (which must hold evaluations.csv and
+/// comparison.csv). Returns false, with a one-line reason in `*message` (may be null), when no
+/// Python interpreter is found, matplotlib is missing, an input is malformed or the script fails;
+/// a figure written before the failure stays. Never throws. On success `*message` is cleared.
+/// Blocks while the script runs (a second or two).
+bool WriteTunePlots(const std::filesystem::path& run_dir, std::string* message,
+                    const TunePlotOptions& options = {});
+
+/// Markdown that embeds both figures, for comparison.md in the same folder (relative links).
+std::string TunePlotsMarkdown();
+
+/// The embedded script's text.
+std::string_view TunePlotScript();
+
+}  // namespace scw::tuning

@@ -1,0 +1,101 @@
+#include "tuning/sim/motion_factory.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <utility>
+#include <vector>
+
+#include "controller/motion/nmpc.h"
+#include "controller/motion/pmpc.h"
+#include "controller/motion/pure_pursuit.h"
+
+namespace scw::tuning {
+namespace {
+
+namespace cm = controller::motion;
+
+/// The planner's limits: the plant's g-g-v table × limit_fraction × GG.
+cm::GgTable PlannerLimits(const ResolvedScenario& sc) {
+  return sc.ggv.Scaled(sc.spec.gg_scale * sc.spec.limit_fraction);
+}
+
+/// Room left and right of the reference line at each of its stations, from the track widths,
+/// capped at 60 % of the scenario's lateral-error abort threshold (the MPC never plans towards an
+/// abort; the reference keeps raceline_margin from the edges anyway).
+cm::Corridor MakeCorridor(const ResolvedScenario& sc) {
+  const plant::Track& track = *sc.track;
+  const double cap = 0.6 * sc.spec.abort.max_lateral_error;
+  cm::Corridor c;
+  double hint = plant::Track::kNoHint;
+  for (const auto& p : sc.path->points()) {
+    const auto tp = track.Project(p.x, p.y, p.psi, hint);
+    hint = tp.s;
+    const double left = track.WidthLeftAt(tp.s) - tp.n;
+    const double right = track.WidthRightAt(tp.s) + tp.n;
+    c.left.push_back(std::clamp(left, 0.0, cap));
+    c.right.push_back(std::clamp(right, 0.0, cap));
+  }
+  return c;
+}
+
+}  // namespace
+
+std::vector<std::string> MotionControllerNames() { return {"pure_pursuit", "pmpc", "nmpc"}; }
+
+std::unique_ptr<controller::motion::MotionController> MakeMotionController(
+    const ResolvedScenario& sc) {
+  const std::string& name = sc.spec.motion.controller;
+  if (name == "pure_pursuit") {
+    controller::motion::PurePursuitOptions ppo;
+    ppo.max_curvature_lookahead = sc.spec.motion.max_curvature_lookahead;
+    ppo.esc_target =
+        sc.spec.motion.esc_target == "total" ? cm::EscTarget::kTotal : cm::EscTarget::kFeedback;
+    return std::make_unique<controller::motion::PurePursuit>(sc.tracking, sc.path, ppo);
+  }
+  // The MPCs model the car the planner planned for: the scenario's grip unless the reference was
+  // planned with nominal grip.
+  params::VehicleParams model_vehicle = sc.vehicle;
+  if (sc.spec.plan_with_nominal_grip) {
+    auto& g = model_vehicle.grip;
+    const auto& f = sc.spec.grip;
+    g.mu /= f.mu;
+    g.front_mu_x /= f.front_mu_x;
+    g.front_mu_y /= f.front_mu_y;
+    g.rear_mu_x /= f.rear_mu_x;
+    g.rear_mu_y /= f.rear_mu_y;
+    for (std::size_t i = 0; i < 4; ++i) {
+      g.wheel_mu_x[i] /= f.wheel_mu_x[i];
+      g.wheel_mu_y[i] /= f.wheel_mu_y[i];
+    }
+  }
+  const cm::SingleTrackParams st = cm::SingleTrackParamsFrom(model_vehicle);
+  try {
+    if (name == "pmpc") {
+      cm::PmpcOptions o;
+      o.sample_time = sc.tracking.tS;
+      o.solve_period = std::max(o.solve_period, o.sample_time);
+      o.wheelbase = sc.vehicle.chassis.wheelbase;
+      o.max_steering = sc.vehicle.steering.max_angle;
+      o.understeer_gradient = cm::UndersteerGradient(st, 50.0);
+      return std::make_unique<cm::PointMassMpc>(o, PlannerLimits(sc), MakeCorridor(sc), sc.path);
+    }
+    if (name == "nmpc") {
+      cm::NmpcOptions o;
+      o.max_steering = sc.vehicle.steering.max_angle;
+      return std::make_unique<cm::SingleTrackMpc>(o, st, PlannerLimits(sc), MakeCorridor(sc),
+                                                  sc.path);
+    }
+  } catch (const ConfigError& e) {
+    std::vector<Problem> problems;
+    for (const Problem& p : e.problems())
+      problems.push_back(
+          {"motion.controller", name + ": " + (p.path.empty() ? "" : p.path + ": ") + p.message});
+    throw ConfigError(sc.source, std::move(problems));
+  } catch (const std::exception& e) {
+    throw ConfigError(sc.source, "motion.controller", name + ": " + e.what());
+  }
+  throw ConfigError(sc.source, "motion.controller", "unknown motion controller '" + name + "'");
+}
+
+}  // namespace scw::tuning

@@ -1,0 +1,15 @@
+// Human- and machine-readable renderings of run metrics.
+#pragma once
+
+#include <string>
+
+#include "tuning/sim/metrics.h"
+
+namespace scw::tuning {
+
+/// A short multi-line table: status, laps, extremes, interventions.
+std::string FormatRunSummary(const std::string& name, const RunMetrics& m);
+/// The same as plain YAML (key: value), numbers in shortest round-trip form.
+std::string RunSummaryYaml(const std::string& name, const RunMetrics& m);
+
+}  // namespace scw::tuning
