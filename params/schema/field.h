@@ -114,6 +114,30 @@ struct Meta {
   bool workspace_only = false;
 };
 
+/// Metadata of one output field: a quantity a model or run reports (a result, not a parameter: no
+/// bounds, no default, never tuned). An output struct `O` lists each member once in
+///
+///   template <class Self, class V> static void Visit(Self& self, V& v);   // Self = O or const O
+///
+/// calling `v.Output(self.member, OutputMeta{...})`, and every rendering (text, YAML, CSV columns,
+/// the exact wire encoding between processes) is derived from that list.
+struct OutputMeta {
+  /// The name every rendering uses (YAML key, CSV column), with the rendered unit as its suffix
+  /// (`time_s`, `max_abs_sideslip_deg`).
+  std::string_view key;
+  std::string_view unit = "-";  ///< unit of the rendered value
+  std::string_view doc = "";
+  /// The member holds radians and renderings show degrees: rendered = member · 180 / π.
+  bool rad_to_deg = false;
+  /// Part of the run summaries; false for internal bookkeeping (still in the exact encoding).
+  bool summary = true;
+};
+
+/// The value an output field is rendered with (degrees for radian members).
+inline double RenderedValue(double member, const OutputMeta& m) {
+  return m.rad_to_deg ? member * 180.0 / M_PI : member;
+}
+
 inline std::string JoinKey(std::string_view prefix, std::string_view key) {
   if (prefix.empty()) return std::string(key);
   std::string out(prefix);

@@ -105,7 +105,8 @@ int RunSweepCommand(const SweepOptions& o) {
                 << r.axes[i].values[static_cast<std::size_t>(run.point.value[i])];
     std::cout << "  " << std::setw(static_cast<int>(w_status)) << tuning::RunStatusName(m.status)
               << "  mean lap " << std::right << std::setw(7) << Fixed(m.MeanLapTime(), 3)
-              << " s  max|beta| " << std::setw(5) << Fixed(m.max_abs_sideslip * 180.0 / M_PI, 2)
+              << " s  max|beta| " << std::setw(5)
+              << Fixed(tuning::RenderedMetric(m, "max_abs_sideslip_deg").real, 2)
               << " deg  slip f/r " << std::setw(5) << Fixed(m.max_slip_front, 1) << '/'
               << std::setw(5) << Fixed(m.max_slip_rear, 1) << " %\n";
   }

@@ -32,7 +32,7 @@ std::string ComparisonMarkdown(const std::string& title, const BatchEvaluator& e
              RunStatusName(m.status) +
              (m.aborted() ? " (" + Fixed(100.0 * m.Progress(), 0) + " %)" : std::string()) + " | " +
              (std::isfinite(lap) ? Fixed(lap, 3) : std::string("-")) + " | " +
-             Fixed(m.max_abs_sideslip * 180.0 / M_PI, 2) + " | " +
+             Fixed(RenderedMetric(m, "max_abs_sideslip_deg").real, 2) + " | " +
              Fixed(m.max_abs_lateral_error, 2) + " | " + std::to_string(m.esc_count) + "/" +
              std::to_string(m.cs_count) + "/" + std::to_string(m.abs_count) + "/" +
              std::to_string(m.tc_count) + " | " + Fixed(results[s].costs[k].total, 3) + " |\n";
@@ -43,29 +43,42 @@ std::string ComparisonMarkdown(const std::string& title, const BatchEvaluator& e
   return out + "\n";
 }
 
+namespace {
+/// The RunMetrics columns of the comparison CSV (names, units and conversions: RunMetrics::Visit).
+constexpr std::string_view kComparisonColumns[] = {kProgressKey,
+                                                   kMeanLapTimeKey,
+                                                   "max_abs_sideslip_deg",
+                                                   "max_abs_lateral_error_m",
+                                                   "esc_count",
+                                                   "cs_count",
+                                                   "abs_count",
+                                                   "tc_count",
+                                                   "esc_brake_energy_J"};
+
+std::string CsvNumber(double x) {
+  return std::isnan(x) ? std::string("nan") : params::FormatDouble(x);
+}
+}  // namespace
+
 std::string ComparisonCsv(const std::string& group, const BatchEvaluator& ev,
                           const std::vector<std::string>& labels,
                           const std::vector<SetEvaluation>& results, bool header) {
-  auto FormatDouble = [](double x) {
-    return std::isnan(x) ? std::string("nan") : params::FormatDouble(x);
-  };
   std::string out;
-  if (header)
-    out +=
-        "group,scenario,set,status,progress,mean_lap_time_s,max_abs_sideslip_deg,"
-        "max_abs_lateral_error_m,esc_count,cs_count,abs_count,tc_count,esc_brake_energy_J,"
-        "cost,total_cost\n";
+  if (header) {
+    out += "group,scenario,set,status";
+    for (std::string_view c : kComparisonColumns) out += "," + std::string(c);
+    out += ",cost,total_cost\n";
+  }
   for (std::size_t k = 0; k < ev.scenarios().size(); ++k)
     for (std::size_t s = 0; s < results.size(); ++s) {
       const RunMetrics& m = results[s].runs[k];
       out += io::CsvField(group) + "," + io::CsvField(ev.scenarios()[k].spec.name) + "," +
-             io::CsvField(labels[s]) + "," + RunStatusName(m.status) + "," +
-             FormatDouble(m.Progress()) + "," + FormatDouble(m.MeanLapTime()) + "," +
-             FormatDouble(m.max_abs_sideslip * 180.0 / M_PI) + "," +
-             FormatDouble(m.max_abs_lateral_error) + "," + std::to_string(m.esc_count) + "," +
-             std::to_string(m.cs_count) + "," + std::to_string(m.abs_count) + "," +
-             std::to_string(m.tc_count) + "," + FormatDouble(m.esc_brake_energy) + "," +
-             FormatDouble(results[s].costs[k].total) + "," + FormatDouble(results[s].total) + "\n";
+             io::CsvField(labels[s]) + "," + RunStatusName(m.status);
+      for (std::string_view c : kComparisonColumns) {
+        const MetricValue v = RenderedMetric(m, c);
+        out += "," + (v.is_integer ? std::to_string(v.integer) : CsvNumber(v.real));
+      }
+      out += "," + CsvNumber(results[s].costs[k].total) + "," + CsvNumber(results[s].total) + "\n";
     }
   return out;
 }

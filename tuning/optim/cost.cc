@@ -11,7 +11,7 @@ CostBreakdown ScenarioCost(const RunMetrics& m, const params::CostWeights& w, bo
   c.lap_time = std::isfinite(mean) ? mean : w.lap_time_cap;
   c.sideslip = w.sideslip_weight * m.sideslip_excess_integral;
   if (critical) {
-    const double excess = m.max_abs_sideslip * 180.0 / M_PI - w.sideslip_allowed_deg;
+    const double excess = RenderedMetric(m, "max_abs_sideslip_deg").real - w.sideslip_allowed_deg;
     if (w.max_sideslip_weight > 0.0) c.max_sideslip = w.max_sideslip_weight * std::max(0.0, excess);
   } else {
     c.brake_energy = w.brake_energy_weight * m.esc_brake_energy / 1000.0;

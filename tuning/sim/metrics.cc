@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <numeric>
+#include <stdexcept>
 
 namespace scw::tuning {
 
@@ -44,67 +45,120 @@ double RunMetrics::Progress() const {
   return std::isfinite(p) ? std::clamp(p, 0.0, 1.0) : 0.0;
 }
 
-std::string EncodeRunMetrics(const RunMetrics& m) {
+namespace {
+
+using params::OutputMeta;
+
+/// Writes each member: integers in decimal, doubles as %a, the laps as count then values.
+struct Encoder {
   std::string out;
-  char buf[64];
-  const auto num = [&](double x) {
+  void Integer(long x) { out += " " + std::to_string(x); }
+  void Output(const RunStatus& s, const OutputMeta&) { Integer(static_cast<long>(s)); }
+  void Output(const int& x, const OutputMeta&) { Integer(x); }
+  void Output(const double& x, const OutputMeta&) {
+    char buf[64];
     std::snprintf(buf, sizeof buf, " %a", x);
     out += buf;
-  };
-  const auto integer = [&](long x) { out += " " + std::to_string(x); };
-  integer(static_cast<long>(m.status));
-  integer(static_cast<long>(m.lap_times.size()));
-  for (double t : m.lap_times) num(t);
-  integer(m.laps_planned);
-  for (double x : {m.time, m.distance, m.distance_planned, m.end_s}) num(x);
-  integer(m.end_lap);
-  for (double x :
-       {m.max_abs_sideslip, m.max_abs_lateral_error, m.max_abs_heading_error, m.max_slip_front,
-        m.max_slip_rear, m.sideslip_excess_integral, m.esc_time, m.cs_time, m.abs_time, m.tc_time})
-    num(x);
-  for (int c : {m.esc_count, m.cs_count, m.abs_count, m.tc_count}) integer(c);
-  for (double x : {m.esc_brake_energy, m.abs_pressure_released, m.tc_throttle_cut, m.max_speed})
-    num(x);
-  return out;
-}
+  }
+  void Output(const std::vector<double>& xs, const OutputMeta& meta) {
+    Integer(static_cast<long>(xs.size()));
+    for (const double& x : xs) Output(x, meta);
+  }
+};
 
-const char* DecodeRunMetrics(const char* text, RunMetrics* m) {
-  const char* p = text;
+/// Reads what Encoder wrote; `ok` turns false at the first unreadable or out-of-range item.
+struct Decoder {
+  const char* p = nullptr;
   bool ok = true;
-  const auto num = [&]() {
-    char* end = nullptr;
-    const double x = std::strtod(p, &end);
-    if (end == p) ok = false;
-    p = end;
-    return x;
-  };
-  const auto integer = [&]() {
+  long Integer() {
     char* end = nullptr;
     const long x = std::strtol(p, &end, 10);
     if (end == p) ok = false;
     p = end;
     return x;
-  };
-  const long status = integer();
-  if (status < 0 || status > static_cast<long>(RunStatus::kInvalidParams)) return nullptr;
-  m->status = static_cast<RunStatus>(status);
-  const long laps = integer();
-  if (laps < 0 || laps > 100000) return nullptr;
-  m->lap_times.resize(static_cast<std::size_t>(laps));
-  for (double& t : m->lap_times) t = num();
-  m->laps_planned = static_cast<int>(integer());
-  for (double* x : {&m->time, &m->distance, &m->distance_planned, &m->end_s}) *x = num();
-  m->end_lap = static_cast<int>(integer());
-  for (double* x : {&m->max_abs_sideslip, &m->max_abs_lateral_error, &m->max_abs_heading_error,
-                    &m->max_slip_front, &m->max_slip_rear, &m->sideslip_excess_integral,
-                    &m->esc_time, &m->cs_time, &m->abs_time, &m->tc_time})
-    *x = num();
-  for (int* c : {&m->esc_count, &m->cs_count, &m->abs_count, &m->tc_count})
-    *c = static_cast<int>(integer());
-  for (double* x :
-       {&m->esc_brake_energy, &m->abs_pressure_released, &m->tc_throttle_cut, &m->max_speed})
-    *x = num();
-  return ok ? p : nullptr;
+  }
+  void Output(RunStatus& s, const OutputMeta&) {
+    const long x = Integer();
+    if (x < 0 || x > static_cast<long>(RunStatus::kInvalidParams)) ok = false;
+    if (ok) s = static_cast<RunStatus>(x);
+  }
+  void Output(int& x, const OutputMeta&) { x = static_cast<int>(Integer()); }
+  void Output(double& x, const OutputMeta&) {
+    char* end = nullptr;
+    x = std::strtod(p, &end);
+    if (end == p) ok = false;
+    p = end;
+  }
+  void Output(std::vector<double>& xs, const OutputMeta& meta) {
+    const long n = Integer();
+    if (n < 0 || n > 100000) ok = false;
+    if (!ok) return;
+    xs.resize(static_cast<std::size_t>(n));
+    for (double& x : xs) Output(x, meta);
+  }
+};
+
+/// Finds one member by key and renders it.
+struct Finder {
+  std::string_view key;
+  bool found = false;
+  MetricValue value;
+  void Output(const RunStatus&, const OutputMeta&) {}
+  void Output(const std::vector<double>&, const OutputMeta&) {}
+  void Output(const int& x, const OutputMeta& meta) {
+    if (meta.key != key) return;
+    found = true;
+    value.is_integer = true;
+    value.integer = x;
+    value.real = x;
+  }
+  void Output(const double& x, const OutputMeta& meta) {
+    if (meta.key != key) return;
+    found = true;
+    value.real = params::RenderedValue(x, meta);
+  }
+};
+
+struct SummaryKeys {
+  std::vector<std::string_view> keys;
+  void Output(const RunStatus&, const OutputMeta&) {}
+  void Output(const std::vector<double>&, const OutputMeta&) { keys.push_back(kMeanLapTimeKey); }
+  template <class T>
+  void Output(const T&, const OutputMeta& meta) {
+    if (meta.summary) keys.push_back(meta.key);
+  }
+};
+
+}  // namespace
+
+MetricValue RenderedMetric(const RunMetrics& m, std::string_view key) {
+  if (key == kMeanLapTimeKey) return {.real = m.MeanLapTime()};
+  if (key == kProgressKey) return {.real = m.Progress()};
+  Finder f;
+  f.key = key;
+  RunMetrics::Visit(m, f);
+  if (!f.found) throw std::logic_error("RunMetrics has no number named " + std::string(key));
+  return f.value;
+}
+
+std::vector<std::string_view> SummaryMetricKeys() {
+  SummaryKeys k;
+  const RunMetrics m;
+  RunMetrics::Visit(m, k);
+  return k.keys;
+}
+
+std::string EncodeRunMetrics(const RunMetrics& m) {
+  Encoder e;
+  RunMetrics::Visit(m, e);
+  return e.out;
+}
+
+const char* DecodeRunMetrics(const char* text, RunMetrics* m) {
+  Decoder d;
+  d.p = text;
+  RunMetrics::Visit(*m, d);
+  return d.ok ? d.p : nullptr;
 }
 
 }  // namespace scw::tuning

@@ -2,7 +2,10 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
+
+#include "params/schema/field.h"
 
 namespace scw::tuning {
 
@@ -21,6 +24,8 @@ enum class RunStatus {
 
 const char* RunStatusName(RunStatus s);
 
+/// Every member is described once, in Visit (name with unit, doc): the run summaries (text, YAML),
+/// the comparison and sweep CSV columns and the exact encoding between processes derive from it.
 struct RunMetrics {
   RunStatus status = RunStatus::kCompleted;
   std::vector<double> lap_times;  ///< [s] completed laps (lap 1 starts at the flying start)
@@ -50,11 +55,105 @@ struct RunMetrics {
   double MeanLapTime() const;
   /// Fraction of the planned distance driven, in [0, 1].
   double Progress() const;
+
+  /// Every member, in the order of the YAML summary. `v.Output(member, meta)` with member one of
+  /// RunStatus, std::vector<double>, int, double.
+  template <class Self, class V>
+  static void Visit(Self& m, V& v) {
+    using params::OutputMeta;
+    v.Output(m.status, OutputMeta{.key = "status", .doc = "how the run ended"});
+    v.Output(m.lap_times, OutputMeta{.key = "lap_times_s",
+                                     .unit = "s",
+                                     .doc = "completed laps (lap 1 starts at the flying start)"});
+    v.Output(
+        m.laps_planned,
+        OutputMeta{.key = "laps_planned", .doc = "laps the scenario asks for", .summary = false});
+    v.Output(m.time, OutputMeta{.key = "time_s", .unit = "s", .doc = "simulated time at the end"});
+    v.Output(m.distance,
+             OutputMeta{.key = "distance_m", .unit = "m", .doc = "along the track at the end"});
+    v.Output(m.distance_planned, OutputMeta{.key = "distance_planned_m",
+                                            .unit = "m",
+                                            .doc = "laps × track length",
+                                            .summary = false});
+    v.Output(
+        m.end_s,
+        OutputMeta{.key = "end_s_m", .unit = "m", .doc = "track position where the run ended"});
+    v.Output(m.end_lap,
+             OutputMeta{.key = "end_lap", .doc = "lap index (0-based) where the run ended"});
+    v.Output(m.max_abs_sideslip, OutputMeta{.key = "max_abs_sideslip_deg",
+                                            .unit = "deg",
+                                            .doc = "largest |sideslip angle β|",
+                                            .rad_to_deg = true});
+    v.Output(m.max_abs_lateral_error,
+             OutputMeta{.key = "max_abs_lateral_error_m",
+                        .unit = "m",
+                        .doc = "largest |lateral error| to the reference line"});
+    v.Output(m.max_abs_heading_error, OutputMeta{.key = "max_abs_heading_error_deg",
+                                                 .unit = "deg",
+                                                 .doc = "largest |heading error| to the reference",
+                                                 .rad_to_deg = true});
+    v.Output(m.max_slip_front,
+             OutputMeta{.key = "max_slip_front_pct",
+                        .unit = "%",
+                        .doc = "largest |longitudinal slip| of the front wheels"});
+    v.Output(m.max_slip_rear, OutputMeta{.key = "max_slip_rear_pct",
+                                         .unit = "%",
+                                         .doc = "largest |longitudinal slip| of the rear wheels"});
+    v.Output(m.sideslip_excess_integral, OutputMeta{.key = "sideslip_excess_deg_s",
+                                                    .unit = "deg·s",
+                                                    .doc = "∫ max(0, |β| − β_allowed) dt"});
+    v.Output(m.max_speed,
+             OutputMeta{.key = "max_speed_mps", .unit = "m/s", .doc = "largest speed"});
+    v.Output(m.esc_count, OutputMeta{.key = "esc_count", .doc = "ESC activations (rising edges)"});
+    v.Output(m.esc_time,
+             OutputMeta{.key = "esc_time_s", .unit = "s", .doc = "time ESC was active"});
+    v.Output(m.cs_count,
+             OutputMeta{.key = "cs_count", .doc = "countersteer activations (rising edges)"});
+    v.Output(m.cs_time,
+             OutputMeta{.key = "cs_time_s", .unit = "s", .doc = "time countersteer was active"});
+    v.Output(m.abs_count, OutputMeta{.key = "abs_count", .doc = "ABS activations (rising edges)"});
+    v.Output(m.abs_time,
+             OutputMeta{.key = "abs_time_s", .unit = "s", .doc = "time ABS was active"});
+    v.Output(m.tc_count, OutputMeta{.key = "tc_count", .doc = "TC activations (rising edges)"});
+    v.Output(m.tc_time, OutputMeta{.key = "tc_time_s", .unit = "s", .doc = "time TC was active"});
+    v.Output(m.esc_brake_energy, OutputMeta{.key = "esc_brake_energy_J",
+                                            .unit = "J",
+                                            .doc = "brake energy caused by ESC pressure changes"});
+    v.Output(m.abs_pressure_released,
+             OutputMeta{.key = "abs_pressure_released_bar_s",
+                        .unit = "bar·s",
+                        .doc = "∫ Σ max(0, requested − applied pressure) dt where ABS acts"});
+    v.Output(m.tc_throttle_cut,
+             OutputMeta{.key = "tc_throttle_cut_s",
+                        .unit = "s",
+                        .doc = "∫ max(0, requested − applied throttle) dt while TC acts"});
+  }
 };
 
-/// Every field as text on one line, doubles as hexadecimal floats (printf %a), so that
-/// DecodeRunMetrics reads back the same values bit for bit: results between processes (sweep
-/// worker processes, MPI ranks). Update both when RunMetrics grows.
+/// Derived outputs, rendered beside the members: `mean_lap_time_s` (MeanLapTime) and `progress`
+/// (Progress, 0..1).
+inline constexpr std::string_view kMeanLapTimeKey = "mean_lap_time_s";
+inline constexpr std::string_view kProgressKey = "progress";
+
+/// One rendered number of RunMetrics: an integer member renders as an integer.
+struct MetricValue {
+  bool is_integer = false;
+  long integer = 0;
+  double real = 0.0;
+};
+
+/// The rendered value of the member or derived output named `key` (degrees for radian members).
+/// `status` and `lap_times_s` are not numbers: use RunStatusName and the laps directly. Throws
+/// std::logic_error for an unknown key (a bug in the caller).
+MetricValue RenderedMetric(const RunMetrics& m, std::string_view key);
+
+/// The keys of the summary numbers in Visit order (status and lap_times_s left out), after
+/// `mean_lap_time_s`.
+std::vector<std::string_view> SummaryMetricKeys();
+
+/// Every member (RunMetrics::Visit) as text on one line, doubles as hexadecimal floats (printf %a),
+/// so that DecodeRunMetrics reads back the same values bit for bit: results between processes
+/// (sweep worker processes, MPI ranks).
 std::string EncodeRunMetrics(const RunMetrics& m);
 /// Reads what EncodeRunMetrics wrote at the start of `text`; returns the position after it, or
 /// nullptr when it is not readable.

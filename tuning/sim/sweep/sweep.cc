@@ -1007,14 +1007,28 @@ void WriteSweepCsv(const std::string& path, const SweepResult& r) {
   for (const auto& a : r.axes) header.push_back(a.key);  // CsvWriter quotes (RFC 4180)
   for (const char* h : {"status", "progress", "laps_completed"}) header.emplace_back(h);
   for (int k = 1; k <= max_laps; ++k) header.push_back("lap_" + std::to_string(k) + "_s");
-  for (const char* h :
-       {"mean_lap_time_s", "max_abs_sideslip_deg", "max_slip_front_pct", "max_slip_rear_pct",
-        "max_abs_lateral_error_m", "max_abs_heading_error_deg", "max_speed_mps", "esc_count",
-        "cs_count", "abs_count", "tc_count", "esc_time_s", "cs_time_s", "abs_time_s", "tc_time_s",
-        "esc_brake_energy_J", "end_lap", "end_s_m", "ideal_lap_time_s"})
-    header.emplace_back(h);
+  // The RunMetrics columns (names, units and conversions: RunMetrics::Visit).
+  static constexpr std::string_view kColumns[] = {kMeanLapTimeKey,
+                                                  "max_abs_sideslip_deg",
+                                                  "max_slip_front_pct",
+                                                  "max_slip_rear_pct",
+                                                  "max_abs_lateral_error_m",
+                                                  "max_abs_heading_error_deg",
+                                                  "max_speed_mps",
+                                                  "esc_count",
+                                                  "cs_count",
+                                                  "abs_count",
+                                                  "tc_count",
+                                                  "esc_time_s",
+                                                  "cs_time_s",
+                                                  "abs_time_s",
+                                                  "tc_time_s",
+                                                  "esc_brake_energy_J",
+                                                  "end_lap",
+                                                  "end_s_m"};
+  for (std::string_view c : kColumns) header.emplace_back(c);
+  header.emplace_back("ideal_lap_time_s");
   io::CsvWriter w(path, header);
-  constexpr double kDeg = 180.0 / M_PI;
   for (const auto& run : r.runs) {
     if (!run.reported) continue;
     const RunMetrics& m = run.metrics;
@@ -1027,24 +1041,13 @@ void WriteSweepCsv(const std::string& path, const SweepResult& r) {
     for (int k = 0; k < max_laps; ++k)
       w.Add(k < static_cast<int>(m.lap_times.size()) ? m.lap_times[static_cast<std::size_t>(k)]
                                                      : std::nan(""));
-    w.Add(m.MeanLapTime());
-    w.Add(m.max_abs_sideslip * kDeg);
-    w.Add(m.max_slip_front);
-    w.Add(m.max_slip_rear);
-    w.Add(m.max_abs_lateral_error);
-    w.Add(m.max_abs_heading_error * kDeg);
-    w.Add(m.max_speed);
-    w.Add(m.esc_count);
-    w.Add(m.cs_count);
-    w.Add(m.abs_count);
-    w.Add(m.tc_count);
-    w.Add(m.esc_time);
-    w.Add(m.cs_time);
-    w.Add(m.abs_time);
-    w.Add(m.tc_time);
-    w.Add(m.esc_brake_energy);
-    w.Add(m.end_lap);
-    w.Add(m.end_s);
+    for (std::string_view c : kColumns) {
+      const MetricValue v = RenderedMetric(m, c);
+      if (v.is_integer)
+        w.Add(static_cast<int>(v.integer));
+      else
+        w.Add(v.real);
+    }
     w.Add(run.ideal_lap_time);
     w.EndRow();
   }
