@@ -44,6 +44,14 @@ struct PidState {
   double filtered = 0.0;       ///< d (filter output)
   double filtered_prev = 0.0;  ///< d of the previous update
   double integrator = 0.0;     ///< I
+
+  /// Every member once (controller/common/state_visit.h).
+  template <class Self, class V>
+  static void Visit(Self& s, V& v) {
+    v.Real(s.filtered);
+    v.Real(s.filtered_prev);
+    v.Real(s.integrator);
+  }
 };
 
 class Pid {

@@ -123,6 +123,20 @@ class AbsWheelController {
     double mu_prev = 0.3;
     RingBufferMean<kMaxFxWindowLength> force_out_mean;
     RingBufferMean<kMaxFxWindowLength> force_in_mean;
+
+    /// Every member once (controller/common/state_visit.h).
+    template <class Self, class V>
+    static void Visit(Self& s, V& v) {
+      v.Discrete(s.phase);
+      v.Real(s.epsilon);
+      v.Discrete(s.esp_trigger);
+      v.Real(s.f_latched);
+      v.Real(s.p_latched);
+      v.Real(s.v_latched);
+      v.Real(s.mu_prev);
+      v.Buffer(s.force_out_mean);
+      v.Buffer(s.force_in_mean);
+    }
   };
 
   struct Output {

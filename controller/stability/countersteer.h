@@ -45,6 +45,13 @@ class Countersteer {
   struct State {
     double alpha_front_filtered = 0.0;
     double alpha_rear_filtered = 0.0;
+
+    /// Every member once (controller/common/state_visit.h).
+    template <class Self, class V>
+    static void Visit(Self& s, V& v) {
+      v.Real(s.alpha_front_filtered);
+      v.Real(s.alpha_rear_filtered);
+    }
   };
 
   struct Output {

@@ -114,6 +114,16 @@ class Esc {
     double e_beta_filtered = 0.0;
     PidState pid_psi{};
     PidState pid_beta{};
+
+    /// Every member once (controller/common/state_visit.h).
+    template <class Self, class V>
+    static void Visit(Self& s, V& v) {
+      v.Discrete(s.phase);
+      v.Real(s.e_psi_filtered);
+      v.Real(s.e_beta_filtered);
+      v.Nested(s.pid_psi);
+      v.Nested(s.pid_beta);
+    }
   };
 
   struct Output {

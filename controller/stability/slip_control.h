@@ -121,6 +121,20 @@ class SlipControl {
     bool gear_initialised = false;
     double t_gear = -std::numeric_limits<double>::infinity();
     double t_gear_request = -std::numeric_limits<double>::infinity();
+
+    /// Every member once (controller/common/state_visit.h).
+    template <class Self, class V>
+    static void Visit(Self& s, V& v) {
+      v.Reals(s.prev_slip);
+      v.Reals(s.slip_angle_filtered);
+      v.NestedEach(s.abs);
+      v.NestedEach(s.tc);
+      v.Discrete(s.gear_seen);
+      v.Discrete(s.gear_request_seen);
+      v.Discrete(s.gear_initialised);
+      v.Time(s.t_gear);
+      v.Time(s.t_gear_request);
+    }
   };
 
   /// Throws ConfigError if `p` or `options` is invalid or the ABS window exceeds

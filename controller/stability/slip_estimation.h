@@ -72,6 +72,15 @@ class SlipEstimator {
     double blend_filtered = 1.0;
     double prev_slip_fl = 0.0;  ///< [%]
     double prev_slip_fr = 0.0;  ///< [%]
+
+    /// Every member once (controller/common/state_visit.h).
+    template <class Self, class V>
+    static void Visit(Self& s, V& v) {
+      v.Real(s.ax_filtered);
+      v.Real(s.blend_filtered);
+      v.Real(s.prev_slip_fl);
+      v.Real(s.prev_slip_fr);
+    }
   };
 
   /// Throws ConfigError if `p` is invalid.

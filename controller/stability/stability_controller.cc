@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "controller/common/interp.h"
+#include "controller/common/state_visit.h"
 #include "controller/stability/vehicle_model.h"
 
 namespace scw::controller {
@@ -29,25 +30,6 @@ bool AllWithin(const Wheels& w, double limit) {
 }
 
 bool Finite(double x) { return std::isfinite(x); }
-
-bool StateFinite(const StabilityController::State& s) {
-  bool ok = Finite(s.slip.ax_filtered) && Finite(s.slip.blend_filtered) &&
-            Finite(s.slip.prev_slip_fl) && Finite(s.slip.prev_slip_fr) &&
-            Finite(s.esc.e_psi_filtered) && Finite(s.esc.e_beta_filtered) &&
-            Finite(s.esc.pid_psi.integrator) && Finite(s.esc.pid_psi.filtered) &&
-            Finite(s.esc.pid_beta.integrator) && Finite(s.esc.pid_beta.filtered) &&
-            Finite(s.countersteer.alpha_front_filtered) &&
-            Finite(s.countersteer.alpha_rear_filtered) && AllFinite(s.slip_control.prev_slip) &&
-            AllFinite(s.slip_control.slip_angle_filtered);
-  for (std::size_t i = 0; i < 4; ++i) {
-    const auto& a = s.slip_control.abs[i];
-    const auto& t = s.slip_control.tc[i];
-    ok = ok && Finite(a.epsilon) && Finite(a.p_latched) && Finite(a.f_latched) &&
-         Finite(a.v_latched) && Finite(a.mu_prev) && Finite(t.epsilon) && Finite(t.slip_filtered) &&
-         Finite(t.force_prev);
-  }
-  return ok;
-}
 
 bool OutputFinite(const StabilityOutput& o) {
   return Finite(o.steering) && AllFinite(o.brake_bar) && Finite(o.throttle) &&

@@ -118,6 +118,16 @@ class StabilityController {
     Esc::State esc{};
     SlipControl::State slip_control{};
     Countersteer::State countersteer{};
+
+    /// Every member once (controller/common/state_visit.h): the state guard of step 7 checks
+    /// what this lists, so a new state member cannot escape it.
+    template <class Self, class V>
+    static void Visit(Self& s, V& v) {
+      v.Nested(s.slip);
+      v.Nested(s.esc);
+      v.Nested(s.slip_control);
+      v.Nested(s.countersteer);
+    }
   };
 
   /// Validates `p` and `options`; throws scw::ConfigError listing every problem.

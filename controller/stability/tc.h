@@ -79,6 +79,16 @@ class TcWheelController {
     double slip_filtered = 0.0;                                  ///< λ_f [%]
     double force_prev = 0.0;                                     ///< F_prev [N]
     double t_exceed = -std::numeric_limits<double>::infinity();  ///< [s]
+
+    /// Every member once (controller/common/state_visit.h).
+    template <class Self, class V>
+    static void Visit(Self& s, V& v) {
+      v.Discrete(s.phase);
+      v.Real(s.epsilon);
+      v.Real(s.slip_filtered);
+      v.Real(s.force_prev);
+      v.Time(s.t_exceed);
+    }
   };
 
   struct Output {
