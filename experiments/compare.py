@@ -20,6 +20,7 @@ import os
 import sys
 
 import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
+import report  # noqa: E402  (regenerates report.md after the study)
 
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
@@ -205,7 +206,7 @@ def main(argv=None):
     print(markdown(rows, labels))
     print(f"compare: {timer.seconds():.0f} s wall; outputs in {out}")
     if is_default_out:
-        scwexp.update_report(args)
+        report.update(args)
     return 0
 
 

@@ -578,6 +578,13 @@ every run. Everything below was fixed before any claim was evaluated
 """
 
 
+def update(args):
+    """Regenerates report.md after a study script (unless it ran with --no-report)."""
+    if getattr(args, "no_report", False):
+        return
+    main([])
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--publish", metavar="DIR",

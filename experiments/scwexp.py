@@ -424,10 +424,3 @@ def mark_aborts(ax, rows, key, field, color, linestyle="-"):
     for r in rows:
         if r["status"] != "completed" and not math.isnan(r[field]):
             ax.plot([r[key]], [r[field]], marker="x", color=color, markersize=9, linestyle="none")
-
-
-def update_report(args):
-    if getattr(args, "no_report", False):
-        return
-    import report  # noqa: E402  (same folder)
-    report.main([])

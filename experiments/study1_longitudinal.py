@@ -24,6 +24,7 @@ import os
 import sys
 
 import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
+import report  # noqa: E402  (regenerates report.md after the study)
 import studyplot  # noqa: E402
 
 STUDY = "study1_longitudinal"
@@ -120,7 +121,7 @@ def main(argv=None):
                   f"{a['first_abort']} ({a['first_abort_status']}), min lap "
                   f"{scwexp.fmt(a['min_lap_time_s'], 3)} s at GG {a['min_lap_value']}")
     print(f"{STUDY}: {timer.seconds():.0f} s wall (main sweep {main_wall:.0f} s); outputs in {out}")
-    scwexp.update_report(args)
+    report.update(args)
     return 0
 
 

@@ -88,6 +88,41 @@ def check(root):
                 if not listed(root, os.path.join(d, f)):
                     problems.append(f'{os.path.relpath(os.path.join(d, f), root)}: not listed in any '
                                     'CMakeLists.txt of its folder or above (never built)')
+    return problems + python_import_cycles(root)
+
+
+def python_import_cycles(root):
+    """Import cycles among the scripts of experiments/ (one module importing another that,
+    directly or not, imports it back)."""
+    folder = os.path.join(root, 'experiments')
+    if not os.path.isdir(folder):
+        return []
+    import ast
+    mods = {f[:-3] for f in os.listdir(folder) if f.endswith('.py')}
+    graph = {}
+    for m in sorted(mods):
+        tree = ast.parse(open(os.path.join(folder, m + '.py'), encoding='utf-8').read())
+        deps = set()
+        for n in ast.walk(tree):  # also imports inside functions
+            if isinstance(n, ast.Import):
+                deps |= {a.name.split('.')[0] for a in n.names}
+            elif isinstance(n, ast.ImportFrom) and n.module and not n.level:
+                deps.add(n.module.split('.')[0])
+        graph[m] = sorted(deps & mods)
+    problems, state = [], {}
+
+    def visit(m, stack):
+        state[m] = 1
+        for d in graph[m]:
+            if state.get(d) == 1:
+                cycle = stack[stack.index(d):] + [d]
+                problems.append('experiments/: import cycle ' + ' -> '.join(cycle))
+            elif d not in state:
+                visit(d, stack + [d])
+        state[m] = 2
+    for m in sorted(graph):
+        if m not in state:
+            visit(m, [m])
     return problems
 
 
@@ -119,6 +154,8 @@ def self_test():
         'params/io/csv.cc': '#include <yaml-cpp/yaml.h>\n',
         'tuning/sim/bad.cc': '#include "tuning/optim/tuner.h"\n',
         'tuning/optim/CMakeLists.txt': 'file(GLOB X *.cc)\n',
+        'experiments/a.py': 'import b\n',
+        'experiments/b.py': 'def f():\n    import a\n',
     }
     with tempfile.TemporaryDirectory() as root:
         for rel, text in planted.items():
@@ -134,7 +171,8 @@ def self_test():
                 'params/io/csv.cc: includes <yaml-cpp/yaml.h>',
                 'tuning/sim/bad.cc: includes "tuning/optim/tuner.h"',
                 'tuning/optim/CMakeLists.txt: globs its sources',
-                'tuning/sim/bad.cc: not listed']
+                'tuning/sim/bad.cc: not listed',
+                'experiments/: import cycle a -> b -> a']
     missing = [e for e in expected if not any(f.startswith(e) for f in found)]
     for e in missing:
         print(f'self-test: the planted violation "{e}" was not reported')
