@@ -544,14 +544,10 @@ SingleTrackMpc::SingleTrackMpc(const NmpcOptions& options, const SingleTrackPara
       path_(std::move(path)) {
   Problems pr = ValidateMpcInputs(path_.get(), limits_, corridor_);
   const auto& o = options_;
+  pr.Append(params::Validate(static_cast<const params::NmpcParams&>(o)));  // bounds
   const auto positive = [&pr](double v, const char* key) {
     if (!(v > 0.0)) pr.Add(key, "must be positive, is " + params::FormatNumber(v));
   };
-  if (o.horizon_steps < 2 || o.horizon_steps > 200)
-    pr.Add("horizon_steps", "must lie in [2, 200], is " + std::to_string(o.horizon_steps));
-  positive(o.step, "step");
-  positive(o.sample_time, "sample_time");
-  if (o.substeps < 1) pr.Add("substeps", "must be at least 1, is " + std::to_string(o.substeps));
   positive(model_.mass, "model.mass");
   positive(model_.yaw_inertia, "model.yaw_inertia");
   positive(model_.lf, "model.lf");
@@ -560,9 +556,7 @@ SingleTrackMpc::SingleTrackMpc(const NmpcOptions& options, const SingleTrackPara
   positive(model_.rear.mu, "model.rear.mu");
   positive(model_.front.b, "model.front.b");
   positive(model_.rear.b, "model.rear.b");
-  positive(o.max_steering, "max_steering");
-  positive(o.max_steering_rate, "max_steering_rate");
-  positive(o.accel_fraction, "accel_fraction");
+  positive(o.max_steering, "max_steering");  // the vehicle's
   if (!pr.empty()) throw ConfigError("nmpc", pr.items());
 }
 

@@ -40,6 +40,7 @@
 
 #include "controller/motion/motion_controller.h"
 #include "controller/motion/mpc_common.h"
+#include "params/schema/mpc_params.h"
 #include "params/schema/vehicle_params.h"
 
 namespace scw::controller::motion {
@@ -93,30 +94,10 @@ struct SingleTrackModel {
                            double kappa, double dt, int substeps, Jac* jac = nullptr) noexcept;
 };
 
-struct NmpcOptions {
-  int horizon_steps = 20;     ///< N
-  double step = 0.1;          ///< dt [s]
-  int substeps = 2;           ///< RK4 steps per interval
-  double sample_time = 0.05;  ///< one solve per call [s]
-  double q_n = 1.0;           ///< [1/m²]
-  double q_mu = 10.0;         ///< [1/rad²]
-  double q_v = 4.0;           ///< [s²/m²]
-  double r_ddelta = 200.0;    ///< on Δδ [1/rad²]
-  double r_da = 0.1;          ///< on Δa [s⁴/m²]
-  double r_a = 0.01;          ///< on a − a_ref [s⁴/m²]
-  double terminal_factor = 5.0;
-  double slack_l1 = 1e3, slack_l2 = 1e3;
-  double margin = 0.3;             ///< [m] track bounds tightened
-  double accel_fraction = 1.15;    ///< share of the planner's g-g limits the plan may use
-  double max_steering = 0.3;       ///< [rad]
-  double max_steering_rate = 1.0;  ///< [rad/s]
-  double min_speed = 2.0;          ///< [m/s] bound on v_x
-  double projection_window = 60.0;
-  // Fallback law (no plan): pure-pursuit-like on the reference.
-  double fallback_lookahead_time = 0.6;  ///< [s]
-  double fallback_min_lookahead = 10.0;  ///< [m]
-  int max_iter = 30;
-  double tol = 1e-5;
+/// The scenario's settings (params::NmpcParams, keys motion.nmpc.*) plus the vehicle's steering
+/// limit.
+struct NmpcOptions : params::NmpcParams {
+  double max_steering = 0.3;  ///< [rad] (the vehicle's)
 };
 
 class SingleTrackMpc final : public MotionController {

@@ -274,24 +274,17 @@ PointMassMpc::PointMassMpc(const PmpcOptions& options, GgTable limits, Corridor 
       path_(std::move(path)) {
   Problems pr = ValidateMpcInputs(path_.get(), limits_, corridor_);
   const auto& o = options_;
+  pr.Append(params::Validate(static_cast<const params::PmpcParams&>(o)));  // bounds, cross-checks
   const auto positive = [&pr](double v, const char* key) {
     if (!(v > 0.0)) pr.Add(key, "must be positive, is " + params::FormatNumber(v));
   };
-  if (o.horizon_steps < 2 || o.horizon_steps > 200)
-    pr.Add("horizon_steps", "must lie in [2, 200], is " + std::to_string(o.horizon_steps));
-  positive(o.step, "step");
+  // What the vehicle and the tracking loop fix.
   positive(o.sample_time, "sample_time");
   if (!(o.solve_period >= o.sample_time))
     pr.Add("solve_period", "must be at least sample_time (" + params::FormatNumber(o.sample_time) +
                                " s), is " + params::FormatNumber(o.solve_period));
   positive(o.wheelbase, "wheelbase");
   positive(o.max_steering, "max_steering");
-  positive(o.nominal_fraction, "nominal_fraction");
-  if (!(o.headroom >= o.nominal_fraction))
-    pr.Add("headroom", "must be at least nominal_fraction (" +
-                           params::FormatNumber(o.nominal_fraction) + "), is " +
-                           params::FormatNumber(o.headroom));
-  positive(o.min_lookahead, "min_lookahead");
   if (!pr.empty()) throw ConfigError("pmpc", pr.items());
   // Inscribed polygons of (1 − r^p)^(1/p) for p on a grid; each node uses the polygon of the
   // largest grid exponent not above the table's drive or brake exponent at its speed (inside).

@@ -46,6 +46,7 @@
 
 #include "controller/motion/motion_controller.h"
 #include "controller/motion/mpc_common.h"
+#include "params/schema/mpc_params.h"
 
 namespace scw::controller::motion {
 
@@ -61,38 +62,13 @@ struct PointMassModel {
                         Eigen::Matrix3d* a, Eigen::Matrix<double, 3, 2>* b) noexcept;
 };
 
-struct PmpcOptions {
-  int horizon_steps = 20;     ///< N
-  double step = 0.125;        ///< dt of the plan [s]
-  double solve_period = 0.1;  ///< QP re-solve period [s] (multiple of sample_time)
-  double sample_time = 0.01;  ///< feedback law period [s]
-  // Cost weights.
-  double q_n = 1.0;              ///< [1/m²]
-  double q_w = 0.5;              ///< [s²/m²]
-  double q_v = 4.0;              ///< [s²/m²]
-  double r_at = 0.01;            ///< [s⁴/m²]
-  double r_an = 0.01;            ///< [s⁴/m²]
-  double r_dat = 0.05;           ///< on Δa_t between steps [s⁴/m²]
-  double r_dan = 0.2;            ///< on Δa_n between steps [s⁴/m²]
-  double terminal_factor = 5.0;  ///< weight factor of the last state
-  double slack_l1 = 1e3;         ///< ρ₁
-  double slack_l2 = 1e3;         ///< ρ₂
-  // Constraints.
-  double tube_lateral = 0.3;       ///< [m] track bounds tightened for the nominal plan
-  double nominal_fraction = 1.15;  ///< share of the g-g limits the nominal plan may use
-  double headroom = 1.3;           ///< share the ancillary feedback may reach
-  double min_speed = 1.0;          ///< [m/s]
-  // Ancillary feedback / steering.
-  double wheelbase = 3.115;          ///< l [m]
-  double understeer_gradient = 0.0;  ///< K_us [rad/(m/s²)]
-  double max_steering = 0.3;         ///< [rad]
-  double lookahead_time = 0.6;       ///< t_la [s]
-  double min_lookahead = 10.0;       ///< L_min [m]
-  double speed_gain = 0.5;           ///< k_v [1/s]
-  double projection_window = 60.0;   ///< [m]
-  // Solver.
-  int max_iter = 60;
-  double tol = 1e-6;
+/// The scenario's settings (params::PmpcParams, keys motion.pmpc.*) plus what the vehicle and the
+/// tracking loop fix.
+struct PmpcOptions : params::PmpcParams {
+  double sample_time = 0.01;         ///< feedback law period [s] (the tracking loop's)
+  double wheelbase = 3.115;          ///< l [m] (the vehicle's)
+  double understeer_gradient = 0.0;  ///< K_us [rad/(m/s²)] (the vehicle's)
+  double max_steering = 0.3;         ///< [rad] (the vehicle's)
   bool mumps = false;      ///< factorise with MUMPS instead of the quasi-definite LDLᵀ (checks)
   bool warm_start = true;  ///< start from the shifted multipliers of the plan in use
 };

@@ -11,6 +11,7 @@
 #include "params/schema/field.h"
 #include "params/schema/friction_patch_params.h"
 #include "params/schema/longitudinal_params.h"
+#include "params/schema/mpc_params.h"
 #include "params/schema/tire_params.h"
 
 namespace scw::params {
@@ -23,6 +24,8 @@ struct MotionScenario {
   std::string raceline = "optimal";
   double raceline_margin = 2.0;
   LongitudinalParams longitudinal{};
+  PmpcParams pmpc{};  ///< used when controller = pmpc
+  NmpcParams nmpc{};  ///< used when controller = nmpc
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
     v.Field(s.controller, {.key = "controller",
@@ -63,6 +66,8 @@ struct MotionScenario {
                                 .doc = "Distance the optimal line keeps from each track edge.",
                                 .optional = true});
     v.Nested("longitudinal", s.longitudinal, true);
+    v.Nested("pmpc", s.pmpc, true);
+    v.Nested("nmpc", s.nmpc, true);
   }
 };
 

@@ -73,6 +73,7 @@ std::unique_ptr<controller::motion::MotionController> MakeMotionController(
   try {
     if (name == "pmpc") {
       cm::PmpcOptions o;
+      static_cast<params::PmpcParams&>(o) = sc.spec.motion.pmpc;  // motion.pmpc.*
       o.sample_time = sc.tracking.tS;
       o.solve_period = std::max(o.solve_period, o.sample_time);
       o.wheelbase = sc.vehicle.chassis.wheelbase;
@@ -82,6 +83,7 @@ std::unique_ptr<controller::motion::MotionController> MakeMotionController(
     }
     if (name == "nmpc") {
       cm::NmpcOptions o;
+      static_cast<params::NmpcParams&>(o) = sc.spec.motion.nmpc;  // motion.nmpc.*
       o.max_steering = sc.vehicle.steering.max_angle;
       return std::make_unique<cm::SingleTrackMpc>(o, st, PlannerLimits(sc), MakeCorridor(sc),
                                                   sc.path);

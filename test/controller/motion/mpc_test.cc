@@ -1,7 +1,8 @@
 // The MPC motion controllers (controller/motion/pmpc.h, nmpc.h): model derivatives against
 // finite differences, constraint satisfaction of solved plans, full laps of the default track
 // without stability control, solve-time statistics. Built on the resolved default scenario (track,
-// reference, g-g-v limits), hence in the tuning test area.
+// reference, g-g-v limits) of scw::sim; the settings come from the scenario keys motion.pmpc.* and
+// motion.nmpc.* (params/schema/mpc_params.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -401,6 +402,40 @@ void Lap(const std::string& name) {
 
 TEST(MpcLapTest, PmpcLapsTheDefaultTrackWithoutStabilityControl) { Lap("pmpc"); }
 TEST(MpcLapTest, NmpcLapsTheDefaultTrackWithoutStabilityControl) { Lap("nmpc"); }
+
+TEST(MpcScenarioKeysTest, SettingsComeFromTheScenarioAndAreChecked) {
+  const ResolvedScenario p = Resolve(DefaultScenario(
+      {"motion.controller=pmpc", "motion.pmpc.horizon_steps=24", "motion.pmpc.q_v=3.5"}));
+  const auto pm = MakeMotionController(p);
+  const auto* pmpc = dynamic_cast<const cm::PointMassMpc*>(pm.get());
+  ASSERT_NE(pmpc, nullptr);
+  EXPECT_EQ(pmpc->options().horizon_steps, 24);
+  EXPECT_EQ(pmpc->options().q_v, 3.5);
+  EXPECT_EQ(pmpc->options().step, params::PmpcParams{}.step);  // not set: the default
+  EXPECT_EQ(pmpc->options().sample_time, p.tracking.tS);       // fixed by the tracking loop
+
+  const ResolvedScenario n =
+      Resolve(DefaultScenario({"motion.controller=nmpc", "motion.nmpc.substeps=3"}));
+  const auto nm = MakeMotionController(n);
+  const auto* nmpc = dynamic_cast<const cm::SingleTrackMpc*>(nm.get());
+  ASSERT_NE(nmpc, nullptr);
+  EXPECT_EQ(nmpc->options().substeps, 3);
+  EXPECT_EQ(nmpc->options().max_steering, n.vehicle.steering.max_angle);
+
+  // Bounds and cross-checks of the schema, named by key path.
+  auto message = [](const std::vector<std::string>& overrides) {
+    try {
+      (void)DefaultScenario(overrides);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message({"motion.pmpc.horizon_steps=1"}).find("motion.pmpc.horizon_steps"),
+            std::string::npos);
+  EXPECT_NE(message({"motion.pmpc.headroom=1.0"}).find("motion.pmpc.headroom"), std::string::npos);
+  EXPECT_NE(message({"motion.nmpc.tol=0"}).find("motion.nmpc.tol"), std::string::npos);
+}
 
 }  // namespace
 }  // namespace scw::tuning
