@@ -1,6 +1,8 @@
 // scw tune — the main job: tune the stability parameters against the scenario set, compare the
 // tuned set with the starting set on training and held-out scenarios, export the car's params
-// files. scw evaluate — compare given parameter files side by side.
+// files. scw evaluate — compare given parameter files side by side. The workflows are library
+// calls (tuning/optim/tune_study.h); this file maps the options onto them, checks the run folder,
+// catches Ctrl-C during the optimisation, shows the progress and writes the files.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -11,25 +13,19 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
-
-#include <nlopt.hpp>
 
 #include "params/io/atomic_file.h"
 #include "params/io/load.h"
-#include "params/io/ros2_check.h"
 #include "params/io/sha256.h"
-#include "params/io/write.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/console.h"
 #include "tuning/cli/options.h"
 #include "tuning/cli/progress.h"
-#include "tuning/optim/comparison.h"
-#include "tuning/optim/evaluator.h"
 #include "tuning/optim/plots/tune_plots.h"
-#include "tuning/optim/sensitivity.h"
-#include "tuning/optim/set_check.h"
 #include "tuning/optim/space.h"
+#include "tuning/optim/tune_study.h"
 #include "tuning/optim/tuner.h"
 #include "tuning/sim/parallel/mpi_backend.h"
 #include "tuning/sim/scenario_set.h"
@@ -67,8 +63,9 @@ std::string Seconds(double s) {
   return buf;
 }
 
-/// ", batch 4" after the algorithm when candidates were evaluated in batches ("" for 1).
-std::string BatchNote(int batch) { return batch > 1 ? ", batch " + std::to_string(batch) : ""; }
+double SecondsSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 std::string Cost(double c) {
   char buf[32];
@@ -76,14 +73,12 @@ std::string Cost(double c) {
   return buf;
 }
 
-/// Reports the runs of the final comparison (or of `scw evaluate`) as one phase over several
-/// batches: `offset` runs of earlier batches are done.
-tuning::BatchProgress PhaseProgress(ProgressLine& line, const std::string& phase, int offset,
-                                    int total, const std::string& unit) {
+/// A job count shown on the progress line as one phase (nothing when the line is off).
+tuning::BatchProgress LineProgress(ProgressLine& line, const std::string& phase,
+                                   const std::string& unit) {
   if (!line.enabled()) return {};
-  return [&line, phase, offset, total, unit](int done, int) {
-    line.Update(
-        {phase, static_cast<double>(offset + done), static_cast<double>(total), unit, "", -1.0});
+  return [&line, phase, unit](int done, int total) {
+    line.Update({phase, static_cast<double>(done), static_cast<double>(total), unit, "", -1.0});
   };
 }
 
@@ -121,11 +116,9 @@ void CheckRunFolder(const TuneOptions& o) {
                           ", or overwrite its files with --force");
 }
 
-std::string FreshRunFolder(const std::string& requested) {
-  if (!requested.empty()) {
-    CreateFolder(requested);
-    return requested;
-  }
+/// --out-dir, or a fresh scw-runs/tune-<date>-<time> (not created yet).
+std::string RunFolderName(const std::string& requested) {
+  if (!requested.empty()) return requested;
   const std::time_t now = std::time(nullptr);
   char stamp[32];
   std::strftime(stamp, sizeof(stamp), "%Y%m%d-%H%M%S", std::localtime(&now));
@@ -133,7 +126,6 @@ std::string FreshRunFolder(const std::string& requested) {
   std::error_code ec;
   for (int k = 2; fs::exists(dir, ec); ++k)
     dir = std::string("scw-runs/tune-") + stamp + "-" + std::to_string(k);
-  CreateFolder(dir);
   return dir;
 }
 
@@ -158,71 +150,210 @@ std::string UtcNow() {
   return buf;
 }
 
-void CheckExport(const std::string& text, bool complete, const std::string& path) {
-  params::CheckOptions co;
-  co.node_key = params::kStabilityNodeKey;
-  co.expect_complete = complete;
-  const auto rep =
-      params::CheckRosParamsText(text, params::DeclaredParams<params::StabilityParams>(), co);
-  if (!rep.ok())
-    throw std::runtime_error("the export " + path + " fails the ROS 2 params check:\n" +
-                             rep.Format(path));
+tuning::TuneStudyOptions StudyOptions(const TuneOptions& o, std::set<std::string> present) {
+  tuning::TuneStudyOptions so;
+  so.algorithm = o.algorithm;
+  so.batch = o.batch;
+  so.max_evals = o.max_evals;
+  so.max_time_s = o.max_time;
+  so.seed = o.seed;
+  so.threads = o.threads;
+  so.base_outside = o.base_outside == "refuse" ? tuning::BaseOutsideSpace::kRefuse
+                                               : tuning::BaseOutsideSpace::kGrow;
+  so.sensitivity = !o.no_sensitivity;
+  so.resume_log = o.resume;
+  so.stop = &g_stop;
+  so.base_file = o.base;
+  so.space_file = o.space;
+  so.scenarios_file = o.scenarios;
+  so.base_keys = std::move(present);
+  so.tool_version = SCW_VERSION;
+  so.git_revision = SCW_GIT_REVISION;
+  so.date_utc = UtcNow;
+  return so;
 }
 
-/// `scw tune --check-set`: the base set on every scenario, as it is and with each subsystem off;
-/// then (unless --no-sensitivity) the parameter sensitivity around the base point on the training
-/// scenarios.
-int RunCheckSet(const TuneOptions& o, const tuning::ScenarioSet& set,
-                const params::StabilityParams& base, const tuning::ParameterSpace& loaded) {
+/// `scw tune --check-set`: what the scenario set can see around the base point of the space the
+/// tune would search (the base outside a range handled by the tune's own rule).
+int RunCheckSet(const TuneOptions& o, const tuning::TuneStudy& study) {
   ProgressLine progress(o.progress);
-  const int n_scenarios = static_cast<int>(set.training.size() + set.held_out.size());
-  // The base point of the space the tune would search, with the tune's own rule for a base
-  // outside a range (grown by default, so that the centre is the base set bit for bit, or refused
-  // with --base-outside refuse, exit 2 naming the key, as scw tune does).
-  const tuning::ParameterSpace space =
-      loaded.WithBase(base, o.base_outside == "refuse" ? tuning::BaseOutsideSpace::kRefuse
-                                                       : tuning::BaseOutsideSpace::kGrow);
-  const std::vector<double> u0 = space.Encode(base);
-  tuning::SensitivityPlan plan;
-  if (!o.no_sensitivity) plan = tuning::PlanSensitivity(space, u0, base);
-  const int total = n_scenarios * 6 +  // preparation + 5 runs each
-                    static_cast<int>(plan.sets.size() * set.training.size());
-  progress.Update({"check", 0, static_cast<double>(total), "jobs", "", -1.0});
-  int done = 0;
-  std::string sensitivity;
-  std::string md =
-      "# scw tune --check-set\n\nbase = " +
-      (o.base.empty() ? std::string("the car's shipped parameters (built-in)") : o.base) +
-      "; activations ESC/CS/ABS/TC with the base set; a subsystem decides a scenario when "
-      "switching it off turns a completed run into an abort (or the reverse) or changes the "
-      "scenario's cost by 5 % or more\n\n";
-  for (const auto* group : {&set.training, &set.held_out}) {
-    if (group->empty()) continue;
-    const int n = static_cast<int>(group->size());
-    const auto ev =
-        tuning::BatchEvaluator::FromEntries(*group, set.base_dir, set.cost, o.threads,
-                                            PhaseProgress(progress, "check", done, total, "jobs"));
-    done += n;
-    const auto check =
-        tuning::CheckSet(ev, base, 0.05, PhaseProgress(progress, "check", done, total, "jobs"));
-    done += 5 * n;
-    const bool training = group == &set.training;
-    md += tuning::SetCheckMarkdown(training ? "Training scenarios" : "Held-out scenarios", check,
-                                   training);
-    md += "\n";
-    if (training && !o.no_sensitivity) {
-      sensitivity = tuning::SensitivityMarkdown(
-          tuning::EvaluateSensitivity(ev, space, plan,
-                                      PhaseProgress(progress, "check", done, total, "jobs")),
-          "the base set");
-      done += static_cast<int>(plan.sets.size()) * n;
-    }
-  }
-  md += sensitivity;
+  const std::string md = study.CheckSet(LineProgress(progress, "check", "jobs"));
   progress.Finish();
   std::cout << AlignMarkdownTables(md);
   return kExitOk;
 }
+
+/// What the progress line counts in a phase of a tune.
+const char* JobUnit(tuning::TunePhase phase) {
+  switch (phase) {
+    case tuning::TunePhase::kPrepare:
+      return "scenarios";
+    case tuning::TunePhase::kOptimise:
+      return "evals";
+    case tuning::TunePhase::kCompare:
+      return "jobs";
+    case tuning::TunePhase::kSensitivity:
+      return "runs";
+  }
+  return "";
+}
+
+/// scw tune's side of a study: the progress line and the messages on stderr, the SIGINT flag
+/// during the optimisation, and the run folder's files, each written (atomically) as soon as the
+/// study has it; the manifest before the sensitivity and again after it.
+class TuneRun : public tuning::TuneObserver {
+ public:
+  TuneRun(const TuneOptions& o, const tuning::TuneStudy& study, std::string dir,
+          std::chrono::steady_clock::time_point t_start)
+      : o_(o), study_(study), dir_(std::move(dir)), t_start_(t_start) {}
+  ~TuneRun() override { RestoreSigint(); }
+
+  /// TunePlotsMarkdown() when the figures were drawn, else "".
+  const std::string& plots_markdown() const { return plots_md_; }
+  bool plots() const { return !plots_md_.empty(); }
+
+  void OnPhaseBegin(tuning::TunePhase phase, int total) override {
+    switch (phase) {
+      case tuning::TunePhase::kPrepare:
+        prepare_.emplace(o_.progress);
+        OnJobs(phase, 0, total);
+        break;
+      case tuning::TunePhase::kOptimise:
+        progress_.emplace(o_.progress);
+        g_stop = false;
+        previous_ = std::signal(SIGINT, OnSigint);
+        sigint_ = true;
+        break;
+      case tuning::TunePhase::kCompare:
+        OnJobs(phase, 0, total);
+        break;
+      case tuning::TunePhase::kSensitivity:
+        t_sensitivity_ = std::chrono::steady_clock::now();
+        OnJobs(phase, 0, total);
+        break;
+    }
+  }
+
+  void OnJobs(tuning::TunePhase phase, int done, int total) override {
+    const bool prepare = phase == tuning::TunePhase::kPrepare;
+    (prepare ? *prepare_ : *progress_)
+        .Update({tuning::TunePhaseName(phase), static_cast<double>(done),
+                 static_cast<double>(total), JobUnit(phase), "", -1.0});
+  }
+
+  void OnEvaluation(const tuning::Progress& p) override {
+    if (!progress_->enabled()) return;
+    const double eta = p.evals > 0 ? p.elapsed_s / p.evals * (p.max_evals - p.evals) : -1.0;
+    const bool limited = o_.max_time > 0.0 && eta > o_.max_time - p.elapsed_s;
+    progress_->Update({p.phase, static_cast<double>(p.evals), static_cast<double>(p.max_evals),
+                       "evals", "best cost " + Cost(p.best_cost) + (limited ? " (time limit)" : ""),
+                       limited ? std::max(0.0, o_.max_time - p.elapsed_s) : eta});
+  }
+
+  void OnPhaseEnd(tuning::TunePhase phase, const tuning::TuneReport& r) override {
+    switch (phase) {
+      case tuning::TunePhase::kPrepare:
+        prepare_.reset();
+        std::cerr << "  scenarios prepared in " << Seconds(SecondsSince(t_start_)) << " ("
+                  << (r.ranks > 1 ? std::to_string(r.ranks) + " MPI ranks x " : "") << r.threads
+                  << " threads)\n";
+        break;
+      case tuning::TunePhase::kOptimise:
+        Optimised(r.optimisation);
+        break;
+      case tuning::TunePhase::kCompare:
+        progress_->Finish();
+        Compared(r);
+        break;
+      case tuning::TunePhase::kSensitivity:
+        progress_->Finish();
+        SensitivityDone(r);
+        break;
+    }
+  }
+
+ private:
+  std::string Path(const char* file) const { return (fs::path(dir_) / file).string(); }
+
+  void RestoreSigint() {
+    if (sigint_) std::signal(SIGINT, previous_);
+    sigint_ = false;
+  }
+
+  void Optimised(const tuning::TuneResult& r) {
+    RestoreSigint();
+    progress_->Finish();
+    std::cerr << "  optimisation: " << r.evals << " evaluations (" << r.replayed
+              << " replayed), stop: " << r.stop_reason << ", best cost " << Cost(r.best_cost)
+              << " at evaluation " << r.best_eval << "\n";
+    if (r.stop_reason == "max_time")
+      std::cerr << "  note: the --max-time limit of " << o_.max_time << " s stopped the run after "
+                << r.evals << " of " << o_.max_evals
+                << " evaluations; the result depends on this machine's speed\n";
+  }
+
+  /// The outputs without the sensitivity: the folder is complete from here on.
+  void Compared(const tuning::TuneReport& r) {
+    io::WriteFileAtomic(Path(tuning::kTunedParamsFile), r.tuned_file);
+    io::WriteFileAtomic(Path(tuning::kOverridesParamsFile), r.overrides_file);
+    // The plots read comparison.csv and evaluations.csv; comparison.md embeds them.
+    io::WriteFileAtomic(Path("comparison.csv"), r.comparison_csv);
+    std::string plot_message;
+    if (tuning::WriteTunePlots(dir_, &plot_message))
+      plots_md_ = tuning::TunePlotsMarkdown();
+    else
+      std::cerr << "  note: no plots (" << plot_message
+                << "); the run's other outputs are complete\n";
+    io::WriteFileAtomic(Path("comparison.md"), r.comparison_markdown + plots_md_);
+    std::error_code ec;  // a --force or --resume folder may hold an earlier run's table
+    fs::remove(Path("sensitivity.csv"), ec);
+    WriteManifest(r);
+  }
+
+  void SensitivityDone(const tuning::TuneReport& r) {
+    io::WriteFileAtomic(Path("sensitivity.csv"), r.sensitivity_csv);
+    io::WriteFileAtomic(Path("comparison.md"), r.comparison_markdown + plots_md_);
+    WriteManifest(r);
+    const std::vector<std::string> not_exercised = r.sensitivity.NotExercised();
+    std::cerr << "  sensitivity: " << r.sensitivity.sets << " sets x "
+              << r.sensitivity.scenarios.size() << " scenarios in "
+              << Seconds(SecondsSince(t_sensitivity_)) << "; ";
+    if (not_exercised.empty()) {
+      std::cerr << "every parameter is exercised by the training scenarios\n";
+    } else {
+      std::cerr << not_exercised.size() << " of " << study_.space().size()
+                << " parameters not exercised by the training scenarios:";
+      for (const auto& label : not_exercised) std::cerr << " " << label;
+      std::cerr << "\n";
+    }
+  }
+
+  void WriteManifest(const tuning::TuneReport& r) const {
+    tuning::TuneRunRecord record;
+    for (const auto& a : CommandLine())
+      record.command_line += (record.command_line.empty() ? "" : " ") + a;
+    if (!o_.base.empty()) record.base_sha256 = FileSha256(o_.base);
+    if (!o_.space.empty()) record.space_sha256 = FileSha256(o_.space);
+    if (!o_.scenarios.empty()) record.scenarios_sha256 = FileSha256(o_.scenarios);
+    record.wall_time_s = SecondsSince(t_start_);
+    for (const char* f : {"evaluations.csv", tuning::kTunedParamsFile, tuning::kOverridesParamsFile,
+                          "comparison.md", "comparison.csv", "sensitivity.csv",
+                          tuning::kConvergencePlotFile, tuning::kComparisonPlotFile})
+      if (fs::exists(Path(f))) record.files_sha256.emplace_back(f, FileSha256(Path(f)));
+    io::WriteFileAtomic(Path("manifest.yaml"), study_.ManifestYaml(r, record));
+  }
+
+  const TuneOptions& o_;
+  const tuning::TuneStudy& study_;
+  const std::string dir_;
+  const std::chrono::steady_clock::time_point t_start_;
+  std::chrono::steady_clock::time_point t_sensitivity_;
+  std::optional<ProgressLine> prepare_;   ///< the preparation's line
+  std::optional<ProgressLine> progress_;  ///< from the optimisation on
+  bool sigint_ = false;                   ///< OnSigint is installed
+  void (*previous_)(int) = SIG_DFL;
+  std::string plots_md_;
+};
 
 int RunTune(const TuneOptions& o) {
   const auto t_start = std::chrono::steady_clock::now();
@@ -249,20 +380,15 @@ int RunTune(const TuneOptions& o) {
                                                         : tuning::ParameterSpace::FromFile(o.space);
   std::set<std::string> present;
   const params::StabilityParams base = LoadBase(o.base, &present);
-  if (o.check_set) return RunCheckSet(o, set, base, loaded);
-  // The base must be exactly representable (evaluation 0 = the base set, keys the tuner leaves
-  // alone stay the base values): grow ranges that do not contain it, or refuse.
-  std::vector<std::string> grown;
-  const tuning::ParameterSpace space =
-      loaded.WithBase(base,
-                      o.base_outside == "refuse" ? tuning::BaseOutsideSpace::kRefuse
-                                                 : tuning::BaseOutsideSpace::kGrow,
-                      &grown);
-  const auto u0 = space.Encode(base);
-  if (!params::DifferingKeys(space.Decode(u0, base, nullptr), base).empty())
-    throw std::runtime_error("internal error: the start point does not decode to the base set");
-  const std::string dir = FreshRunFolder(o.out);
-  std::cerr << "scw tune: " << space.size() << " parameters, " << set.training.size()
+  tuning::TuneStudyOptions so = StudyOptions(o, std::move(present));
+  if (o.check_set) return RunCheckSet(o, tuning::TuneStudy(base, loaded, set, so));
+  // The study fits the space to the base (or refuses, exit 2) before the folder is made.
+  const std::string dir = RunFolderName(o.out);
+  so.run_folder = dir;
+  so.evaluation_log = (fs::path(dir) / "evaluations.csv").string();
+  const tuning::TuneStudy study(base, loaded, set, std::move(so));
+  CreateFolder(dir);
+  std::cerr << "scw tune: " << study.space().size() << " parameters, " << set.training.size()
             << " training and " << set.held_out.size() << " held-out scenarios; output in " << dir
             << "\n";
   if (tuning::mpi::Ranks() > 1) {
@@ -272,321 +398,20 @@ int RunTune(const TuneOptions& o) {
                                     "the same options and --resume " +
                                     log + " (with or without mpirun)\n");
   }
-  for (const auto& g : grown) std::cerr << "  note: " << g << "\n";
+  for (const auto& g : study.grown()) std::cerr << "  note: " << g << "\n";
 
-  const auto training = [&] {
-    ProgressLine prepare(o.progress);
-    const int n = static_cast<int>(set.training.size());
-    prepare.Update({"prepare", 0, static_cast<double>(n), "scenarios", "", -1.0});
-    return tuning::BatchEvaluator::FromEntries(
-        set.training, set.base_dir, set.cost, o.threads,
-        PhaseProgress(prepare, "prepare", 0, n, "scenarios"));
-  }();
-  std::cerr
-      << "  scenarios prepared in "
-      << Seconds(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count())
-      << " ("
-      << (tuning::mpi::Ranks() > 1 ? std::to_string(tuning::mpi::Ranks()) + " MPI ranks x " : "")
-      << training.threads() << " threads)\n";
-
-  // Objective: decode, reject invalid sets with a graded penalty, evaluate the training set.
-  std::vector<std::string> extra;
-  for (const auto& e : space.entries()) extra.push_back("x:" + e.Label());
-  for (const auto& sc : training.scenarios()) {
-    extra.push_back("cost:" + sc.spec.name);
-    extra.push_back("status:" + sc.spec.name);
-    extra.push_back("lap:" + sc.spec.name);
-  }
-  const double invalid_cost =
-      (set.cost.abort_base + set.cost.abort_progress_weight + set.cost.lap_time_cap) *
-      static_cast<double>(std::max<std::size_t>(1, set.training.size()));
-  // Several points at once (--batch): the valid sets run as one batch of (set x scenario) jobs.
-  auto batch_objective =
-      [&](const std::vector<std::vector<double>>& points) -> std::vector<tuning::Evaluation> {
-    std::vector<tuning::Evaluation> evs(points.size());
-    std::vector<params::StabilityParams> valid_sets;
-    std::vector<std::size_t> valid_at;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      for (double x : space.Arguments(points[i])) evs[i].columns.push_back(params::FormatDouble(x));
-      Problems pr;
-      params::StabilityParams p = space.Decode(points[i], base, &pr);
-      if (!pr.empty()) {
-        evs[i].cost = invalid_cost;
-        evs[i].status = "infeasible: " + pr.items()[0].path;
-        continue;
-      }
-      valid_sets.push_back(std::move(p));
-      valid_at.push_back(i);
-    }
-    if (valid_sets.empty()) return evs;
-    const std::vector<tuning::SetEvaluation> results = training.Evaluate(valid_sets);
-    for (std::size_t v = 0; v < valid_at.size(); ++v) {
-      const tuning::SetEvaluation& r = results[v];
-      tuning::Evaluation& ev = evs[valid_at[v]];
-      ev.cost = r.total;
-      int aborts = 0;
-      for (std::size_t k = 0; k < r.runs.size(); ++k) {
-        aborts += r.runs[k].aborted();
-        ev.columns.push_back(params::FormatDouble(r.costs[k].total));
-        ev.columns.push_back(tuning::RunStatusName(r.runs[k].status));
-        const double lap = r.runs[k].MeanLapTime();
-        ev.columns.push_back(std::isnan(lap) ? "nan" : params::FormatDouble(lap));
-      }
-      ev.status = aborts ? std::to_string(aborts) + " abort(s)" : "ok";
-    }
-    return evs;
-  };
-  // One point: a batch of one (the evaluator runs one set exactly as it runs a batch).
-  auto objective = [&](const std::vector<double>& u) { return batch_objective({u}).front(); };
-
-  tuning::TunerOptions to;
-  to.algorithm = o.algorithm;
-  to.max_evals = o.max_evals;
-  to.max_time_s = o.max_time;
-  to.seed = o.seed;
-  to.batch = o.batch;
-  to.log_path = (fs::path(dir) / "evaluations.csv").string();
-  to.resume_path = o.resume;
-  to.log_extra_header = extra;
-  for (const auto& e : space.entries()) to.dimension_names.push_back("u:" + e.Label());
-  to.stop = &g_stop;
-  to.failure_cost = invalid_cost;
-  ProgressLine progress(o.progress);
-  if (progress.enabled())
-    to.on_progress = [&](const tuning::Progress& p) {
-      const double eta = p.evals > 0 ? p.elapsed_s / p.evals * (p.max_evals - p.evals) : -1.0;
-      const bool limited = o.max_time > 0.0 && eta > o.max_time - p.elapsed_s;
-      progress.Update({p.phase, static_cast<double>(p.evals), static_cast<double>(p.max_evals),
-                       "evals", "best cost " + Cost(p.best_cost) + (limited ? " (time limit)" : ""),
-                       limited ? std::max(0.0, o.max_time - p.elapsed_s) : eta});
-    };
-  g_stop = false;
-  auto previous = std::signal(SIGINT, OnSigint);
-  tuning::TuneResult r;
-  try {
-    r = tuning::Tune(u0, objective, batch_objective, to);
-  } catch (...) {
-    std::signal(SIGINT, previous);
-    throw;
-  }
-  std::signal(SIGINT, previous);
-  progress.Finish();
-  std::cerr << "  optimisation: " << r.evals << " evaluations (" << r.replayed
-            << " replayed), stop: " << r.stop_reason << ", best cost " << Cost(r.best_cost)
-            << " at evaluation " << r.best_eval << "\n";
-  if (r.stop_reason == "max_time")
-    std::cerr << "  note: the --max-time limit of " << o.max_time << " s stopped the run after "
-              << r.evals << " of " << o.max_evals
-              << " evaluations; the result depends on this machine's speed\n";
-
-  // Result: baseline (the starting set itself) vs tuned, on training and held-out scenarios.
-  // The decoded set is already quantised to the schema resolutions: it is exactly what is exported.
-  Problems pr;
-  const params::StabilityParams tuned = space.Decode(r.best_u, base, &pr);
-  if (!pr.empty())
-    throw std::runtime_error("internal error: the best point decodes to an invalid set");
-  const std::set<std::string> changed = params::DifferingKeys(tuned, base);
-  const std::vector<std::string> labels = {"baseline", "tuned"};
-  const std::vector<params::StabilityParams> both = {base, tuned};
-  const int n_compare =
-      static_cast<int>(both.size() * set.training.size() + (both.size() + 1) * set.held_out.size());
-  progress.Update({"compare", 0, static_cast<double>(n_compare), "jobs", "", -1.0});
-  const auto train_res =
-      training.Evaluate(both, PhaseProgress(progress, "compare", 0, n_compare, "jobs"));
-  std::string md =
-      "# scw tune: comparison\n\nbaseline = " +
-      (o.base.empty() ? std::string("the car's shipped parameters (built-in)") : o.base) +
-      "; tuned = best of " + std::to_string(r.evals) + " evaluations (" + o.algorithm +
-      BatchNote(o.batch) + ", seed " + std::to_string(o.seed) + "), " +
-      std::to_string(changed.size()) + " key(s) changed\n\n";
-  md += tuning::ComparisonMarkdown("Training scenarios", training, labels, train_res);
-  std::string csv = tuning::ComparisonCsv("training", training, labels, train_res, true);
-  std::vector<tuning::SetEvaluation> held_res;
-  const tuning::SetChange train_change = tuning::CompareSets(training, train_res[0], train_res[1]);
-  md += "\n" + tuning::SetChangeMarkdown("Training", train_change);
-  tuning::SetChange held_change;
-  if (!set.held_out.empty()) {
-    const int n_train = static_cast<int>(both.size() * set.training.size());
-    const auto held = tuning::BatchEvaluator::FromEntries(
-        set.held_out, set.base_dir, set.cost, o.threads,
-        PhaseProgress(progress, "compare", n_train, n_compare, "jobs"));
-    held_res = held.Evaluate(
-        both, PhaseProgress(progress, "compare", n_train + static_cast<int>(set.held_out.size()),
-                            n_compare, "jobs"));
-    md += tuning::ComparisonMarkdown("Held-out scenarios (not used for tuning)", held, labels,
-                                     held_res);
-    csv += tuning::ComparisonCsv("held_out", held, labels, held_res, false);
-    held_change = tuning::CompareSets(held, held_res[0], held_res[1]);
-    md += "\n" + tuning::SetChangeMarkdown("Held-out", held_change);
-  }
-  progress.Finish();
-  // Outputs (each atomically), with a provenance header.
-  const std::string full = (fs::path(dir) / "stability_tuned.yaml").string();
-  const std::string over = (fs::path(dir) / "stability_overrides.yaml").string();
-  tuning::TuneProvenance prov;
-  prov.tool_version = SCW_VERSION;
-  prov.git_revision = SCW_GIT_REVISION;
-  prov.run_folder = dir;
-  prov.date_utc = UtcNow();
-  prov.base = o.base.empty() ? std::string("built-in (the car's shipped parameters)") : o.base;
-  prov.algorithm = o.algorithm + BatchNote(o.batch);
-  prov.seed = o.seed;
-  prov.evaluations = r.evals;
-  prov.stop_reason = r.stop_reason;
-  prov.space = o.space.empty() ? std::string("built-in default") : o.space;
-  prov.dimensions = space.size();
-  for (const auto& m : loaded.BaseMismatches(base))
-    prov.grown.push_back(m.label + ": [" + params::FormatNumber(m.lo) + ", " +
-                         params::FormatNumber(m.hi) + "] -> [" + params::FormatNumber(m.grown_lo) +
-                         ", " + params::FormatNumber(m.grown_hi) + "]");
-  prov.training_scenarios = static_cast<int>(set.training.size());
-  prov.training_before = train_res[0].total;
-  prov.training_after = train_res[1].total;
-  if (!held_res.empty()) {
-    prov.held_out_scenarios = static_cast<int>(set.held_out.size());
-    prov.held_out_before = held_res[0].total;
-    prov.held_out_after = held_res[1].total;
-  }
-  prov.changed.assign(changed.begin(), changed.end());
-  const std::string full_text = params::ToRosYaml(tuned, params::kStabilityNodeKey, present,
-                                                  tuning::TunedFileHeader(prov, false));
-  const std::string over_text = params::ToRosOverrides(tuned, base, params::kStabilityNodeKey,
-                                                       tuning::TunedFileHeader(prov, true));
-  CheckExport(full_text, true, full);
-  CheckExport(over_text, false, over);
-  io::WriteFileAtomic(full, full_text);
-  io::WriteFileAtomic(over, over_text);
-  // The plots read comparison.csv and evaluations.csv; comparison.md embeds them.
-  io::WriteFileAtomic((fs::path(dir) / "comparison.csv").string(), csv);
-  std::string plot_message;
-  const bool plots = tuning::WriteTunePlots(dir, &plot_message);
-  if (!plots)
-    std::cerr << "  note: no plots (" << plot_message
-              << "); the run's other outputs are complete\n";
-  const std::string plots_md = plots ? tuning::TunePlotsMarkdown() : std::string();
-  const std::string md_path = (fs::path(dir) / "comparison.md").string();
-  io::WriteFileAtomic(md_path, md + plots_md);
-
-  // The parameter sensitivity around the tuned point comes last: the manifest is written before
-  // it (the folder is then complete; a run stopped during the phase keeps it so) and again after
-  // it, with the section in comparison.md.
-  std::string sensitivity = "pending";
-  if (o.no_sensitivity)
-    sensitivity = "skipped (--no-sensitivity)";
-  else if (r.stop_reason == "interrupted" || r.stop_reason == "resume_mismatch")
-    sensitivity = "skipped (" + r.stop_reason + ")";
-  int sensitivity_sets = 0;
-  std::vector<std::string> not_exercised;
-  {
-    std::error_code ec;  // a --force or --resume folder may hold an earlier run's table
-    fs::remove(fs::path(dir) / "sensitivity.csv", ec);
-  }
-  std::string cmdline;
-  for (const auto& a : CommandLine()) cmdline += (cmdline.empty() ? "" : " ") + a;
-  const auto write_manifest = [&] {
-    std::ostringstream man;
-    man << "scw_version: " << SCW_VERSION << "\n"
-        << "git_revision: " << SCW_GIT_REVISION << "\n"
-        << "date_utc: " << prov.date_utc << "\n"
-        << "nlopt_version: " << nlopt::version_major() << "." << nlopt::version_minor() << "."
-        << nlopt::version_bugfix() << "\n"
-        << "command_line: " << params::QuoteString(cmdline) << "\n"
-        << "base: " << params::QuoteString(o.base.empty() ? "built-in" : o.base) << "\n"
-        << "base_hash: "
-        << (o.base.empty() ? io::Sha256Hex(params::ToRosYaml(base, params::kStabilityNodeKey))
-                           : FileSha256(o.base))
-        << "\n"
-        << "space: " << params::QuoteString(o.space.empty() ? "built-in default" : o.space) << "\n"
-        << "space_hash: " << (o.space.empty() ? io::Sha256Hex(space.ToYaml()) : FileSha256(o.space))
-        << "\n"
-        << "base_outside_space: " << o.base_outside << "\n"
-        << "grown_ranges: " << grown.size() << "\n"
-        << "scenarios: "
-        << params::QuoteString(o.scenarios.empty() ? "built-in default" : o.scenarios) << "\n"
-        << "scenarios_hash: "
-        << (o.scenarios.empty() ? io::Sha256Hex(set.ToYaml()) : FileSha256(o.scenarios)) << "\n"
-        << "algorithm: " << o.algorithm << "\n"
-        << "batch: " << o.batch << "\n"
-        << "seed: " << o.seed << "\n"
-        << "max_evals: " << o.max_evals << "\n"
-        << "max_time_s: " << params::FormatDouble(o.max_time) << "\n"
-        << "threads: " << training.threads() << "\n"
-        << "ranks: " << tuning::mpi::Ranks() << "\n"
-        << "threads_per_rank: " << training.threads() << "\n"
-        << "evaluations: " << r.evals << "\n"
-        << "replayed_evaluations: " << r.replayed << "\n"
-        << "stop_reason: " << r.stop_reason << "\n"
-        << "start_cost: " << params::FormatDouble(r.start_cost) << "\n"
-        << "best_cost: " << params::FormatDouble(r.best_cost) << "\n"
-        << "best_evaluation: " << r.best_eval << "\n"
-        << "baseline_cost: " << params::FormatDouble(train_res[0].total) << "\n"
-        << "tuned_cost: " << params::FormatDouble(train_res[1].total) << "\n";
-    man << "training_verdict: " << tuning::VerdictName(train_change.verdict) << "\n";
-    if (!held_res.empty())
-      man << "held_out_baseline_cost: " << params::FormatDouble(held_res[0].total) << "\n"
-          << "held_out_tuned_cost: " << params::FormatDouble(held_res[1].total) << "\n"
-          << "held_out_verdict: " << tuning::VerdictName(held_change.verdict) << "\n";
-    man << "sensitivity: " << params::QuoteString(sensitivity) << "\n";
-    if (sensitivity == "done") {
-      man << "sensitivity_sets: " << sensitivity_sets << "\n"
-          << "not_exercised:" << (not_exercised.empty() ? " []" : "") << "\n";
-      for (const auto& label : not_exercised) man << "  - " << params::QuoteString(label) << "\n";
-    }
-    man << "hash_algorithm: sha256\n";
-    man << "changed_keys: " << changed.size() << "\n"
-        << "wall_time_s: "
-        << params::FormatDouble(
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count())
-        << "\n";
-    // SHA-256 of the files as written (`sha256sum FILE` prints the same); the inputs above are
-    // hashed as files when given, as their printed form when built in.
-    man << "files_sha256:\n";
-    for (const char* f :
-         {"evaluations.csv", "stability_tuned.yaml", "stability_overrides.yaml", "comparison.md",
-          "comparison.csv", "sensitivity.csv", "convergence.png", "comparison.png"})
-      if (fs::exists(fs::path(dir) / f))
-        man << "  " << f << ": " << FileSha256((fs::path(dir) / f).string()) << "\n";
-    io::WriteFileAtomic((fs::path(dir) / "manifest.yaml").string(), man.str());
-  };
-  write_manifest();
-  if (sensitivity == "pending") {
-    const auto t0 = std::chrono::steady_clock::now();
-    const tuning::SensitivityPlan plan = tuning::PlanSensitivity(space, r.best_u, base);
-    const int n_runs = static_cast<int>(plan.sets.size() * training.scenarios().size());
-    progress.Update({"sensitivity", 0, static_cast<double>(n_runs), "runs", "", -1.0});
-    const tuning::SensitivityResult sens = tuning::EvaluateSensitivity(
-        training, space, plan, PhaseProgress(progress, "sensitivity", 0, n_runs, "runs"));
-    progress.Finish();
-    md += "\n" + tuning::SensitivityMarkdown(sens, "the tuned set");
-    io::WriteFileAtomic((fs::path(dir) / "sensitivity.csv").string(), tuning::SensitivityCsv(sens));
-    io::WriteFileAtomic(md_path, md + plots_md);
-    sensitivity = "done";
-    sensitivity_sets = sens.sets;
-    not_exercised = sens.NotExercised();
-    write_manifest();
-    std::cerr << "  sensitivity: " << sens.sets << " sets x " << training.scenarios().size()
-              << " scenarios in "
-              << Seconds(
-                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count())
-              << "; ";
-    if (not_exercised.empty()) {
-      std::cerr << "every parameter is exercised by the training scenarios\n";
-    } else {
-      std::cerr << not_exercised.size() << " of " << space.size()
-                << " parameters not exercised by the training scenarios:";
-      for (const auto& label : not_exercised) std::cerr << " " << label;
-      std::cerr << "\n";
-    }
-  }
-  md += plots_md;
-  std::cout << AlignMarkdownTables(md);
+  TuneRun run(o, study, dir, t_start);
+  const tuning::TuneReport r = study.Run(run);
+  const bool sensitivity = r.sensitivity_state == tuning::SensitivityState::kDone;
+  std::cout << AlignMarkdownTables(r.comparison_markdown + run.plots_markdown());
   std::cout << "outputs: " << dir << "/{evaluations.csv, stability_tuned.yaml, "
             << "stability_overrides.yaml, comparison.md, comparison.csv, "
-            << (sensitivity == "done" ? "sensitivity.csv, " : "")
-            << (plots ? "convergence.png, comparison.png, " : "") << "manifest.yaml}\n";
-  if (r.stop_reason == "resume_mismatch") return kExitBadInput;
+            << (sensitivity ? "sensitivity.csv, " : "")
+            << (run.plots() ? "convergence.png, comparison.png, " : "") << "manifest.yaml}\n";
+  const std::string& stop = r.optimisation.stop_reason;
+  if (stop == "resume_mismatch") return kExitBadInput;
   // Ctrl-C: the outputs of the best set so far are written; exit as an interrupted program does.
-  return r.stop_reason == "interrupted" ? kExitInterrupted : kExitOk;
+  return stop == "interrupted" ? kExitInterrupted : kExitOk;
 }
 
 /// The column names of `scw evaluate`: --labels, else the file names (the paths as given where
@@ -633,29 +458,11 @@ int RunEvaluate(const TuneOptions& o) {
   if (sets.empty()) sets.push_back(params::StabilityParams{});
   // One progress phase: each scenario's preparation and every run are a job.
   ProgressLine progress(o.progress);
-  const int n_scenarios = static_cast<int>(set.training.size() + set.held_out.size());
-  const int total = n_scenarios * static_cast<int>(sets.size() + 1);
-  progress.Update({"evaluate", 0, static_cast<double>(total), "jobs", "", -1.0});
-  int done = 0;
-  std::string md, csv;
-  bool header = true;
-  for (const auto* group : {&set.training, &set.held_out}) {
-    if (group->empty()) continue;
-    const int n = static_cast<int>(group->size());
-    const auto ev = tuning::BatchEvaluator::FromEntries(
-        *group, set.base_dir, set.cost, o.threads,
-        PhaseProgress(progress, "evaluate", done, total, "jobs"));
-    done += n;
-    const auto res = ev.Evaluate(sets, PhaseProgress(progress, "evaluate", done, total, "jobs"));
-    done += n * static_cast<int>(sets.size());
-    const std::string name = group == &set.training ? "training" : "held_out";
-    md += tuning::ComparisonMarkdown(name, ev, labels, res);
-    csv += tuning::ComparisonCsv(name, ev, labels, res, header);
-    header = false;
-  }
+  const tuning::SetsEvaluation table = tuning::EvaluateSets(
+      set, sets, labels, o.threads, LineProgress(progress, "evaluate", "jobs"));
   progress.Finish();
-  std::cout << AlignMarkdownTables(md);
-  if (!o.csv.empty()) io::WriteFileAtomic(o.csv, csv);
+  std::cout << AlignMarkdownTables(table.markdown);
+  if (!o.csv.empty()) io::WriteFileAtomic(o.csv, table.csv);
   return kExitOk;
 }
 

@@ -1,0 +1,248 @@
+// scw tune's workflow as a library call (issue 17 part 3): TuneStudy::Run on a tiny problem — two
+// dimensions, two one-lap training scenarios on the centre line and one held-out scenario (from
+// test/golden/golden_set.yaml) — without the program. Relations, not numbers: the best is no worse
+// than the base, every evaluation is counted and logged, the observer sees every phase in order,
+// the stop flag ends the optimisation with the best so far, the same inputs give the same report,
+// and scw evaluate's table of the base and tuned sets is the tune's comparison.csv.
+#include "tuning/optim/tune_study.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "params/io/load.h"
+#include "params/io/write.h"
+#include "params/io/yaml_doc.h"
+
+namespace scw::tuning {
+namespace {
+
+namespace fs = std::filesystem;
+using params::StabilityParams;
+
+constexpr char kSet[] = R"(name: tiny
+training:
+  - {name: clean_gg1.1, set: [motion.raceline=centerline, kind=clean, gg_scale=1.1, laps=1]}
+  - {name: power_on_c1, set: [motion.raceline=centerline, kind=critical, laps=1, abort.max_lateral_error=10, "events.throttle.corner=[1]", "events.throttle.s=[20]", "events.throttle.lap=[1]", "events.throttle.duration=[1.0]", "events.throttle.value=[1.0]"]}
+held_out:
+  - {name: late_braking_c7, set: [motion.raceline=centerline, kind=critical, laps=1, abort.max_lateral_error=10, "events.late_braking.corner=[7]", "events.late_braking.s=[0]", "events.late_braking.distance=[20]"]}
+)";
+
+// The countersteer gain and the TC activation threshold: both act in the scenarios above.
+ParameterSpace TwoDimensions() {
+  return ParameterSpace("two", {{"SlipControl.TC.rear.slip_threshold_hold_reduce", -1, 3.0, 20.0,
+                                 params::Scale::kLinear, Transform::kDirect, "", -1},
+                                {"countersteer_system.steering_factor", -1, 0.3, 1.5,
+                                 params::Scale::kLinear, Transform::kDirect, "", -1}});
+}
+
+std::string ReadOrEmpty(const std::string& path) {
+  try {
+    return params::ReadTextFile(path);
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+class TuneStudyTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("scw_tune_study_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  /// A study of the tiny problem that logs into `log` (one thread: the result is the same for
+  /// any count, and the test stays light on a shared machine).
+  TuneStudy Study(const std::string& log, int max_evals, bool sensitivity,
+                  const std::atomic<bool>* stop = nullptr) const {
+    TuneStudyOptions o;
+    o.max_evals = max_evals;
+    o.threads = 1;
+    o.sensitivity = sensitivity;
+    o.evaluation_log = (dir_ / log).string();
+    o.stop = stop;
+    o.run_folder = dir_.string();
+    o.tool_version = "test";
+    o.git_revision = "none";
+    o.date_utc = [] { return std::string("2026-01-01T00:00:00Z"); };
+    return TuneStudy(StabilityParams{}, TwoDimensions(), ScenarioSet::FromYamlText(kSet, "tiny"),
+                     o);
+  }
+
+  fs::path dir_;
+};
+
+/// Records what a study tells its observer.
+class Recorder : public TuneObserver {
+ public:
+  void OnPhaseBegin(TunePhase phase, int total) override {
+    events.push_back(std::string("begin ") + TunePhaseName(phase));
+    totals.push_back(total);
+  }
+  void OnJobs(TunePhase phase, int done, int total) override {
+    last_jobs[static_cast<int>(phase)] = {done, total};
+  }
+  void OnEvaluation(const Progress& p) override {
+    evaluations.push_back(p.evals);
+    if (stop_after > 0 && p.evals == stop_after) stop = true;
+  }
+  void OnPhaseEnd(TunePhase phase, const TuneReport& report) override {
+    events.push_back(std::string("end ") + TunePhaseName(phase));
+    if (phase == TunePhase::kCompare) at_compare = report;
+  }
+
+  std::vector<std::string> events;
+  std::vector<int> totals;  ///< per OnPhaseBegin
+  std::pair<int, int> last_jobs[4] = {};
+  std::vector<int> evaluations;  ///< Progress::evals of every OnEvaluation
+  TuneReport at_compare;
+  int stop_after = 0;  ///< raise `stop` after this evaluation (0: never)
+  std::atomic<bool> stop{false};
+};
+
+int Rows(const std::string& csv) {
+  return static_cast<int>(std::count(csv.begin(), csv.end(), '\n'));
+}
+
+TEST_F(TuneStudyTest, BestIsNoWorseThanTheBaseAndTheObserverSeesEveryPhase) {
+  const TuneStudy study = Study("evaluations.csv", 8, true);
+  Recorder rec;
+  const TuneReport r = study.Run(rec);
+  const TuneResult& opt = r.optimisation;
+
+  // The best is no worse than the base (evaluation 0), and the comparison reproduces both costs:
+  // the base set's and the tuned set's runs are the optimisation's own.
+  EXPECT_EQ(opt.stop_reason, "max_evals");
+  EXPECT_LE(opt.best_cost, opt.start_cost);
+  ASSERT_EQ(r.training.size(), 2u);
+  EXPECT_EQ(r.training[0].total, opt.start_cost);
+  EXPECT_EQ(r.training[1].total, opt.best_cost);
+  EXPECT_EQ(r.held_out.size(), 2u);
+  EXPECT_EQ(r.provenance.training_before, opt.start_cost);
+
+  // Every evaluation counted, reported and logged (a header and one row each).
+  EXPECT_EQ(opt.evals, 8);
+  EXPECT_EQ(opt.replayed, 0);
+  EXPECT_EQ(rec.evaluations, (std::vector<int>{1, 2, 3, 4, 5, 6, 7, 8}));
+  EXPECT_EQ(Rows(ReadOrEmpty((dir_ / "evaluations.csv").string())), 1 + opt.evals);
+
+  // The phases in order; each job count ends at its total.
+  EXPECT_EQ(rec.events, (std::vector<std::string>{"begin prepare", "end prepare", "begin optimise",
+                                                  "end optimise", "begin compare", "end compare",
+                                                  "begin sensitivity", "end sensitivity"}));
+  ASSERT_EQ(rec.totals.size(), 4u);
+  EXPECT_EQ(rec.totals[0], 2);              // training scenarios prepared
+  EXPECT_EQ(rec.totals[1], 8);              // the budget
+  EXPECT_EQ(rec.totals[2], 2 * 2 + 3 * 1);  // 2 sets on training; held-out: prepare + 2 sets
+  EXPECT_EQ(rec.totals[3], r.sensitivity.sets * 2);
+  for (int phase : {0, 2, 3}) {
+    EXPECT_EQ(rec.last_jobs[phase].first, rec.last_jobs[phase].second) << phase;
+    EXPECT_GT(rec.last_jobs[phase].first, 0) << phase;
+  }
+
+  // At the end of the comparison the outputs are complete, the sensitivity still to come.
+  EXPECT_EQ(rec.at_compare.sensitivity_state, SensitivityState::kPending);
+  EXPECT_EQ(rec.at_compare.tuned_file, r.tuned_file);
+  EXPECT_EQ(rec.at_compare.comparison_csv, r.comparison_csv);
+  EXPECT_EQ(r.sensitivity_state, SensitivityState::kDone);
+  EXPECT_EQ(r.comparison_markdown.rfind(rec.at_compare.comparison_markdown, 0), 0u);
+  EXPECT_NE(r.comparison_markdown.find("Parameter sensitivity"), std::string::npos);
+  EXPECT_EQ(r.sensitivity.dimensions.size(), 2u);
+  EXPECT_FALSE(r.sensitivity_csv.empty());
+
+  // The tuned file is the tuned set; the overrides list exactly the changed keys.
+  const auto tuned =
+      params::LoadRosText<StabilityParams>(r.tuned_file, "tuned", params::kStabilityNodeKey);
+  EXPECT_TRUE(params::DifferingKeys(tuned, r.tuned).empty());
+  Problems pr;
+  const params::YamlNode parsed = params::ParseYaml(r.overrides_file, "over");
+  const auto over = params::Flatten(parsed, params::Layout::kRos2, params::kStabilityNodeKey, &pr);
+  EXPECT_TRUE(pr.empty());
+  std::vector<std::string> overridden;
+  for (const auto& e : over.entries) overridden.push_back(e.key);
+  std::sort(overridden.begin(), overridden.end());
+  const std::set<std::string> changed = params::DifferingKeys(r.tuned, StabilityParams{});
+  EXPECT_EQ(std::vector<std::string>(changed.begin(), changed.end()), r.changed);
+  EXPECT_EQ(overridden, r.changed);
+  EXPECT_NE(r.tuned_file.find("2026-01-01T00:00:00Z"), std::string::npos);
+
+  // The manifest names the outcome.
+  const std::string manifest = study.ManifestYaml(r, {});
+  EXPECT_NE(manifest.find("evaluations: 8\n"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("sensitivity: \"done\"\n"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("changed_keys: " + std::to_string(r.changed.size()) + "\n"),
+            std::string::npos)
+      << manifest;
+}
+
+TEST_F(TuneStudyTest, SameInputsGiveTheSameReport) {
+  const TuneReport a = Study("a.csv", 6, false).Run();
+  const TuneReport b = Study("b.csv", 6, false).Run();
+  EXPECT_EQ(ReadOrEmpty((dir_ / "a.csv").string()), ReadOrEmpty((dir_ / "b.csv").string()));
+  EXPECT_EQ(a.optimisation.best_u, b.optimisation.best_u);
+  EXPECT_EQ(a.optimisation.best_cost, b.optimisation.best_cost);
+  EXPECT_EQ(a.optimisation.best_eval, b.optimisation.best_eval);
+  EXPECT_EQ(a.optimisation.evals, b.optimisation.evals);
+  EXPECT_EQ(a.optimisation.stop_reason, b.optimisation.stop_reason);
+  EXPECT_EQ(a.changed, b.changed);
+  EXPECT_EQ(a.tuned_file, b.tuned_file);
+  EXPECT_EQ(a.overrides_file, b.overrides_file);
+  EXPECT_EQ(a.comparison_markdown, b.comparison_markdown);
+  EXPECT_EQ(a.comparison_csv, b.comparison_csv);
+  EXPECT_EQ(a.sensitivity_state, SensitivityState::kSkipped);
+  EXPECT_EQ(b.sensitivity_state, SensitivityState::kSkipped);
+  EXPECT_TRUE(a.sensitivity_csv.empty());
+}
+
+TEST_F(TuneStudyTest, TheStopFlagEndsTheOptimisationWithTheBestSoFar) {
+  Recorder rec;
+  rec.stop_after = 3;
+  const TuneStudy study = Study("evaluations.csv", 50, true, &rec.stop);
+  const TuneReport r = study.Run(rec);
+  // The evaluation under way when the flag rose is the last one; nothing after it is logged.
+  EXPECT_EQ(r.optimisation.stop_reason, "interrupted");
+  EXPECT_EQ(r.optimisation.evals, 3);
+  EXPECT_EQ(Rows(ReadOrEmpty((dir_ / "evaluations.csv").string())), 1 + 3);
+  EXPECT_LT(r.optimisation.best_eval, 3);
+  EXPECT_LE(r.optimisation.best_cost, r.optimisation.start_cost);
+  // The best so far is compared and exported as usual; the sensitivity is skipped.
+  ASSERT_EQ(r.training.size(), 2u);
+  EXPECT_EQ(r.training[1].total, r.optimisation.best_cost);
+  EXPECT_FALSE(r.tuned_file.empty());
+  EXPECT_EQ(r.sensitivity_state, SensitivityState::kSkipped);
+  EXPECT_EQ(rec.events.back(), "end compare");
+  EXPECT_NE(study.ManifestYaml(r, {}).find("sensitivity: \"skipped (interrupted)\"\n"),
+            std::string::npos);
+
+  // scw evaluate's table of the base and the tuned set is the tune's comparison.csv.
+  const SetsEvaluation table =
+      EvaluateSets(study.scenarios(), {study.base(), r.tuned}, {"baseline", "tuned"}, 1);
+  EXPECT_EQ(table.csv, r.comparison_csv);
+}
+
+TEST_F(TuneStudyTest, TheBaseOutsideARangeGrowsItOrIsRefusedBeforeAnythingRuns) {
+  // The shipped ESC.beta_threshold_deactivate lies outside the default space's ratio range.
+  const ScenarioSet set = ScenarioSet::FromYamlText(kSet, "tiny");
+  const TuneStudy grown(StabilityParams{}, ParameterSpace::Default(), set, {});
+  ASSERT_EQ(grown.grown().size(), 1u);
+  EXPECT_NE(grown.grown()[0].find("ESC.beta_threshold_deactivate"), std::string::npos);
+  EXPECT_TRUE(params::DifferingKeys(
+                  grown.space().Decode(grown.start_point(), grown.base(), nullptr), grown.base())
+                  .empty());
+  TuneStudyOptions refuse;
+  refuse.base_outside = BaseOutsideSpace::kRefuse;
+  EXPECT_THROW(TuneStudy(StabilityParams{}, ParameterSpace::Default(), set, refuse), ConfigError);
+  TuneStudyOptions bad;
+  bad.algorithm = "crs3";
+  EXPECT_THROW(TuneStudy(StabilityParams{}, TwoDimensions(), set, bad), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace scw::tuning

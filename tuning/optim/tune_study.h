@@ -1,0 +1,230 @@
+// The workflows of `scw tune` and `scw evaluate` as library calls: the CLI maps its options onto
+// them, shows their progress and writes what they return.
+//
+// TuneStudy — the main job. Constructed from what is already loaded (the base set, the search
+// space as given, the scenario set) and the settings; the constructor fits the space to the base
+// (TuneStudy::space()) and checks the settings, so that every problem with the inputs is found
+// before anything runs or a folder is made. Run(observer) then goes through four phases:
+//
+//   prepare      resolve the training scenarios (racing line, velocity profile): one evaluator
+//   optimise     Tune() (tuning/optim/tuner.h) from the base point u0 = space().Encode(base) over
+//                the unit cube; the objective decodes u against the base and, for a valid set,
+//                J(u) = Σ weight_s · J_s on the training scenarios; a decoded set that breaks a
+//                schema rule is not run and costs
+//                  (P_abort + w_progress + T_lap_cap) · max(1, #training scenarios),
+//                more than any set that runs (abort penalty at zero progress in every scenario).
+//                Every evaluation is appended to options.evaluation_log as it happens (streamed:
+//                an interrupted run keeps it); options.resume_log is replayed first.
+//   compare      the base set ("baseline") and the tuned set on the training scenarios, then on
+//                the held-out ones: tables and CSV rows (comparison.h), the verdict per group,
+//                the texts of the tuned full and overrides-only params files with their
+//                provenance header, both checked as the car's ROS 2 node would load them.
+//                The outputs are complete here: OnPhaseEnd(kCompare, report) is where a caller
+//                writes them, before the sensitivity, so that a run stopped during the last phase
+//                keeps a complete folder.
+//   sensitivity  the one-at-a-time parameter sensitivity around the tuned point on the training
+//                scenarios (sensitivity.h); skipped when options.sensitivity is false or the
+//                optimisation stopped as "interrupted" or "resume_mismatch". Its section is
+//                appended to the comparison Markdown.
+//
+// Stop: options.stop (scw tune's SIGINT flag) ends the optimisation after the current evaluation
+// (or batch); the best set so far then goes through the comparison as usual, with stop reason
+// "interrupted", and the sensitivity is skipped.
+//
+// Determinism: the same inputs, seed and budget give the same report bit for bit, for any thread
+// count and number of MPI ranks (the tuner, the evaluator and the sensitivity are deterministic);
+// a wall-time limit (max_time_s > 0) makes the stop depend on the machine's speed. The date of the
+// tuned files' header comes from options.date_utc, the only clock that reaches the report.
+//
+// Errors: the constructor throws std::invalid_argument for an unknown algorithm or a batch the
+// algorithm cannot take, ConfigError for a base outside the space under BaseOutsideSpace::kRefuse
+// (naming the key); Run throws std::runtime_error when the tuner does (the evaluation log cannot be
+// written, the resume log diverges from this problem) or an exported file fails the ROS 2 params
+// check, and passes on what an observer throws.
+//
+// EvaluateSets — `scw evaluate`: given parameter sets side by side on the training and held-out
+// scenarios. TuneStudy::CheckSet — `scw tune --check-set`: which subsystems and parameters the
+// scenario set can see around the study's base point.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "params/schema/stability_params.h"
+#include "tuning/optim/comparison.h"
+#include "tuning/optim/evaluator.h"
+#include "tuning/optim/sensitivity.h"
+#include "tuning/optim/space.h"
+#include "tuning/optim/tuner.h"
+#include "tuning/sim/scenario_set.h"
+
+namespace scw::tuning {
+
+/// File names of a tune's outputs inside its run folder (they appear in the tuned files' header
+/// and in the messages of the export check).
+inline constexpr const char* kTunedParamsFile = "stability_tuned.yaml";
+inline constexpr const char* kOverridesParamsFile = "stability_overrides.yaml";
+
+struct TuneStudyOptions {
+  // The search (scw tune's options of the same names).
+  std::string algorithm = "crs2+sbplx";  ///< see TunerOptions::algorithm
+  int batch = 1;                         ///< candidates per objective call ("lhs" algorithms)
+  int max_evals = 180;                   ///< evaluation budget
+  double max_time_s = 0.0;               ///< wall-time limit (0: none)
+  unsigned long long seed = 1;
+  int threads = 0;  ///< worker threads per process of every evaluator (0: all cores)
+  BaseOutsideSpace base_outside = BaseOutsideSpace::kGrow;
+  bool sensitivity = true;  ///< the parameter sensitivity after the optimisation (and CheckSet)
+
+  // Streaming (the tuner writes and reads these files while it runs).
+  std::string evaluation_log;               ///< CSV log of every evaluation ("" = none)
+  std::string resume_log;                   ///< earlier log to replay first ("" = none)
+  const std::atomic<bool>* stop = nullptr;  ///< set it to end the optimisation early
+
+  // Provenance: only printed (tuned files' header, comparison Markdown, manifest), never read.
+  std::string base_file;       ///< the base params file ("" = the built-in shipped set)
+  std::string space_file;      ///< the space file ("" = the built-in default)
+  std::string scenarios_file;  ///< the scenario set file ("" = the built-in default)
+  /// Keys the base file sets: its optional keys stay in the full export (params::ToRosYaml).
+  std::set<std::string> base_keys;
+  std::string run_folder;  ///< where the outputs go (header, messages)
+  std::string tool_version, git_revision;
+  /// The date (ISO 8601 UTC) of the tuned files' header and the manifest, asked once when the
+  /// outputs are composed (after the comparison); empty: no date.
+  std::function<std::string()> date_utc;
+};
+
+enum class TunePhase { kPrepare, kOptimise, kCompare, kSensitivity };
+/// "prepare", "optimise", "compare", "sensitivity".
+const char* TunePhaseName(TunePhase phase);
+
+/// The sensitivity's state in a report.
+enum class SensitivityState {
+  kPending,  ///< will run after the comparison (a report handed to OnPhaseEnd(kCompare))
+  kDone,
+  kSkipped,  ///< options.sensitivity is false, or the run was interrupted / did not resume
+};
+
+/// What a TuneStudy returns: everything `scw tune` writes, as values and as texts.
+struct TuneReport {
+  // prepare
+  int threads = 0;  ///< worker threads per process of the evaluators
+  int ranks = 1;    ///< MPI ranks computing runs
+  // optimise
+  TuneResult optimisation;  ///< best point and cost, start cost, evaluations, stop reason
+  // compare
+  /// The best point decoded against the base, quantised to the schema resolutions: exactly what
+  /// is exported.
+  params::StabilityParams tuned;
+  std::vector<std::string> changed;            ///< dotted keys where tuned ≠ base (sorted)
+  std::vector<SetEvaluation> training;         ///< [0] base, [1] tuned, on the training scenarios
+  std::vector<SetEvaluation> held_out;         ///< the same on the held-out ones (empty: none)
+  SetChange training_change, held_out_change;  ///< verdicts (held_out_change: held-out only)
+  TuneProvenance provenance;                   ///< the tuned files' header
+  std::string tuned_file;                      ///< text of stability_tuned.yaml (checked)
+  std::string overrides_file;                  ///< text of stability_overrides.yaml (checked)
+  std::string comparison_csv;                  ///< comparison.csv
+  /// comparison.md without the plots: heading, tables and verdicts, then (kDone) the sensitivity.
+  std::string comparison_markdown;
+  // sensitivity
+  SensitivityState sensitivity_state = SensitivityState::kPending;
+  SensitivityResult sensitivity;  ///< kDone only
+  std::string sensitivity_csv;    ///< sensitivity.csv (kDone only)
+};
+
+/// Watches a study. Every method has an empty default. The job counts (OnJobs) may come from the
+/// evaluator's worker threads, never two at once; everything else comes from the thread that
+/// runs the study. An observer only watches: the report does not depend on it. OnEvaluation must
+/// not throw (it is called inside the optimiser); an exception from any other method ends the
+/// study with it.
+class TuneObserver {
+ public:
+  virtual ~TuneObserver() = default;
+  /// A phase begins; `total` counts its jobs: scenarios to prepare, the evaluation budget, runs
+  /// and held-out preparations to compare, runs of the sensitivity.
+  virtual void OnPhaseBegin(TunePhase /*phase*/, int /*total*/) {}
+  /// Jobs done in the phase so far (kPrepare, kCompare, kSensitivity), 1 to total.
+  virtual void OnJobs(TunePhase /*phase*/, int /*done*/, int /*total*/) {}
+  /// After every evaluation of the optimisation (replayed ones included).
+  virtual void OnEvaluation(const Progress& /*progress*/) {}
+  /// A phase ended; `report` holds the results so far: after kPrepare the threads and ranks,
+  /// after kOptimise also the optimisation, after kCompare everything but the sensitivity (the
+  /// outputs are complete), after kSensitivity the final report. Not called for a phase that
+  /// threw.
+  virtual void OnPhaseEnd(TunePhase /*phase*/, const TuneReport& /*report*/) {}
+};
+
+/// What only the writer of a run folder knows, for manifest.yaml.
+struct TuneRunRecord {
+  std::string command_line;
+  /// SHA-256 of the input files named in the options (`sha256sum` form); not read for a built-in
+  /// input, whose printed form the study hashes.
+  std::string base_sha256, space_sha256, scenarios_sha256;
+  double wall_time_s = 0.0;
+  /// (file name, SHA-256) of the outputs as written, in the order to list them.
+  std::vector<std::pair<std::string, std::string>> files_sha256;
+};
+
+class TuneStudy {
+ public:
+  /// Fits `space` to `base` (options.base_outside) and checks the settings (see the header
+  /// comment for what it throws). Runs nothing.
+  TuneStudy(params::StabilityParams base, const ParameterSpace& space, ScenarioSet scenarios,
+            TuneStudyOptions options);
+
+  /// Prepares, optimises, compares and (unless skipped) measures the sensitivity; see above.
+  TuneReport Run(TuneObserver& observer) const;
+  TuneReport Run() const;
+
+  /// `scw tune --check-set`: the base set on every scenario as it is and with each subsystem off
+  /// (set_check.h), then, if options.sensitivity, the parameter sensitivity around the base point
+  /// on the training scenarios; returns the Markdown. `progress` counts every preparation and run
+  /// as one job, starting with (0, total) from the calling thread. Deterministic for any thread
+  /// count.
+  std::string CheckSet(const BatchProgress& progress = {}) const;
+
+  /// manifest.yaml of a run: the versions, the inputs and their hashes, the settings, the
+  /// optimisation, the costs and verdicts, the sensitivity's state, the wall time and the hashes
+  /// of the outputs.
+  std::string ManifestYaml(const TuneReport& report, const TuneRunRecord& record) const;
+
+  const params::StabilityParams& base() const { return base_; }
+  /// The space the optimiser searches: the space as given, fitted to the base.
+  const ParameterSpace& space() const { return space_; }
+  /// The space as given (before fitting it to the base).
+  const ParameterSpace& given_space() const { return given_; }
+  /// One note per range grown to include the base (BaseOutsideSpace::kGrow).
+  const std::vector<std::string>& grown() const { return grown_; }
+  /// The base point: decodes to the base set bit for bit.
+  const std::vector<double>& start_point() const { return u0_; }
+  const ScenarioSet& scenarios() const { return scenarios_; }
+  const TuneStudyOptions& options() const { return options_; }
+
+ private:
+  params::StabilityParams base_;
+  ParameterSpace given_;  ///< as loaded (the header names the ranges grown from it)
+  ScenarioSet scenarios_;
+  TuneStudyOptions options_;
+  std::vector<std::string> grown_;
+  ParameterSpace space_;
+  std::vector<double> u0_;
+};
+
+/// `scw evaluate`'s table: each of `sets` (named by `labels`, one per set) on the training, then
+/// the held-out scenarios of `scenarios` (a group without scenarios is left out).
+struct SetsEvaluation {
+  std::string markdown;  ///< one comparison table per group
+  std::string csv;       ///< ComparisonCsv rows of both groups, one header
+};
+/// `progress` counts every preparation and run as one job, starting with (0, total) from the
+/// calling thread. Deterministic for any thread count.
+SetsEvaluation EvaluateSets(const ScenarioSet& scenarios,
+                            const std::vector<params::StabilityParams>& sets,
+                            const std::vector<std::string>& labels, int threads = 0,
+                            const BatchProgress& progress = {});
+
+}  // namespace scw::tuning
