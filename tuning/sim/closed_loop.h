@@ -9,6 +9,10 @@
 // leaving the track, non-finite values, timeout); it reports which and where (s, lap, time).
 // Metrics follow tuning/sim/metrics.h. A run is a pure function of its inputs (scenario, stability
 // set, seed): deterministic and thread-safe, so many runs may execute in parallel.
+//
+// Each tick is handed as a TickRecord (tuning/sim/tick_record.h) to the run's observers: the lap
+// counter, the metrics and the abort rules (tuning/sim/run_observers.h, which states the rules and
+// their order) and the trace (tuning/sim/trace_schema.h, the one table of its columns).
 #pragma once
 
 #include <functional>
@@ -37,7 +41,8 @@ struct RunOptions {
   double sideslip_allowed_deg = 5.0;
 };
 
-/// Header of the trace CSV (names with units).
+/// Header of the trace CSV: the names (with units) of kTraceColumns (tuning/sim/trace_schema.h),
+/// in file order.
 std::vector<std::string> TraceHeader();
 
 /// Runs the scenario with `stability` (before vehicle injection and subsystem switches; see
