@@ -9,6 +9,62 @@
 
 namespace scw::params {
 
+namespace detail {
+/// The settings both MPCs share: same meaning, unit, bounds and doc (their defaults differ).
+template <class Self, class V>
+void VisitMpcCommon(Self& s, V& v) {
+  v.Field(s.q_n, {.key = "q_n",
+                  .unit = "1/m^2",
+                  .lo = 0.0,
+                  .hi = 1e6,
+                  .doc = "Weight of the lateral offset from the reference line.",
+                  .optional = true});
+  v.Field(s.q_v, {.key = "q_v",
+                  .unit = "s^2/m^2",
+                  .lo = 0.0,
+                  .hi = 1e6,
+                  .doc = "Weight of the speed error to the reference speed.",
+                  .optional = true});
+  v.Field(s.terminal_factor, {.key = "terminal_factor",
+                              .lo = 0.0,
+                              .hi = 1e3,
+                              .doc = "Factor on the state weights of the last node.",
+                              .optional = true});
+  v.Field(s.slack_l1, {.key = "slack_l1",
+                       .lo = 0.0,
+                       .hi = 1e9,
+                       .doc = "Linear penalty of the track-bound slack.",
+                       .optional = true});
+  v.Field(s.slack_l2, {.key = "slack_l2",
+                       .lo = 0.0,
+                       .hi = 1e9,
+                       .doc = "Quadratic penalty of the track-bound slack.",
+                       .optional = true});
+  v.Field(s.min_speed, {.key = "min_speed",
+                        .unit = "m/s",
+                        .lo = 0.0,
+                        .hi = 50.0,
+                        .doc = "Lower bound of the planned speed.",
+                        .optional = true});
+  v.Field(s.projection_window, {.key = "projection_window",
+                                .unit = "m",
+                                .lo = 1.0,
+                                .hi = 10000.0,
+                                .doc = "Local search window of the path matching.",
+                                .optional = true});
+  v.Field(s.max_iter, {.key = "max_iter",
+                       .lo = 1,
+                       .hi = 10000,
+                       .doc = "Iteration limit of each solve (Ipopt).",
+                       .optional = true});
+  v.Field(s.tol, {.key = "tol",
+                  .lo = 1e-12,
+                  .hi = 1.0,
+                  .doc = "Convergence tolerance of each solve (Ipopt).",
+                  .optional = true});
+}
+}  // namespace detail
+
 /// Point-mass tube MPC (QP in the curvilinear frame, ancillary feedback each sample).
 struct PmpcParams {
   int horizon_steps = 20;     ///< N
@@ -56,23 +112,11 @@ struct PmpcParams {
              .doc = "Time between QP solves (at least the tracking sample time; the ancillary "
                     "feedback runs every sample in between).",
              .optional = true});
-    v.Field(s.q_n, {.key = "q_n",
-                    .unit = "1/m^2",
-                    .lo = 0.0,
-                    .hi = 1e6,
-                    .doc = "Weight of the lateral offset from the reference line.",
-                    .optional = true});
     v.Field(s.q_w, {.key = "q_w",
                     .unit = "s^2/m^2",
                     .lo = 0.0,
                     .hi = 1e6,
                     .doc = "Weight of the lateral speed.",
-                    .optional = true});
-    v.Field(s.q_v, {.key = "q_v",
-                    .unit = "s^2/m^2",
-                    .lo = 0.0,
-                    .hi = 1e6,
-                    .doc = "Weight of the speed error to the reference speed.",
                     .optional = true});
     v.Field(s.r_at, {.key = "r_at",
                      .unit = "s^4/m^2",
@@ -98,21 +142,6 @@ struct PmpcParams {
                       .hi = 1e6,
                       .doc = "Weight of the change of normal acceleration between steps.",
                       .optional = true});
-    v.Field(s.terminal_factor, {.key = "terminal_factor",
-                                .lo = 0.0,
-                                .hi = 1e3,
-                                .doc = "Factor on the state weights of the last node.",
-                                .optional = true});
-    v.Field(s.slack_l1, {.key = "slack_l1",
-                         .lo = 0.0,
-                         .hi = 1e9,
-                         .doc = "Linear penalty of the track-bound slack.",
-                         .optional = true});
-    v.Field(s.slack_l2, {.key = "slack_l2",
-                         .lo = 0.0,
-                         .hi = 1e9,
-                         .doc = "Quadratic penalty of the track-bound slack.",
-                         .optional = true});
     v.Field(s.tube_lateral, {.key = "tube_lateral",
                              .unit = "m",
                              .lo = 0.0,
@@ -131,12 +160,6 @@ struct PmpcParams {
                          .doc = "Share of the g-g limits the ancillary feedback may reach (at "
                                 "least nominal_fraction).",
                          .optional = true});
-    v.Field(s.min_speed, {.key = "min_speed",
-                          .unit = "m/s",
-                          .lo = 0.0,
-                          .hi = 50.0,
-                          .doc = "Lower bound of the planned speed.",
-                          .optional = true});
     v.Field(s.lookahead_time, {.key = "lookahead_time",
                                .unit = "s",
                                .lo = 0.0,
@@ -155,22 +178,7 @@ struct PmpcParams {
                            .hi = 20.0,
                            .doc = "Gain of the ancillary speed feedback.",
                            .optional = true});
-    v.Field(s.projection_window, {.key = "projection_window",
-                                  .unit = "m",
-                                  .lo = 1.0,
-                                  .hi = 10000.0,
-                                  .doc = "Local search window of the path matching.",
-                                  .optional = true});
-    v.Field(s.max_iter, {.key = "max_iter",
-                         .lo = 1,
-                         .hi = 10000,
-                         .doc = "Iteration limit of each QP solve (Ipopt).",
-                         .optional = true});
-    v.Field(s.tol, {.key = "tol",
-                    .lo = 1e-12,
-                    .hi = 1.0,
-                    .doc = "Convergence tolerance of each QP solve (Ipopt).",
-                    .optional = true});
+    detail::VisitMpcCommon(s, v);
   }
   static void CrossCheck(const PmpcParams& p, Problems& pr) {
     if (!(p.headroom >= p.nominal_fraction))
@@ -225,24 +233,12 @@ struct NmpcParams {
                             .hi = 1.0,
                             .doc = "Time between solves (the plan is held in between).",
                             .optional = true});
-    v.Field(s.q_n, {.key = "q_n",
-                    .unit = "1/m^2",
-                    .lo = 0.0,
-                    .hi = 1e6,
-                    .doc = "Weight of the lateral offset from the reference line.",
-                    .optional = true});
     v.Field(s.q_mu, {.key = "q_mu",
                      .unit = "1/rad^2",
                      .lo = 0.0,
                      .hi = 1e6,
                      .doc = "Weight of the heading error to the reference line.",
                      .optional = true});
-    v.Field(s.q_v, {.key = "q_v",
-                    .unit = "s^2/m^2",
-                    .lo = 0.0,
-                    .hi = 1e6,
-                    .doc = "Weight of the speed error to the reference speed.",
-                    .optional = true});
     v.Field(s.r_ddelta, {.key = "r_ddelta",
                          .unit = "1/rad^2",
                          .lo = 0.0,
@@ -261,21 +257,6 @@ struct NmpcParams {
                     .hi = 1e6,
                     .doc = "Weight of the acceleration's deviation from the reference's.",
                     .optional = true});
-    v.Field(s.terminal_factor, {.key = "terminal_factor",
-                                .lo = 0.0,
-                                .hi = 1e3,
-                                .doc = "Factor on the state weights of the last node.",
-                                .optional = true});
-    v.Field(s.slack_l1, {.key = "slack_l1",
-                         .lo = 0.0,
-                         .hi = 1e9,
-                         .doc = "Linear penalty of the track-bound slack.",
-                         .optional = true});
-    v.Field(s.slack_l2, {.key = "slack_l2",
-                         .lo = 0.0,
-                         .hi = 1e9,
-                         .doc = "Quadratic penalty of the track-bound slack.",
-                         .optional = true});
     v.Field(s.margin, {.key = "margin",
                        .unit = "m",
                        .lo = 0.0,
@@ -293,18 +274,6 @@ struct NmpcParams {
                                   .hi = 20.0,
                                   .doc = "Steering rate bound of the plan.",
                                   .optional = true});
-    v.Field(s.min_speed, {.key = "min_speed",
-                          .unit = "m/s",
-                          .lo = 0.0,
-                          .hi = 50.0,
-                          .doc = "Lower bound of the planned speed.",
-                          .optional = true});
-    v.Field(s.projection_window, {.key = "projection_window",
-                                  .unit = "m",
-                                  .lo = 1.0,
-                                  .hi = 10000.0,
-                                  .doc = "Local search window of the path matching.",
-                                  .optional = true});
     v.Field(s.fallback_lookahead_time,
             {.key = "fallback_lookahead_time",
              .unit = "s",
@@ -319,16 +288,7 @@ struct NmpcParams {
              .hi = 500.0,
              .doc = "Minimum lookahead distance of the fallback steering law.",
              .optional = true});
-    v.Field(s.max_iter, {.key = "max_iter",
-                         .lo = 1,
-                         .hi = 10000,
-                         .doc = "Iteration limit of each solve (Ipopt).",
-                         .optional = true});
-    v.Field(s.tol, {.key = "tol",
-                    .lo = 1e-12,
-                    .hi = 1.0,
-                    .doc = "Convergence tolerance of each solve (Ipopt).",
-                    .optional = true});
+    detail::VisitMpcCommon(s, v);
   }
 };
 

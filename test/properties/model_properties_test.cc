@@ -120,6 +120,22 @@ struct PlantCase {
   }
 };
 
+/// The stability controller and its sub-controllers share construction from the car's shipped
+/// parameters, a default-constructed state and Step(in, &state).
+template <class M>
+struct StabilityCaseBase {
+  static constexpr bool kMirror = true;
+  using Model = M;
+  using State = typename M::State;
+  using Input = typename M::Input;
+  using Output = typename M::Output;
+  static std::unique_ptr<Model> Make() {
+    return std::make_unique<Model>(params::StabilityParams{});
+  }
+  static State MakeState(const Model&) { return {}; }
+  static Output Step(const Model& m, const Input& in, State* s) { return m.Step(in, s); }
+};
+
 /// Inputs of the stability controller for step k (the shared maneuver on the car's defaults).
 controller::StabilityInput StabilityIn(int k, bool mirrored) {
   static const params::StabilityParams p;
@@ -142,19 +158,9 @@ controller::StabilityInput StabilityIn(int k, bool mirrored) {
   return in;
 }
 
-struct StabilityControllerCase {
+struct StabilityControllerCase : StabilityCaseBase<controller::StabilityController> {
   static constexpr const char* kName = "controller::StabilityController";
-  static constexpr bool kMirror = true;
-  using Model = controller::StabilityController;
-  using State = Model::State;
-  using Input = controller::StabilityInput;
-  using Output = controller::StabilityOutput;
-  static std::unique_ptr<Model> Make() {
-    return std::make_unique<Model>(params::StabilityParams{});
-  }
-  static State MakeState(const Model&) { return {}; }
   static Input In(int k, bool mirrored) { return StabilityIn(k, mirrored); }
-  static Output Step(const Model& m, const Input& in, State* s) { return m.Step(in, s); }
   static void Collect(const Output& o, bool mirror, Numbers* n) {
     const double s = mirror ? -1.0 : 1.0;
     n->Add(s * o.steering);
@@ -168,17 +174,8 @@ struct StabilityControllerCase {
   }
 };
 
-struct SlipEstimatorCase {
+struct SlipEstimatorCase : StabilityCaseBase<controller::SlipEstimator> {
   static constexpr const char* kName = "controller::SlipEstimator";
-  static constexpr bool kMirror = true;
-  using Model = controller::SlipEstimator;
-  using State = Model::State;
-  using Input = Model::Input;
-  using Output = Model::Output;
-  static std::unique_ptr<Model> Make() {
-    return std::make_unique<Model>(params::StabilityParams{});
-  }
-  static State MakeState(const Model&) { return {}; }
   static Input In(int k, bool mirrored) {
     const controller::StabilityInput s = StabilityIn(k, mirrored);
     Input in;
@@ -195,7 +192,6 @@ struct SlipEstimatorCase {
     in.engine_speed_valid = true;
     return in;
   }
-  static Output Step(const Model& m, const Input& in, State* s) { return m.Step(in, s); }
   static void Collect(const Output& o, bool mirror, Numbers* n) {
     n->Add(mirror ? Swap(o.slip_pct) : o.slip_pct);
     n->Add(mirror ? Swap(o.fz) : o.fz);
@@ -206,17 +202,8 @@ struct SlipEstimatorCase {
   }
 };
 
-struct EscCase {
+struct EscCase : StabilityCaseBase<controller::Esc> {
   static constexpr const char* kName = "controller::Esc";
-  static constexpr bool kMirror = true;
-  using Model = controller::Esc;
-  using State = Model::State;
-  using Input = Model::Input;
-  using Output = Model::Output;
-  static std::unique_ptr<Model> Make() {
-    return std::make_unique<Model>(params::StabilityParams{});
-  }
-  static State MakeState(const Model&) { return {}; }
   static Input In(int k, bool mirrored) {
     const controller::StabilityInput s = StabilityIn(k, mirrored);
     Input in;
@@ -228,7 +215,6 @@ struct EscCase {
     in.pressure_in = s.brake_request_bar;
     return in;
   }
-  static Output Step(const Model& m, const Input& in, State* s) { return m.Step(in, s); }
   static void Collect(const Output& o, bool mirror, Numbers* n) {
     n->Add(mirror ? Swap(o.pressure) : o.pressure);
     n->Add(mirror ? -o.yaw_moment : o.yaw_moment);
@@ -238,17 +224,8 @@ struct EscCase {
   }
 };
 
-struct CountersteerCase {
+struct CountersteerCase : StabilityCaseBase<controller::Countersteer> {
   static constexpr const char* kName = "controller::Countersteer";
-  static constexpr bool kMirror = true;
-  using Model = controller::Countersteer;
-  using State = Model::State;
-  using Input = Model::Input;
-  using Output = Model::Output;
-  static std::unique_ptr<Model> Make() {
-    return std::make_unique<Model>(params::StabilityParams{});
-  }
-  static State MakeState(const Model&) { return {}; }
   static Input In(int k, bool mirrored) {
     const controller::StabilityInput s = StabilityIn(k, mirrored);
     Input in;
@@ -261,7 +238,6 @@ struct CountersteerCase {
     in.fz = mirrored ? Swap(fz) : fz;
     return in;
   }
-  static Output Step(const Model& m, const Input& in, State* s) { return m.Step(in, s); }
   static void Collect(const Output& o, bool mirror, Numbers* n) {
     const double s = mirror ? -1.0 : 1.0;
     n->Add(s * o.steering);
@@ -271,17 +247,8 @@ struct CountersteerCase {
   }
 };
 
-struct SlipControlCase {
+struct SlipControlCase : StabilityCaseBase<controller::SlipControl> {
   static constexpr const char* kName = "controller::SlipControl";
-  static constexpr bool kMirror = true;
-  using Model = controller::SlipControl;
-  using State = Model::State;
-  using Input = Model::Input;
-  using Output = Model::Output;
-  static std::unique_ptr<Model> Make() {
-    return std::make_unique<Model>(params::StabilityParams{});
-  }
-  static State MakeState(const Model&) { return {}; }
   static Input In(int k, bool mirrored) {
     const Maneuver m = At(k);
     Input in;
@@ -304,7 +271,6 @@ struct SlipControlCase {
     in.throttle = m.throttle;
     return in;
   }
-  static Output Step(const Model& m, const Input& in, State* s) { return m.Step(in, s); }
   static void Collect(const Output& o, bool mirror, Numbers* n) {
     n->Add(mirror ? Swap(o.pressure) : o.pressure);
     n->Add(o.throttle);

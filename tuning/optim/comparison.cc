@@ -7,15 +7,9 @@
 
 #include "params/io/csv.h"
 #include "params/io/write.h"
+#include "tuning/sim/run_summary.h"
 
 namespace scw::tuning {
-namespace {
-std::string Fixed(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%.*f", digits, x);
-  return buf;
-}
-}  // namespace
 
 std::string ComparisonMarkdown(const std::string& title, const BatchEvaluator& ev,
                                const std::vector<std::string>& labels,
@@ -28,18 +22,18 @@ std::string ComparisonMarkdown(const std::string& title, const BatchEvaluator& e
     for (std::size_t s = 0; s < results.size(); ++s) {
       const RunMetrics& m = results[s].runs[k];
       const double lap = m.MeanLapTime();
-      out += "| " + ev.scenarios()[k].spec.name + " | " + labels[s] + " | " +
-             RunStatusName(m.status) +
-             (m.aborted() ? " (" + Fixed(100.0 * m.Progress(), 0) + " %)" : std::string()) + " | " +
-             (std::isfinite(lap) ? Fixed(lap, 3) : std::string("-")) + " | " +
-             Fixed(RenderedMetric(m, "max_abs_sideslip_deg").real, 2) + " | " +
-             Fixed(m.max_abs_lateral_error, 2) + " | " + std::to_string(m.esc_count) + "/" +
-             std::to_string(m.cs_count) + "/" + std::to_string(m.abs_count) + "/" +
-             std::to_string(m.tc_count) + " | " + Fixed(results[s].costs[k].total, 3) + " |\n";
+      out +=
+          "| " + ev.scenarios()[k].spec.name + " | " + labels[s] + " | " + RunStatusName(m.status) +
+          (m.aborted() ? " (" + FormatFixed(100.0 * m.Progress(), 0) + " %)" : std::string()) +
+          " | " + (std::isfinite(lap) ? FormatFixed(lap, 3) : std::string("-")) + " | " +
+          FormatFixed(RenderedMetric(m, "max_abs_sideslip_deg").real, 2) + " | " +
+          FormatFixed(m.max_abs_lateral_error, 2) + " | " + std::to_string(m.esc_count) + "/" +
+          std::to_string(m.cs_count) + "/" + std::to_string(m.abs_count) + "/" +
+          std::to_string(m.tc_count) + " | " + FormatFixed(results[s].costs[k].total, 3) + " |\n";
     }
   out += "\n| set | total cost |\n| --- | --- |\n";
   for (std::size_t s = 0; s < results.size(); ++s)
-    out += "| " + labels[s] + " | " + Fixed(results[s].total, 3) + " |\n";
+    out += "| " + labels[s] + " | " + FormatFixed(results[s].total, 3) + " |\n";
   return out + "\n";
 }
 
@@ -100,11 +94,12 @@ std::string TunedFileHeader(const TuneProvenance& p, bool overrides) {
   for (const auto& g : p.grown) out += "  range grown to include the base: " + g + "\n";
   out += "cost (lower is better): base -> tuned\n";
   out += "  training (" + Count(p.training_scenarios, "scenario") +
-         "): " + Fixed(p.training_before, 3) + " -> " + Fixed(p.training_after, 3) + "\n";
+         "): " + FormatFixed(p.training_before, 3) + " -> " + FormatFixed(p.training_after, 3) +
+         "\n";
   if (p.held_out_scenarios > 0)
     out += "  held-out (" + Count(p.held_out_scenarios, "scenario") +
-           ", not used for tuning): " + Fixed(p.held_out_before, 3) + " -> " +
-           Fixed(p.held_out_after, 3) + "\n";
+           ", not used for tuning): " + FormatFixed(p.held_out_before, 3) + " -> " +
+           FormatFixed(p.held_out_after, 3) + "\n";
   if (p.changed.empty()) {
     out += "changed keys: none (the tuned set equals the base)\n";
   } else {
@@ -259,10 +254,10 @@ std::string Delta(double before, double after) {
 std::string Outcome(const RunMetrics& m) {
   if (!m.aborted()) {
     const double lap = m.MeanLapTime();
-    return std::isfinite(lap) ? "completed, mean lap " + Fixed(lap, 3) + " s"
+    return std::isfinite(lap) ? "completed, mean lap " + FormatFixed(lap, 3) + " s"
                               : std::string("completed");
   }
-  return std::string(RunStatusName(m.status)) + " at " + Fixed(100.0 * m.Progress(), 1) +
+  return std::string(RunStatusName(m.status)) + " at " + FormatFixed(100.0 * m.Progress(), 1) +
          " % of the distance";
 }
 
@@ -309,9 +304,9 @@ std::string SetChangeMarkdown(const std::string& group, const SetChange& c) {
              "): review the worse ones before using the set on the car.\n";
       break;
   }
-  out += "\nTotal cost " + Fixed(c.total_before, 3) + " -> " + Fixed(c.total_after, 3) + ": " +
-         Delta(c.total_before, c.total_after) + ", " + CostChangeName(c.total_change) +
-         " (noise threshold " + Fixed(c.total_threshold, 3) + ").\n\n";
+  out += "\nTotal cost " + FormatFixed(c.total_before, 3) + " -> " + FormatFixed(c.total_after, 3) +
+         ": " + Delta(c.total_before, c.total_after) + ", " + CostChangeName(c.total_change) +
+         " (noise threshold " + FormatFixed(c.total_threshold, 3) + ").\n\n";
 
   bool weighted = false;
   for (const auto& s : c.scenarios) weighted = weighted || s.weight != 1.0;
@@ -342,15 +337,17 @@ std::string SetChangeMarkdown(const std::string& group, const SetChange& c) {
       const double p0 = s.before.Progress(), p1 = s.after.Progress();
       if (p1 != p0) tuned += p1 > p0 ? " (later)" : " (earlier)";
     }
-    out += "| " + s.scenario + " | " + OutcomeChangeName(s.outcome) + " | " + Outcome(s.before) +
-           " | " + tuned + " | " + Fixed(s.cost_before, 3) + " -> " + Fixed(s.cost_after, 3) +
-           " | " + Delta(s.cost_before, s.cost_after) + " | " + CostChangeName(s.change) +
-           (s.change == CostChange::kNoSignificantChange ? " (< " + Fixed(s.threshold, 3) + ")"
-                                                         : std::string()) +
-           " |\n";
+    out +=
+        "| " + s.scenario + " | " + OutcomeChangeName(s.outcome) + " | " + Outcome(s.before) +
+        " | " + tuned + " | " + FormatFixed(s.cost_before, 3) + " -> " +
+        FormatFixed(s.cost_after, 3) + " | " + Delta(s.cost_before, s.cost_after) + " | " +
+        CostChangeName(s.change) +
+        (s.change == CostChange::kNoSignificantChange ? " (< " + FormatFixed(s.threshold, 3) + ")"
+                                                      : std::string()) +
+        " |\n";
   }
-  out += "\nNoise threshold: a cost change smaller than max(" + Fixed(kCostNoiseAbs, 2) + ", " +
-         Fixed(100.0 * kCostNoiseRel, 1) +
+  out += "\nNoise threshold: a cost change smaller than max(" + FormatFixed(kCostNoiseAbs, 2) +
+         ", " + FormatFixed(100.0 * kCostNoiseRel, 1) +
          " % of the baseline cost), per scenario and for the total, is no significant change "
          "(a few controller steps of lap time, and below what the plant model resolves); a "
          "scenario the baseline completes and the tuned set aborts is always worse, the reverse "

@@ -8,36 +8,34 @@
 #include "params/io/write.h"
 
 namespace scw::tuning {
-namespace {
-std::string Fixed(double x, int digits) {
+std::string FormatFixed(double x, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), "%.*f", digits, x);
   return buf;
 }
-}  // namespace
 
 std::string FormatRunSummary(const std::string& name, const RunMetrics& m) {
   std::string out = "scenario " + name + ": " + RunStatusName(m.status);
   if (m.aborted())
-    out += " at t = " + Fixed(m.time, 2) + " s, lap " + std::to_string(m.end_lap + 1) +
-           ", s = " + Fixed(m.end_s, 1) + " m";
+    out += " at t = " + FormatFixed(m.time, 2) + " s, lap " + std::to_string(m.end_lap + 1) +
+           ", s = " + FormatFixed(m.end_s, 1) + " m";
   out += "\n";
   for (std::size_t i = 0; i < m.lap_times.size(); ++i)
-    out += "  lap " + std::to_string(i + 1) + ": " + Fixed(m.lap_times[i], 3) + " s\n";
-  if (!m.lap_times.empty()) out += "  mean lap: " + Fixed(m.MeanLapTime(), 3) + " s\n";
-  out += "  max |beta|: " + Fixed(RenderedMetric(m, "max_abs_sideslip_deg").real, 2) +
-         " deg   max |lateral error|: " + Fixed(m.max_abs_lateral_error, 2) +
-         " m   max speed: " + Fixed(m.max_speed, 1) + " m/s\n";
-  out += "  max |slip| front/rear: " + Fixed(m.max_slip_front, 1) + " / " +
-         Fixed(m.max_slip_rear, 1) + " %\n";
+    out += "  lap " + std::to_string(i + 1) + ": " + FormatFixed(m.lap_times[i], 3) + " s\n";
+  if (!m.lap_times.empty()) out += "  mean lap: " + FormatFixed(m.MeanLapTime(), 3) + " s\n";
+  out += "  max |beta|: " + FormatFixed(RenderedMetric(m, "max_abs_sideslip_deg").real, 2) +
+         " deg   max |lateral error|: " + FormatFixed(m.max_abs_lateral_error, 2) +
+         " m   max speed: " + FormatFixed(m.max_speed, 1) + " m/s\n";
+  out += "  max |slip| front/rear: " + FormatFixed(m.max_slip_front, 1) + " / " +
+         FormatFixed(m.max_slip_rear, 1) + " %\n";
   out += "  interventions (count / time): ESC " + std::to_string(m.esc_count) + " / " +
-         Fixed(m.esc_time, 2) + " s, CS " + std::to_string(m.cs_count) + " / " +
-         Fixed(m.cs_time, 2) + " s, ABS " + std::to_string(m.abs_count) + " / " +
-         Fixed(m.abs_time, 2) + " s, TC " + std::to_string(m.tc_count) + " / " +
-         Fixed(m.tc_time, 2) + " s\n";
-  out += "  ESC brake energy: " + Fixed(m.esc_brake_energy / 1000.0, 2) +
-         " kJ   ABS pressure released: " + Fixed(m.abs_pressure_released, 1) +
-         " bar*s   TC throttle cut: " + Fixed(m.tc_throttle_cut, 3) + " s\n";
+         FormatFixed(m.esc_time, 2) + " s, CS " + std::to_string(m.cs_count) + " / " +
+         FormatFixed(m.cs_time, 2) + " s, ABS " + std::to_string(m.abs_count) + " / " +
+         FormatFixed(m.abs_time, 2) + " s, TC " + std::to_string(m.tc_count) + " / " +
+         FormatFixed(m.tc_time, 2) + " s\n";
+  out += "  ESC brake energy: " + FormatFixed(m.esc_brake_energy / 1000.0, 2) +
+         " kJ   ABS pressure released: " + FormatFixed(m.abs_pressure_released, 1) +
+         " bar*s   TC throttle cut: " + FormatFixed(m.tc_throttle_cut, 3) + " s\n";
   return out;
 }
 

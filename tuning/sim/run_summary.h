@@ -7,6 +7,9 @@
 
 namespace scw::tuning {
 
+/// `x` with `digits` decimals (printf %.*f), the number format of the human-readable summaries.
+std::string FormatFixed(double x, int digits);
+
 /// A short multi-line table: status, laps, extremes, interventions.
 std::string FormatRunSummary(const std::string& name, const RunMetrics& m);
 /// The same as plain YAML (key: value), numbers in shortest round-trip form.
