@@ -2,7 +2,6 @@
 // (tuning/sim/sweep/sweep.h).
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -26,39 +25,20 @@ struct SweepOptions {
   std::string progress = "auto";
 };
 
-std::string Fixed(double x, int digits) {
-  if (std::isnan(x)) return "-";
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(digits) << x;
-  return s.str();
-}
-
 int RunSweepCommand(const SweepOptions& o) {
   if (o.list_controllers) {
     for (const auto& name : tuning::MotionControllerNames()) std::cout << name << '\n';
     return kExitOk;
   }
-  tuning::SweepDefinition d;
-  d.scenario_file = o.scenario;
-  d.base_overrides = o.overrides;
-  d.stability_file = o.stability;
-  d.stop_at_first_abort = o.stop_at_first_abort;
-  {
-    // Every malformed argument at once.
-    std::vector<Problem> problems;
-    for (const auto& v : o.vary) try {
-        d.axes.push_back(tuning::ParseVary(v));
-      } catch (const ConfigError& e) {
-        problems.push_back({e.file(), e.problems().front().message});
-      }
-    for (const auto& c : o.configs) try {
-        d.configs.push_back(tuning::ParseConfig(c));
-      } catch (const ConfigError& e) {
-        problems.push_back({e.file(), e.problems().front().message});
-      }
-    if (!problems.empty()) throw ConfigError("scw sweep", problems);
-  }
-  if (o.worker_fd > 0) return tuning::RunSweepWorker(d, 0, o.worker_fd);
+  tuning::SweepArguments a;
+  a.scenario = o.scenario;
+  a.overrides = o.overrides;
+  a.stability = o.stability;
+  a.vary = o.vary;
+  a.configs = o.configs;
+  a.stop_at_first_abort = o.stop_at_first_abort;
+  const tuning::SweepDefinition d = tuning::ParseSweepArguments(a);
+  if (o.worker_fd > 0) return tuning::RunSweepWorker(tuning::ExpandSweep(d), 0, o.worker_fd);
   tuning::SweepTraceOptions to;
   to.dir = o.trace_dir;
   to.at = o.trace_at;
@@ -76,43 +56,18 @@ int RunSweepCommand(const SweepOptions& o) {
       progress.Update({p.phase == "run" ? "sweep" : p.phase, static_cast<double>(p.done),
                        static_cast<double>(p.total), "runs", "", -1.0});
     };
-  const tuning::SweepResult r = tuning::RunSweep(d, exec, to);
+  const tuning::SweepResult r = tuning::RunSweep(tuning::ExpandSweep(d), exec, to);
   progress.Finish();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!o.out.empty()) tuning::WriteSweepCsv(o.out, r);
 
-  // The table, its text columns as wide as their longest entry.
-  std::size_t w_config = 0, w_status = 0;
-  std::vector<std::size_t> w_axis(r.axes.size(), 0);
-  for (const auto& run : r.runs) {
-    if (!run.reported) continue;
-    w_config =
-        std::max(w_config, r.configs[static_cast<std::size_t>(run.point.config)].name.size());
-    w_status = std::max(w_status, std::string(tuning::RunStatusName(run.metrics.status)).size());
-    for (std::size_t i = 0; i < r.axes.size(); ++i)
-      w_axis[i] = std::max(w_axis[i],
-                           r.axes[i].values[static_cast<std::size_t>(run.point.value[i])].size());
-  }
-  int reported = 0;
-  for (const auto& run : r.runs) {
-    if (!run.reported) continue;
-    ++reported;
-    const auto& m = run.metrics;
-    std::cout << std::left << std::setw(static_cast<int>(w_config))
-              << r.configs[static_cast<std::size_t>(run.point.config)].name;
-    for (std::size_t i = 0; i < r.axes.size(); ++i)
-      std::cout << "  " << r.axes[i].key << '=' << std::setw(static_cast<int>(w_axis[i]))
-                << r.axes[i].values[static_cast<std::size_t>(run.point.value[i])];
-    std::cout << "  " << std::setw(static_cast<int>(w_status)) << tuning::RunStatusName(m.status)
-              << "  mean lap " << std::right << std::setw(7) << Fixed(m.MeanLapTime(), 3)
-              << " s  max|beta| " << std::setw(5)
-              << Fixed(tuning::RenderedMetric(m, "max_abs_sideslip_deg").real, 2)
-              << " deg  slip f/r " << std::setw(5) << Fixed(m.max_slip_front, 1) << '/'
-              << std::setw(5) << Fixed(m.max_slip_rear, 1) << " %\n";
-  }
-  std::cout << std::flush;
+  std::cout << tuning::SweepTable(r) << std::flush;
+  const auto reported =
+      std::count_if(r.runs.begin(), r.runs.end(), [](const auto& run) { return run.reported; });
+  std::ostringstream wall_s;
+  wall_s << std::fixed << std::setprecision(1) << wall;
   std::cerr << "sweep: " << r.runs.size() << " runs (" << reported << " reported), " << r.resolves
-            << " scenario resolutions, " << Fixed(wall, 1) << " s wall";
+            << " scenario resolutions, " << wall_s.str() << " s wall";
   if (!o.out.empty()) std::cerr << "; table: " << o.out;
   if (!o.trace_dir.empty()) std::cerr << "; traces: " << o.trace_dir;
   std::cerr << '\n';

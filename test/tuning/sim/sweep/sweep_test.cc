@@ -1,5 +1,6 @@
-// scw sweep library: argument parsing, grid expansion, series stopping at the first abort,
-// shared resolutions, determinism over thread counts, CSV and trace output.
+// scw sweep library, running and writing (sweep_run.h, sweep_write.h): series stopping at the
+// first abort, shared resolutions, determinism over thread counts and worker processes, CSV and
+// trace output. Parsing and expansion: sweep_spec_test.cc, sweep_plan_test.cc.
 #include "tuning/sim/sweep/sweep.h"
 
 #include <gtest/gtest.h>
@@ -9,7 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
-#include <set>
+#include <sstream>
 
 #include "params/schema/field.h"
 
@@ -27,90 +28,6 @@ std::string ErrorOf(const std::function<void()>& fn) {
     return e.what();
   }
   return "";
-}
-
-TEST(SweepParseTest, VaryList) {
-  const SweepAxis a = ParseVary("gg_scale=1.0, 1.1,1.25");
-  EXPECT_EQ(a.key, "gg_scale");
-  EXPECT_EQ(a.values, (Values{"1.0", "1.1", "1.25"}));
-  // Commas inside brackets belong to a list value.
-  const SweepAxis b = ParseVary("grip.wheel_mu_x=[0.8, 1, 0.8, 1],[1,1,1,1]");
-  EXPECT_EQ(b.values, (Values{"[0.8, 1, 0.8, 1]", "[1,1,1,1]"}));
-  EXPECT_EQ(ParseVary("subsystems.esc=true,false").values, (Values{"true", "false"}));
-  EXPECT_EQ(ParseVary("gg_scale=1.3").values, (Values{"1.3"}));
-}
-
-TEST(SweepParseTest, VaryRangeIsInclusiveWithTheArgumentsDecimals) {
-  EXPECT_EQ(ParseVary("gg_scale=1.0:0.05:1.2").values, (Values{"1", "1.05", "1.1", "1.15", "1.2"}));
-  // The stop is reached despite rounding (0.1 is not exact in binary).
-  EXPECT_EQ(ParseVary("gg_scale=1.0:0.1:1.6").values.size(), 7u);
-  EXPECT_EQ(ParseVary("gg_scale=1.0:0.1:1.6").values.back(), "1.6");
-  // A stop between steps is not exceeded; descending ranges work.
-  EXPECT_EQ(ParseVary("laps=1:2:6").values, (Values{"1", "3", "5"}));
-  EXPECT_EQ(ParseVary("gg_scale=1.5:-0.25:1").values, (Values{"1.5", "1.25", "1"}));
-  EXPECT_EQ(ParseVary("gg_scale=1.2:0.1:1.2").values, (Values{"1.2"}));
-}
-
-TEST(SweepParseTest, BadVaryNamesTheArgumentAndTheRule) {
-  const std::pair<const char*, const char*> bad[] = {
-      {"gg_scale", "key=v1,v2"},
-      {"=1,2", "key=v1,v2"},
-      {"gg_scale=", "key=v1,v2"},
-      {"gg_scale=1:0:2", "must not be 0"},
-      {"gg_scale=2:0.1:1", "sign"},
-      {"gg_scale=1:x:2", "three finite numbers"},
-      {"gg_scale=1,,2", "value 2 is empty"},
-      {"gg_scale=0:1e-9:1", "more than"},
-      {"config=a,b", "--config"},
-  };
-  for (const auto& [arg, rule] : bad) {
-    const std::string msg = ErrorOf([&] { ParseVary(arg); });
-    EXPECT_NE(msg.find(std::string("--vary ") + arg), std::string::npos) << arg << ": " << msg;
-    EXPECT_NE(msg.find(rule), std::string::npos) << arg << ": " << msg;
-  }
-}
-
-TEST(SweepParseTest, Config) {
-  const SweepConfig c = ParseConfig("none:subsystems.esc=false, subsystems.cs=false");
-  EXPECT_EQ(c.name, "none");
-  EXPECT_EQ(c.overrides, (Values{"subsystems.esc=false", "subsystems.cs=false"}));
-  EXPECT_TRUE(ParseConfig("esc+cs").overrides.empty());
-  EXPECT_TRUE(ParseConfig("esc+cs:").overrides.empty());
-  for (const char* arg : {":subsystems.esc=false", "no good:x=1", "a:subsystems.esc", "a:=1"}) {
-    const std::string msg = ErrorOf([&] { ParseConfig(arg); });
-    EXPECT_NE(msg.find(std::string("--config ") + arg), std::string::npos) << arg << ": " << msg;
-  }
-}
-
-TEST(SweepGridTest, ConfigsTimesCartesianProductWithTheFirstAxisInnermost) {
-  const std::vector<SweepAxis> axes = {{"gg_scale", {"1.0", "1.1", "1.2"}},
-                                       {"grip.rear_mu_y", {"0.8", "1.0"}},
-                                       {"laps", {"1", "2"}}};
-  const auto g = ExpandGrid(axes, 2);
-  ASSERT_EQ(g.size(), 2u * 3u * 2u * 2u);
-  // Every combination exactly once.
-  std::set<std::vector<int>> seen;
-  for (const auto& p : g) {
-    std::vector<int> key = p.value;
-    key.push_back(p.config);
-    EXPECT_TRUE(seen.insert(key).second);
-  }
-  // Series: contiguous blocks of the first axis in the given order, same other values.
-  ASSERT_EQ(g.back().series, 2 * 2 * 2 - 1);
-  for (std::size_t i = 0; i < g.size(); ++i) {
-    EXPECT_EQ(g[i].value[0], static_cast<int>(i % 3));
-    EXPECT_EQ(g[i].series, static_cast<int>(i / 3));
-    EXPECT_EQ(g[i].config, static_cast<int>(i / 12));
-  }
-  // Last axis faster than the second.
-  EXPECT_EQ(g[3].value[2], 1);
-  EXPECT_EQ(g[3].value[1], 0);
-  EXPECT_EQ(g[6].value[1], 1);
-  // No axes: one run per configuration, each its own series.
-  const auto none = ExpandGrid({}, 3);
-  ASSERT_EQ(none.size(), 3u);
-  EXPECT_EQ(none[2].series, 2);
-  EXPECT_EQ(none[2].config, 2);
 }
 
 TEST(SweepGridTest, SeriesStopsAtItsFirstAbort) {
@@ -139,20 +56,6 @@ TEST(SweepGridTest, SeriesStopsAtItsFirstAbort) {
     EXPECT_EQ(ReportedRuns(r.series, r.aborted, true), r.stop);
     EXPECT_EQ(ReportedRuns(r.series, r.aborted, false), r.keep_all);
   }
-}
-
-TEST(SweepValidateTest, BadKeysAndValuesNameTheArgument) {
-  SweepDefinition d;
-  d.axes = {ParseVary("gg_sclae=1,2"), ParseVary("gg_scale=1.0,abc"), ParseVary("laps=1,1")};
-  d.configs = {ParseConfig("esc:subsystems.ecs=false"), ParseConfig("x"), ParseConfig("x")};
-  const std::string msg = ErrorOf([&] { ValidateSweep(d); });
-  EXPECT_NE(msg.find("--vary gg_sclae=1,2"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("did you mean gg_scale"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("--vary gg_scale=1.0,abc"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("abc"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("--vary laps=1,1"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("--config esc:subsystems.ecs=false"), std::string::npos) << msg;
-  EXPECT_NE(msg.find("used twice"), std::string::npos) << msg;
 }
 
 // A small, fast sweep: centre line (no racing-line optimisation), one lap. The lateral-error
@@ -254,6 +157,23 @@ TEST(SweepRunTest, CsvHasOneRowPerReportedRunAndTracesTheSelectedRuns) {
               MatchesTraceConditions(r, r.runs[0], {"gg_scale=1"});
             }).find("neither config nor a varied key"),
             std::string::npos);
+
+  // The console table: one line per reported run, the text columns padded to a common width.
+  const std::string table = SweepTable(r);
+  std::vector<std::string> lines;
+  std::istringstream table_in(table);
+  while (std::getline(table_in, line)) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 4u) << table;
+  EXPECT_EQ(lines[0].rfind("all     abort.max_lateral_error=100   completed      mean lap ", 0), 0u)
+      << table;
+  EXPECT_EQ(lines[1].rfind("all     abort.max_lateral_error=0.01  lateral_error  mean lap ", 0), 0u)
+      << table;
+  EXPECT_EQ(lines[2].rfind("no_esc  abort.max_lateral_error=100   completed      mean lap ", 0), 0u)
+      << table;
+  for (const auto& l : lines) {
+    EXPECT_EQ(l.size(), lines[0].size()) << table;
+    EXPECT_EQ(l.substr(l.size() - 2), " %") << table;
+  }
   fs::remove_all(dir);
 }
 
