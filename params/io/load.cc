@@ -6,7 +6,6 @@
 #include <limits>
 
 namespace scw::params::detail {
-namespace {
 
 std::string Got(const YamlNode& n) {
   switch (n.kind) {
@@ -22,6 +21,8 @@ std::string Got(const YamlNode& n) {
   }
   return "?";
 }
+
+namespace {
 
 // Scalar → double with the ROS typing rules. Empty string on success.
 std::string ScalarToDouble(const YamlNode& n, bool accept_int, double* out, bool* was_int) {

@@ -55,6 +55,143 @@ std::string SuggestKey(const std::string& unknown, const std::vector<std::string
 inline constexpr int kMaxKeySuggestions = 16;
 
 std::string LineSuffix(int line);
+/// "the double 2.5", "a list [1, 2]", "a map", "an empty value": what a node is, for messages.
+std::string Got(const YamlNode& node);
+
+}  // namespace detail
+
+namespace detail {
+
+/// What one load shares across the maps it reads (the file's root map and every list entry).
+struct LoadContext {
+  const LoadOptions& opt;
+  Problems& problems;
+  LoadReport& rep;
+  int suggestions = 0;
+};
+
+/// "key, lo, hi": the keys of a list entry, for messages.
+template <class E>
+std::string KeyList() {
+  std::string out;
+  E e{};
+  ForEachField(e, [&](const std::string& path, const auto&, const Meta&) {
+    out += (out.empty() ? "" : ", ") + path;
+  });
+  return out;
+}
+
+template <class P>
+void LoadMap(P& p, const std::vector<FlatEntry>& entries, const std::string& prefix, int map_line,
+             LoadContext& ctx);
+
+/// A `v.List` field: a YAML sequence whose items are maps, each loaded as one E.
+template <class E>
+void LoadList(std::vector<E>& out, const YamlNode& node, const std::string& path,
+              LoadContext& ctx) {
+  if (node.kind != YamlNode::Kind::kSequence) {
+    ctx.problems.Add(path, "expected a list of maps {" + KeyList<E>() + "}, got " + Got(node) +
+                               LineSuffix(node.line));
+    return;
+  }
+  out.assign(node.items.size(), E{});
+  for (std::size_t i = 0; i < node.items.size(); ++i) {
+    const YamlNode& item = node.items[i];
+    const std::string at = ListItemPath(path, i);
+    ctx.rep.lines[at] = item.line;
+    if (item.kind != YamlNode::Kind::kMap) {
+      ctx.problems.Add(
+          at, "expected a map {" + KeyList<E>() + "}, got " + Got(item) + LineSuffix(item.line));
+      continue;
+    }
+    Problems located;  // cannot happen for a map: Flatten only reports on the root's kind
+    const FlatDoc doc = Flatten(item, Layout::kPlain, "", &located);
+    LoadMap(out[i], doc.entries, at, item.line, ctx);
+  }
+}
+
+/// Loads the fields of `p` from the entries of one map (dotted keys relative to it); problems and
+/// report keys carry `prefix`. `map_line` (> 0 for list entries) is named for missing keys.
+template <class P>
+void LoadMap(P& p, const std::vector<FlatEntry>& entries, const std::string& prefix, int map_line,
+             LoadContext& ctx) {
+  const LoadOptions& opt = ctx.opt;
+  Problems& problems = ctx.problems;
+  LoadReport& rep = ctx.rep;
+  auto full = [&](const std::string& key) { return JoinKey(prefix, key); };
+
+  std::map<std::string, std::vector<const YamlNode*>> by_key;
+  for (const auto& e : entries) by_key[e.key].push_back(e.node);
+
+  for (const auto& [key, nodes] : by_key) {
+    if (nodes.size() < 2) continue;
+    std::string msg = "given " + std::to_string(nodes.size()) + " times (";
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      if (i) msg += ", ";
+      msg += "line " + std::to_string(nodes[i]->line) + ": " + Render(*nodes[i]);
+    }
+    msg += "); the car's node uses the last one (" + Render(*nodes.back()) + ")";
+    if (opt.lenient)
+      rep.notes.push_back({full(key), msg + ", imported as that"});
+    else
+      problems.Add(full(key), msg + "; give each key once");
+  }
+
+  std::set<std::string> consumed;
+  std::vector<std::string> known;
+  ForEachField(p, [&](const std::string& path, auto& value, const Meta& meta) {
+    using T = std::decay_t<decltype(value)>;
+    known.push_back(path);
+    auto it = by_key.find(path);
+    if (it == by_key.end()) {
+      // A map where a value was expected shows up as deeper keys.
+      const std::string deeper = path + ".";
+      auto sub = by_key.lower_bound(deeper);
+      if (sub != by_key.end() && sub->first.compare(0, deeper.size(), deeper) == 0) {
+        problems.Add(full(path),
+                     std::string(kIsList<T> ? "expected a list of maps" : "expected a value") +
+                         ", got a map" + LineSuffix(sub->second.front()->line));
+        for (auto s = sub; s != by_key.end() && s->first.compare(0, deeper.size(), deeper) == 0;
+             ++s)
+          consumed.insert(s->first);
+      } else if (!meta.optional) {
+        problems.Add(full(path), "required key is missing" + LineSuffix(map_line));
+      }
+      return;
+    }
+    consumed.insert(path);
+    const YamlNode& node = *it->second.back();
+    rep.present.insert(full(path));
+    rep.lines[full(path)] = node.line;
+    std::string err, note;
+    const bool int_ok = opt.int_for_double || opt.lenient;
+    if constexpr (kIsList<T>) {
+      LoadList(value, node, full(path), ctx);
+    } else if constexpr (std::is_same_v<T, double> || std::is_same_v<T, std::vector<double>>) {
+      err = ConvertLeaf(node, meta, int_ok, &value, &note);
+    } else {
+      err = ConvertLeaf(node, meta, &value);
+    }
+    if (!err.empty()) problems.Add(full(path), err + LineSuffix(node.line));
+    if (!note.empty() && opt.lenient && !opt.int_for_double)
+      rep.notes.push_back({full(path), note + LineSuffix(node.line)});
+  });
+
+  for (const auto& [key, nodes] : by_key) {
+    if (consumed.count(key)) continue;
+    std::string msg = opt.layout == Layout::kRos2
+                          ? "unknown key: the car's node would silently ignore it and keep its "
+                            "code default"
+                          : "unknown key";
+    const std::string hint = ctx.suggestions++ < kMaxKeySuggestions ? SuggestKey(key, known) : "";
+    if (!hint.empty()) msg += " (did you mean " + hint + "?)";
+    msg += LineSuffix(nodes.front()->line);
+    if (opt.lenient)
+      rep.notes.push_back({full(key), msg + "; dropped"});
+    else
+      problems.Add(full(key), msg);
+  }
+}
 
 }  // namespace detail
 
@@ -68,77 +205,9 @@ P LoadFromText(const std::string& text, const std::string& file, const LoadOptio
   const YamlNode root = ParseYaml(text, file);
   const FlatDoc doc = Flatten(root, opt.layout, opt.node_key, &problems);
 
-  std::map<std::string, std::vector<const YamlNode*>> by_key;
-  for (const auto& e : doc.entries) by_key[e.key].push_back(e.node);
-
-  for (const auto& [key, nodes] : by_key) {
-    if (nodes.size() < 2) continue;
-    std::string msg = "given " + std::to_string(nodes.size()) + " times (";
-    for (std::size_t i = 0; i < nodes.size(); ++i) {
-      if (i) msg += ", ";
-      msg += "line " + std::to_string(nodes[i]->line) + ": " + Render(*nodes[i]);
-    }
-    msg += "); the car's node uses the last one (" + Render(*nodes.back()) + ")";
-    if (opt.lenient)
-      rep.notes.push_back({key, msg + ", imported as that"});
-    else
-      problems.Add(key, msg + "; give each key once");
-  }
-
   P p{};
-  std::set<std::string> consumed;
-  std::vector<std::string> known;
-  ForEachField(p, [&](const std::string& path, auto& value, const Meta& meta) {
-    known.push_back(path);
-    auto it = by_key.find(path);
-    if (it == by_key.end()) {
-      // A map where a value was expected shows up as deeper keys.
-      const std::string deeper = path + ".";
-      auto sub = by_key.lower_bound(deeper);
-      if (sub != by_key.end() && sub->first.compare(0, deeper.size(), deeper) == 0) {
-        problems.Add(path,
-                     "expected a value, got a map" + detail::LineSuffix(sub->second.front()->line));
-        for (auto s = sub; s != by_key.end() && s->first.compare(0, deeper.size(), deeper) == 0;
-             ++s)
-          consumed.insert(s->first);
-      } else if (!meta.optional) {
-        problems.Add(path, "required key is missing");
-      }
-      return;
-    }
-    consumed.insert(path);
-    const YamlNode& node = *it->second.back();
-    rep.present.insert(path);
-    rep.lines[path] = node.line;
-    using T = std::decay_t<decltype(value)>;
-    std::string err, note;
-    const bool int_ok = opt.int_for_double || opt.lenient;
-    if constexpr (std::is_same_v<T, double> || std::is_same_v<T, std::vector<double>>) {
-      err = detail::ConvertLeaf(node, meta, int_ok, &value, &note);
-    } else {
-      err = detail::ConvertLeaf(node, meta, &value);
-    }
-    if (!err.empty()) problems.Add(path, err + detail::LineSuffix(node.line));
-    if (!note.empty() && opt.lenient && !opt.int_for_double)
-      rep.notes.push_back({path, note + detail::LineSuffix(node.line)});
-  });
-
-  int suggestions = 0;
-  for (const auto& [key, nodes] : by_key) {
-    if (consumed.count(key)) continue;
-    std::string msg = opt.layout == Layout::kRos2
-                          ? "unknown key: the car's node would silently ignore it and keep its "
-                            "code default"
-                          : "unknown key";
-    const std::string hint =
-        suggestions++ < detail::kMaxKeySuggestions ? detail::SuggestKey(key, known) : "";
-    if (!hint.empty()) msg += " (did you mean " + hint + "?)";
-    msg += detail::LineSuffix(nodes.front()->line);
-    if (opt.lenient)
-      rep.notes.push_back({key, msg + "; dropped"});
-    else
-      problems.Add(key, msg);
-  }
+  detail::LoadContext ctx{opt, problems, rep};
+  detail::LoadMap(p, doc.entries, "", 0, ctx);
 
   if (problems.empty()) {
     // Type-level parsing succeeded: now bounds, array rules and cross-field rules.

@@ -1,5 +1,6 @@
 #include "params/io/write.h"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -59,17 +60,27 @@ std::string QuoteString(const std::string& s) {
   return out + "\"";
 }
 
+std::string FlowScalar(const std::string& s) {
+  bool plain = !s.empty() && (std::isalnum(static_cast<unsigned char>(s[0])) || s[0] == '_');
+  for (unsigned char c : s)
+    plain = plain && (std::isalnum(c) || c == '_' || c == '.' || c == '-' || c == '+' || c == '=' ||
+                      c == '/');
+  plain = plain && s != "null" && s != "Null" && s != "NULL";  // YAML reads those as null
+  return plain ? s : QuoteString(s);
+}
+
 namespace {
 
 struct Tree {
   std::string name;
-  std::string value;  // leaf when non-empty
+  std::string value;  // leaf when non-empty (or a list)
   std::string comment;
   std::vector<Tree> children;
+  const std::vector<std::string>* items = nullptr;  // a list of flow maps
 
   Tree& Child(const std::string& n) {
     for (auto& c : children)
-      if (c.name == n && c.value.empty()) return c;
+      if (c.name == n && c.value.empty() && !c.items) return c;
     children.push_back(Tree{n, "", "", {}});
     return children.back();
   }
@@ -80,7 +91,15 @@ void Emit(const Tree& t, int indent, std::string* out) {
     out->append(static_cast<std::size_t>(indent), ' ');
     *out += c.name;
     *out += ':';
-    if (!c.value.empty()) {
+    if (c.items && c.items->empty()) {
+      *out += " []\n";
+    } else if (c.items) {
+      *out += '\n';
+      for (const auto& item : *c.items) {
+        out->append(static_cast<std::size_t>(indent + 2), ' ');
+        *out += "- " + item + "\n";
+      }
+    } else if (!c.value.empty()) {
       *out += ' ';
       *out += c.value;
       if (!c.comment.empty()) *out += "  # " + c.comment;
@@ -103,7 +122,8 @@ std::string EmitNested(const std::vector<EmitEntry>& entries, const std::string&
     while (true) {
       const std::size_t dot = e.key.find('.', start);
       if (dot == std::string::npos) {
-        t->children.push_back(Tree{e.key.substr(start), e.value, e.comment, {}});
+        t->children.push_back(
+            Tree{e.key.substr(start), e.value, e.comment, {}, e.list ? &e.items : nullptr});
         break;
       }
       t = &t->Child(e.key.substr(start, dot - start));

@@ -3,6 +3,8 @@
 //   doubles: shortest round-trip text (std::to_chars), always with '.' or an exponent (8.0, 4e-05)
 //   integers: plain decimal; booleans: true/false; strings: double-quoted
 //   arrays: flow style [a, b], non-empty; nested maps in schema order; each key once; no anchors.
+// Lists of structs (`v.List`, plain workspace files only) are block sequences of one-line flow
+// maps, `  - {key: a, lo: 1.0}`, whose text values are plain where they read back unchanged.
 // This renders text only; files are written with io::WriteFileAtomic (params/io/atomic_file.h).
 #pragma once
 
@@ -21,11 +23,17 @@ namespace scw::params {
 std::string FormatDouble(double x);
 std::string FormatDoubleList(const std::vector<double>& v);
 std::string QuoteString(const std::string& s);
+/// A text value inside a flow map: plain when it reads back as the same text (letters, digits,
+/// _ . - + = /, starting with a letter, digit or _, not a null word), else double-quoted
+/// (`ESC.x[1]` → "ESC.x[1]").
+std::string FlowScalar(const std::string& s);
 
 struct EmitEntry {
-  std::string key;      ///< dotted path
-  std::string value;    ///< rendered literal
-  std::string comment;  ///< optional trailing comment (unit)
+  std::string key;                      ///< dotted path
+  std::string value;                    ///< rendered literal
+  std::string comment;                  ///< optional trailing comment (unit)
+  bool list = false;                    ///< a list of structs: `items` are its entries (flow maps)
+  std::vector<std::string> items = {};  ///< list entries, each rendered as one flow map
 };
 
 /// Renders entries (dotted keys) as nested YAML. With a non-empty node_key the result is wrapped
@@ -34,9 +42,16 @@ std::string EmitNested(const std::vector<EmitEntry>& entries, const std::string&
                        const std::string& header);
 
 namespace detail {
+template <class E>
+std::string RenderFlowMap(const E& e);
+
 template <class T>
 std::string RenderValue(const T& v) {
-  if constexpr (std::is_same_v<T, double>) {
+  if constexpr (kIsList<T>) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + RenderFlowMap(v[i]);
+    return out + "]";
+  } else if constexpr (std::is_same_v<T, double>) {
     return FormatDouble(v);
   } else if constexpr (std::is_same_v<T, int>) {
     return std::to_string(v);
@@ -49,6 +64,50 @@ std::string RenderValue(const T& v) {
     return QuoteString(v);
   }
 }
+
+/// The top-level fields of one struct as flow-map items (nested structs and lists rendered
+/// inline).
+class FlowItems {
+ public:
+  struct Item {
+    std::string_view key;
+    std::string text;
+    bool omit_default;
+  };
+  template <class T>
+  void Field(const T& v, const Meta& m) {
+    if constexpr (std::is_same_v<T, std::string>)
+      items.push_back({m.key, FlowScalar(v), m.omit_default});
+    else
+      items.push_back({m.key, RenderValue(v), m.omit_default});
+  }
+  template <class E>
+  void List(const std::vector<E>& v, const Meta& m) {
+    items.push_back({m.key, RenderValue(v), m.omit_default});
+  }
+  template <class S>
+  void Nested(std::string_view key, const S& sub, bool /*optional*/ = false) {
+    items.push_back({key, RenderFlowMap(sub), false});
+  }
+  std::vector<Item> items;
+};
+
+/// `{key: value, ...}` in schema order; a field marked omit_default is left out while its text
+/// equals that of the in-class default.
+template <class E>
+std::string RenderFlowMap(const E& e) {
+  FlowItems mine, defaults;
+  E::Visit(e, mine);
+  const E def{};
+  E::Visit(def, defaults);
+  std::string out;
+  for (std::size_t i = 0; i < mine.items.size(); ++i) {
+    const auto& it = mine.items[i];
+    if (it.omit_default && it.text == defaults.items[i].text) continue;
+    out += (out.empty() ? "{" : ", ") + std::string(it.key) + ": " + it.text;
+  }
+  return out.empty() ? "{}" : out + "}";
+}
 }  // namespace detail
 
 /// The fields of `p` selected by `include(path, meta)`, rendered.
@@ -57,7 +116,14 @@ std::vector<EmitEntry> CollectEntries(
     const P& p, const std::function<bool(const std::string&, const Meta&)>& include) {
   std::vector<EmitEntry> out;
   ForEachField(p, [&](const std::string& path, const auto& value, const Meta& meta) {
-    if (include(path, meta)) out.push_back({path, detail::RenderValue(value), ""});
+    if (!include(path, meta)) return;
+    if constexpr (kIsList<std::decay_t<decltype(value)>>) {
+      EmitEntry e{path, "", "", true, {}};
+      for (const auto& item : value) e.items.push_back(detail::RenderFlowMap(item));
+      out.push_back(std::move(e));
+    } else {
+      out.push_back({path, detail::RenderValue(value), ""});
+    }
   });
   return out;
 }
@@ -101,10 +167,14 @@ std::string ToRosOverrides(const P& p, const P& base, const std::string& node_ke
   return EmitNested(entries, node_key, header);
 }
 
-/// Plain nested YAML of every field (workspace files: vehicle, scenario, space …).
+/// Plain nested YAML of every field (workspace files: vehicle, scenario, space …), except the
+/// omit_default fields that hold their default.
 template <class P>
 std::string ToPlainYaml(const P& p, const std::string& header = "") {
-  auto entries = CollectEntries(p, [](const std::string&, const Meta&) { return true; });
+  const std::set<std::string> changed = DifferingKeys(p, P{});
+  auto entries = CollectEntries(p, [&](const std::string& path, const Meta& meta) {
+    return !meta.omit_default || changed.count(path) > 0;
+  });
   return EmitNested(entries, "", header);
 }
 

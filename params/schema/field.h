@@ -11,6 +11,8 @@
 //   v.Field(self.member, Meta{...});            // member: double, int, bool, std::vector<double>,
 //                                               //         std::string
 //   v.Nested("key", self.sub_struct);           // a nested map (its own Visit), dotted path "key."
+//   v.List(self.entries, Meta{...});            // a list of maps: std::vector<E>, E with its own
+//                                               // Visit; element i has the path "key[i]."
 // and optionally
 //   static void CrossCheck(const P& p, Problems& problems);    // rules between fields
 //
@@ -107,12 +109,28 @@ struct Meta {
   /// itself, so the overrides file lists only real changes (tuning/optim/space.h).
   double resolution = 0.0;
   bool optional = false;          ///< may be absent from a file; the in-class default is then kept
-  int min_size = 1;               ///< arrays: minimum number of elements
+  int min_size = 1;               ///< arrays and lists: minimum number of elements
   bool ascending = false;         ///< arrays: strictly ascending elements required
   std::string_view choices = "";  ///< strings: '|'-separated list of allowed values (empty: any)
   /// Accepted by the workspace but not declared by the car's node (the node ignores the key).
   bool workspace_only = false;
+  /// Plain workspace files: the writer leaves the field out while it holds its in-class default
+  /// (a list entry's `transform: direct`); the loader then restores that default (needs optional).
+  bool omit_default = false;
 };
+
+/// True for the value type of `v.List`: a vector of schema structs (std::vector<double> is an
+/// array field).
+template <class T>
+inline constexpr bool kIsList = false;
+template <class E>
+inline constexpr bool kIsList<std::vector<E>> =
+    std::is_class_v<E> && !std::is_same_v<E, std::string>;
+
+/// Path of element `i` of the list at `path`: "parameters[3]".
+inline std::string ListItemPath(std::string_view path, std::size_t i) {
+  return std::string(path) + "[" + std::to_string(i) + "]";
+}
 
 /// Metadata of one output field: a quantity a model or run reports (a result, not a parameter: no
 /// bounds, no default, never tuned). An output struct `O` lists each member once in
@@ -156,13 +174,15 @@ class PathVisitor {
       : fn_(fn), prefix_(std::move(prefix)), optional_(optional) {}
   template <class T>
   void Field(T& value, const Meta& meta) {
-    if (optional_ && !meta.optional) {
-      Meta m = meta;
-      m.optional = true;
-      fn_(JoinKey(prefix_, meta.key), value, m);
-    } else {
-      fn_(JoinKey(prefix_, meta.key), value, meta);
-    }
+    static_assert(!kIsList<std::remove_const_t<T>>, "a list of structs is declared with v.List");
+    Call(value, meta);
+  }
+  /// The whole list is passed to `fn` (value: std::vector<E>); its elements are not expanded
+  /// (their number is only known to the caller: the loader, the writer, the validator).
+  template <class E>
+  void List(E& list, const Meta& meta) {
+    static_assert(kIsList<std::remove_const_t<E>>, "v.List takes a std::vector of schema structs");
+    Call(list, meta);
   }
   /// `optional`: the whole group may be absent (all its fields become optional).
   template <class S>
@@ -172,6 +192,17 @@ class PathVisitor {
   }
 
  private:
+  template <class T>
+  void Call(T& value, const Meta& meta) {
+    if (optional_ && !meta.optional) {
+      Meta m = meta;
+      m.optional = true;
+      fn_(JoinKey(prefix_, meta.key), value, m);
+    } else {
+      fn_(JoinKey(prefix_, meta.key), value, meta);
+    }
+  }
+
   Fn& fn_;
   std::string prefix_;
   bool optional_ = false;
@@ -270,6 +301,8 @@ class ValidateVisitor {
   }
   template <class S>
   void Nested(std::string_view key, const S& sub, bool optional = false);
+  template <class E>
+  void List(const std::vector<E>& list, const Meta& m);
 
  private:
   std::string Path(const Meta& m) const { return JoinKey(prefix_, m.key); }
@@ -296,6 +329,16 @@ Problems Validate(const P& p, const std::string& prefix = "") {
 template <class S>
 void detail::ValidateVisitor::Nested(std::string_view key, const S& sub, bool /*optional*/) {
   pr_.Append(Validate(sub, JoinKey(prefix_, key)));
+}
+
+template <class E>
+void detail::ValidateVisitor::List(const std::vector<E>& list, const Meta& m) {
+  const std::string path = Path(m);
+  if (static_cast<int>(list.size()) < m.min_size)
+    pr_.Add(path, "needs at least " + std::to_string(m.min_size) + " entr" +
+                      (m.min_size == 1 ? "y" : "ies") + ", has " + std::to_string(list.size()));
+  for (std::size_t i = 0; i < list.size(); ++i)
+    pr_.Append(Validate(list[i], ListItemPath(path, i)));
 }
 
 /// Throws ConfigError listing every problem (file name used only for the message).

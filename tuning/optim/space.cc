@@ -1,15 +1,16 @@
 #include "tuning/optim/space.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <map>
-#include <variant>
+#include <tuple>
 
+#include "params/io/load.h"
 #include "params/io/write.h"
 #include "params/io/yaml_doc.h"
+#include "tuning/optim/default_space_yaml.h"  // generated: generated::kDefaultSpaceYaml
 
 namespace scw::tuning {
 namespace {
@@ -141,18 +142,6 @@ std::string Short(double x) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%.4g", x);
   return buf;
-}
-
-// A scalar for a flow map written by ToYaml: plain when it reads back as the same text (letters,
-// digits, _ . - + = /, not starting with an indicator, not a null word), else double-quoted (e.g.
-// key[1]).
-std::string Scalar(const std::string& s) {
-  bool plain = !s.empty() && (std::isalnum(static_cast<unsigned char>(s[0])) || s[0] == '_');
-  for (unsigned char c : s)
-    plain = plain && (std::isalnum(c) || c == '_' || c == '.' || c == '-' || c == '+' || c == '=' ||
-                      c == '/');
-  plain = plain && s != "null" && s != "Null" && s != "NULL";  // YAML reads those as null
-  return plain ? s : params::QuoteString(s);
 }
 
 }  // namespace
@@ -394,103 +383,57 @@ ParameterSpace ParameterSpace::WithBase(const StabilityParams& base, BaseOutside
   return ParameterSpace(name_, std::move(entries));
 }
 
-std::string ParameterSpace::ToYaml() const {
-  std::string out = "name: " + params::QuoteString(name_) + "\nparameters:\n";
+SpaceFile ParameterSpace::ToFile() const {
+  SpaceFile f;
+  f.name = name_;
   for (const auto& e : entries_) {
-    out += "  - {key: " + Scalar(e.Label());
-    if (e.transform != Transform::kDirect)
-      out += std::string(", transform: ") + TransformName(e.transform);
-    if (!e.of.empty())
-      out +=
-          ", of: " + Scalar(e.of_index >= 0 ? e.of + "[" + std::to_string(e.of_index) + "]" : e.of);
-    out += ", lo: " + params::FormatDouble(e.lo) + ", hi: " + params::FormatDouble(e.hi);
-    out += std::string(", scale: ") + (e.scale == Scale::kLog ? "log" : "linear") + "}\n";
+    SpaceFileEntry& fe = f.parameters.emplace_back();
+    fe.key = e.Label();
+    fe.transform = TransformName(e.transform);
+    fe.of = e.of_index >= 0 ? e.of + "[" + std::to_string(e.of_index) + "]" : e.of;
+    fe.lo = e.lo;
+    fe.hi = e.hi;
+    fe.scale = e.scale == Scale::kLog ? "log" : "linear";
   }
-  return out;
+  return f;
 }
 
+std::string ParameterSpace::ToYaml() const { return params::ToPlainYaml(ToFile()); }
+
 ParameterSpace ParameterSpace::FromYamlText(const std::string& text, const std::string& file) {
-  using params::YamlNode;
-  const YamlNode root = params::ParseYaml(text, file);
+  params::LoadOptions opt;
+  opt.layout = params::Layout::kPlain;
+  opt.int_for_double = true;
+  params::LoadReport report;
+  const SpaceFile f = params::LoadFromText<SpaceFile>(text, file, opt, &report);
+  // The text → SpaceEntry step: key[i] and the names of the transforms and scales.
   Problems pr;
-  std::string name = "space";
   std::vector<SpaceEntry> entries;
-  if (root.kind != YamlNode::Kind::kMap) throw ConfigError(file, "", "top level must be a map");
-  const YamlNode* list = nullptr;
-  for (const auto& [k, v] : root.entries) {
-    if (k == "name" && v.kind == YamlNode::Kind::kScalar)
-      name = v.text;
-    else if (k == "parameters")
-      list = &v;
-    else
-      pr.Add(k, "unknown key (expected name, parameters)");
+  for (std::size_t i = 0; i < f.parameters.size(); ++i) {
+    const SpaceFileEntry& fe = f.parameters[i];
+    const std::string at = params::ListItemPath("parameters", i);
+    auto split = [&](const std::string& field, const std::string& value, std::string* key,
+                     int* index) {
+      std::tie(*key, *index) = SplitIndex(value);
+      if (*index != -2) return;
+      const auto line = report.lines.find(at + "." + field);
+      pr.Add(at + "." + field,
+             "bad element index in '" + value + "' (expected key or key[i], i >= 0)" +
+                 params::detail::LineSuffix(line == report.lines.end() ? 0 : line->second));
+    };
+    SpaceEntry& e = entries.emplace_back();
+    split("key", fe.key, &e.key, &e.index);
+    split("of", fe.of, &e.of, &e.of_index);
+    e.lo = fe.lo;
+    e.hi = fe.hi;
+    e.scale = fe.scale == "log" ? Scale::kLog : Scale::kLinear;
+    for (Transform t :
+         {Transform::kDirect, Transform::kOffset, Transform::kRatio, Transform::kScaleArray})
+      if (fe.transform == TransformName(t)) e.transform = t;
   }
-  if (!list || list->kind != YamlNode::Kind::kSequence || list->items.empty())
-    pr.Add("parameters", "must be a non-empty list of {key, lo, hi, ...}");
-  else
-    for (std::size_t i = 0; i < list->items.size(); ++i) {
-      const YamlNode& item = list->items[i];
-      const std::string at = "parameters[" + std::to_string(i) + "]";
-      const std::string line = " (line " + std::to_string(item.line) + ")";
-      if (item.kind != YamlNode::Kind::kMap) {
-        pr.Add(at, "must be a map {key, lo, hi, ...}" + line);
-        continue;
-      }
-      SpaceEntry e;
-      bool has_key = false, has_lo = false, has_hi = false;
-      for (const auto& [k, v] : item.entries) {
-        const std::string path = at + "." + k;
-        if (v.kind != YamlNode::Kind::kScalar) {
-          pr.Add(path, "must be a single value" + line);
-          continue;
-        }
-        if (k == "key") {
-          auto [key, idx] = SplitIndex(v.text);
-          e.key = key, e.index = idx, has_key = true;
-          if (idx == -2) pr.Add(path, "bad element index in '" + v.text + "'" + line);
-        } else if (k == "of") {
-          auto [key, idx] = SplitIndex(v.text);
-          e.of = key, e.of_index = idx;
-          if (idx == -2) pr.Add(path, "bad element index in '" + v.text + "'" + line);
-        } else if (k == "lo" || k == "hi") {
-          double x = 0;
-          if (v.quoted || !params::ParseDouble(v.text, &x) || !std::isfinite(x)) {
-            pr.Add(path, "must be a finite number, got '" + v.text + "'" + line);
-            continue;
-          }
-          (k == "lo" ? e.lo : e.hi) = x;
-          (k == "lo" ? has_lo : has_hi) = true;
-        } else if (k == "scale") {
-          if (v.text == "linear")
-            e.scale = Scale::kLinear;
-          else if (v.text == "log")
-            e.scale = Scale::kLog;
-          else
-            pr.Add(path, "must be linear or log, got '" + v.text + "'" + line);
-        } else if (k == "transform") {
-          if (v.text == "direct")
-            e.transform = Transform::kDirect;
-          else if (v.text == "offset")
-            e.transform = Transform::kOffset;
-          else if (v.text == "ratio")
-            e.transform = Transform::kRatio;
-          else if (v.text == "scale_array")
-            e.transform = Transform::kScaleArray;
-          else
-            pr.Add(path,
-                   "must be direct, offset, ratio or scale_array, got '" + v.text + "'" + line);
-        } else {
-          pr.Add(path, "unknown key (expected key, lo, hi, scale, transform, of)" + line);
-        }
-      }
-      if (!has_key) pr.Add(at + ".key", "required key is missing" + line);
-      if (!has_lo) pr.Add(at + ".lo", "required key is missing" + line);
-      if (!has_hi) pr.Add(at + ".hi", "required key is missing" + line);
-      entries.push_back(e);
-    }
   if (!pr.empty()) throw ConfigError(file, pr.items());
   try {
-    return ParameterSpace(name, std::move(entries));
+    return ParameterSpace(f.name, std::move(entries));
   } catch (const ConfigError& e) {
     throw ConfigError(file, e.problems());
   }
@@ -501,58 +444,9 @@ ParameterSpace ParameterSpace::FromFile(const std::string& path) {
 }
 
 ParameterSpace ParameterSpace::Default() {
-  using T = Transform;
-  const Scale kLin = Scale::kLinear, kLog = Scale::kLog;
-  std::vector<SpaceEntry> e = {
-      // ESC activation thresholds: shape kept, level scaled; deactivation as a fraction of the
-      // smallest activation value (valid hysteresis by construction).
-      {"ESC.beta_threshold_activate", -1, 0.5, 2.0, kLog, T::kScaleArray, "", -1},
-      {"ESC.psi_dot_error_threshold_activate", -1, 0.5, 2.0, kLog, T::kScaleArray, "", -1},
-      {"ESC.beta_error_threshold_activate", -1, 0.5, 2.0, kLog, T::kScaleArray, "", -1},
-      {"ESC.beta_threshold_deactivate", -1, 0.3, 1.0, kLin, T::kRatio,
-       "ESC.beta_threshold_activate", -1},
-      {"ESC.psi_dot_error_threshold_deactivate", -1, 0.3, 1.0, kLin, T::kRatio,
-       "ESC.psi_dot_error_threshold_activate", -1},
-      {"ESC.beta_error_threshold_deactivate", -1, 0.3, 1.0, kLin, T::kRatio,
-       "ESC.beta_error_threshold_activate", -1},
-      // Both PIDs (gains span decades: log scale).
-      {"ESC.kp_psi_dot", -1, 1.0, 40.0, kLog, T::kDirect, "", -1},
-      {"ESC.ki_psi_dot", -1, 0.1, 10.0, kLog, T::kDirect, "", -1},
-      {"ESC.kd_psi_dot", -1, 0.05, 3.0, kLog, T::kDirect, "", -1},
-      {"ESC.kp_beta", -1, 3.0, 100.0, kLog, T::kDirect, "", -1},
-      {"ESC.ki_beta", -1, 0.5, 40.0, kLog, T::kDirect, "", -1},
-      {"ESC.kd_beta", -1, 0.1, 5.0, kLog, T::kDirect, "", -1},
-      // Countersteer.
-      {"countersteer_system.slip_angle_filter_Ts", -1, 0.03, 0.5, kLog, T::kDirect, "", -1},
-      {"countersteer_system.enable_sideslip", -1, 0.002, 0.05, kLog, T::kDirect, "", -1},
-      {"countersteer_system.steering_factor", -1, 0.3, 1.5, kLin, T::kDirect, "", -1},
-  };
-  // ABS slip thresholds per axle: hold_reduce directly, the others as ordered gaps.
-  for (const std::string axle : {"front", "rear"}) {
-    const std::string a = "SlipControl.ABS." + axle + ".";
-    e.push_back({a + "slip_threshold_hold_reduce", -1, -20.0, -4.0, kLin, T::kDirect, "", -1});
-    e.push_back({a + "slip_threshold_safe", -1, 0.2, 0.95, kLin, T::kRatio,
-                 a + "slip_threshold_hold_reduce", -1});
-    e.push_back({a + "slip_threshold_reduce_hold", -1, -8.0, 0.0, kLin, T::kOffset,
-                 a + "slip_threshold_hold_reduce", -1});
-    e.push_back({a + "slip_threshold_increase_hold", -1, -8.0, 0.0, kLin, T::kOffset,
-                 a + "slip_threshold_reduce_hold", -1});
-    e.push_back({a + "slip_threshold_hold_increase", -1, -15.0, 0.0, kLin, T::kOffset,
-                 a + "slip_threshold_increase_hold", -1});
-  }
-  // TC rear slip thresholds (positive, ordered safe ≤ hold_reduce ≤ reduce_hold ≤ increase_hold ≤
-  // hold_increase).
-  const std::string t = "SlipControl.TC.rear.";
-  e.push_back({t + "slip_threshold_hold_reduce", -1, 3.0, 20.0, kLin, T::kDirect, "", -1});
-  e.push_back({t + "slip_threshold_safe", -1, 0.3, 1.0, kLin, T::kRatio,
-               t + "slip_threshold_hold_reduce", -1});
-  e.push_back({t + "slip_threshold_reduce_hold", -1, 0.0, 8.0, kLin, T::kOffset,
-               t + "slip_threshold_hold_reduce", -1});
-  e.push_back({t + "slip_threshold_increase_hold", -1, 0.0, 8.0, kLin, T::kOffset,
-               t + "slip_threshold_reduce_hold", -1});
-  e.push_back({t + "slip_threshold_hold_increase", -1, 0.0, 15.0, kLin, T::kOffset,
-               t + "slip_threshold_increase_hold", -1});
-  return ParameterSpace("default", std::move(e));
+  static const ParameterSpace space =
+      FromYamlText(generated::kDefaultSpaceYaml, "params/spaces/default.yaml");
+  return space;
 }
 
 }  // namespace scw::tuning

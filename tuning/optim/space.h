@@ -31,12 +31,16 @@
 //     tuner evaluates is therefore exactly what it exports, and the overrides file lists only real
 //     changes.
 //
-// Space file (plain YAML):
+// Space file (plain YAML, described once by SpaceFile below: the strict loader, the writer and the
+// docs table derive from it):
 //   name: default
 //   parameters:
 //     - {key: ESC.kp_psi_dot, lo: 2.0, hi: 30.0, scale: log}
 //     - {key: ESC.beta_threshold_deactivate, transform: ratio, of: ESC.beta_threshold_activate,
 //        lo: 0.4, hi: 1.2}
+// The rules that need the stability schema (the key exists, ranges within its bounds, index in
+// range, each key tuned once) are checked by the ParameterSpace constructor, for files and code
+// alike.
 #pragma once
 
 #include <string>
@@ -78,14 +82,67 @@ struct SpaceEntry {
   std::string Label() const;  ///< e.g. "ESC.kp_psi_dot", "ESC.threshold_velocities[0]"
 };
 
+/// One entry of a space file: the text form of a SpaceEntry.
+struct SpaceFileEntry {
+  std::string key;
+  std::string transform = "direct";
+  std::string of;
+  double lo = 0.0;
+  double hi = 1.0;
+  std::string scale = "linear";
+
+  template <class Self, class V>
+  static void Visit(Self& s, V& v) {
+    v.Field(s.key, {.key = "key",
+                    .doc = "Dotted key of a double or double[] stability parameter; key[i] names "
+                           "one element of an array (direct, offset, ratio)."});
+    v.Field(s.transform, {.key = "transform",
+                          .doc = "How the argument x sets the key: direct (key = x), offset "
+                                 "(key = of + x), ratio (key = min(of) · x), scale_array (every "
+                                 "element of the base array × x).",
+                          .optional = true,
+                          .choices = "direct|offset|ratio|scale_array",
+                          .omit_default = true});
+    v.Field(s.of, {.key = "of",
+                   .doc = "Reference key of offset and ratio (key[i] for one element); its value "
+                          "as decoded by an earlier entry, else the base value.",
+                   .optional = true,
+                   .omit_default = true});
+    v.Field(s.lo, {.key = "lo", .doc = "Lower bound of the argument x."});
+    v.Field(s.hi, {.key = "hi", .doc = "Upper bound of the argument x."});
+    v.Field(s.scale, {.key = "scale",
+                      .doc = "How u ∈ [0, 1] maps to x: linear, or log (log10, needs lo > 0).",
+                      .optional = true,
+                      .choices = "linear|log"});
+  }
+};
+
+/// A space file (params/spaces/*.yaml).
+struct SpaceFile {
+  std::string name = "space";
+  std::vector<SpaceFileEntry> parameters;
+
+  template <class Self, class V>
+  static void Visit(Self& s, V& v) {
+    v.Field(s.name, {.key = "name", .doc = "Name of the space (logs, reports).", .optional = true});
+    v.List(s.parameters, {.key = "parameters",
+                          .doc = "The dimensions of the search space, in decoding order.",
+                          .min_size = 1});
+  }
+};
+
 class ParameterSpace {
  public:
   /// Throws ConfigError (file, key path, rule) on a bad space description.
   ParameterSpace(std::string name, std::vector<SpaceEntry> entries);
   static ParameterSpace FromYamlText(const std::string& text, const std::string& file);
   static ParameterSpace FromFile(const std::string& path);
-  /// The built-in default space (ESC thresholds and both PIDs, countersteer, ABS and TC slip
-  /// thresholds); identical to params/spaces/default.yaml.
+  /// The built-in default space: params/spaces/default.yaml, embedded at build time. ESC
+  /// activation thresholds keep their velocity shape and scale as a whole, the deactivation
+  /// thresholds follow as fractions of the smallest activation value (valid hysteresis by
+  /// construction); both PIDs on log scales (gains span decades); countersteer; the ABS slip
+  /// thresholds per axle and the TC rear ones: hold_reduce directly, the rest as ratios and
+  /// ordered gaps.
   static ParameterSpace Default();
 
   const std::string& name() const { return name_; }
@@ -115,6 +172,8 @@ class ParameterSpace {
                           std::vector<std::string>* notes = nullptr) const;
   /// YAML text of this space (round-trips through FromYamlText).
   std::string ToYaml() const;
+  /// The file form of this space.
+  SpaceFile ToFile() const;
 
  private:
   std::string name_;

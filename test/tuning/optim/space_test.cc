@@ -51,12 +51,40 @@ void ExpectBitIdentical(const StabilityParams& a, const StabilityParams& b) {
   EXPECT_EQ(std::memcmp(da.data(), db.data(), da.size() * sizeof(double)), 0);
 }
 
-TEST(SpaceTest, DefaultSpaceFileEqualsBuiltIn) {
+TEST(SpaceTest, DefaultSpaceIsTheShippedFile) {
   const std::string path = std::string(SCW_SOURCE_DIR) + "/params/spaces/default.yaml";
   ASSERT_TRUE(std::filesystem::exists(path));
-  const auto file = ParameterSpace::FromFile(path);
-  EXPECT_EQ(file.ToYaml(), ParameterSpace::Default().ToYaml())
-      << "regenerate with: scw tune --print-space > params/spaces/default.yaml";
+  const std::string text = params::ReadTextFile(path);
+  // The built-in space is the file (embedded at build time), and the file is in the form
+  // `scw space print` writes.
+  EXPECT_EQ(ParameterSpace::Default().ToYaml(), text) << "re-run cmake to re-embed " << path;
+  EXPECT_EQ(ParameterSpace::FromFile(path).ToYaml(), text)
+      << "normalise with: scw space print --space " << path;
+  const auto space = ParameterSpace::Default();
+  EXPECT_EQ(space.name(), "default");
+  ASSERT_EQ(space.size(), 30);
+  EXPECT_EQ(space.entries().front().Label(), "ESC.beta_threshold_activate");
+  EXPECT_EQ(space.entries().front().transform, Transform::kScaleArray);
+  EXPECT_EQ(space.entries().back().Label(), "SlipControl.TC.rear.slip_threshold_hold_increase");
+  EXPECT_EQ(space.entries().back().of, "SlipControl.TC.rear.slip_threshold_increase_hold");
+}
+
+TEST(SpaceTest, FileFormOmitsDefaultTransformAndQuotesIndexedKeys) {
+  const ParameterSpace s("s\x01", {{"ESC.threshold_velocities", 1, 20.0, 40.0,
+                                    params::Scale::kLinear, Transform::kDirect, "", -1},
+                                   {"ESC.kp_beta", -1, 1.0, 4.0, params::Scale::kLog,
+                                    Transform::kOffset, "ESC.threshold_velocities", 0}});
+  const std::string yaml =
+      "name: \"s\\x01\"\n"
+      "parameters:\n"
+      "  - {key: \"ESC.threshold_velocities[1]\", lo: 20.0, hi: 40.0, scale: linear}\n"
+      "  - {key: ESC.kp_beta, transform: offset, of: \"ESC.threshold_velocities[0]\", lo: 1.0, "
+      "hi: 4.0, scale: log}\n";
+  EXPECT_EQ(s.ToYaml(), yaml);
+  const auto back = ParameterSpace::FromYamlText(yaml, "s.yaml");
+  EXPECT_EQ(back.name(), "s\x01");
+  EXPECT_EQ(back.ToYaml(), yaml);
+  EXPECT_EQ(back.entries()[1].of_index, 0);
 }
 
 TEST(SpaceTest, EveryCornerOfTheCubeDecodesToAValidSet) {
@@ -282,11 +310,30 @@ TEST(SpaceTest, BadSpacesAreRejectedWithPathAndRule) {
       {"parameters:\n  - {key: ESC.kp_psi_dot, lo: 0.0, hi: 1.0, scale: log}\n", "lo > 0"},
       {"parameters:\n  - {key: ESC.kp_psi_dot, lo: -5.0, hi: 1.0}\n", "within the schema bounds"},
       {"parameters:\n  - {key: ESC.threshold_velocities, lo: 1.0, hi: 2.0}\n", "element index"},
-      {"parameters:\n  - {key: ESC.kp_psi_dot, lo: 1.0}\n", "parameters[0].hi"},
+      {"parameters:\n  - {key: ESC.kp_psi_dot, lo: 1.0}\n",
+       "parameters[0].hi: required key is missing (line 2)"},
       {"parameters:\n  - {key: ESC.kp_beta, transform: ratio, lo: 0.1, hi: 1.0}\n", ".of"},
-      {"parameters:\n  - {key: ESC.kp_beta, lo: a, hi: 1.0}\n", "finite number"},
-      {"parameters: []\n", "non-empty list"},
-      {"name: x\nparams: 1\n", "unknown key"},
+      {"parameters:\n  - {key: ESC.kp_beta, lo: a, hi: 1.0}\n",
+       "parameters[0].lo: expected a number (double), got the string a (line 2)"},
+      {"parameters:\n  - {key: ESC.kp_beta, lo: .inf, hi: 1.0}\n", "not a finite number"},
+      {"parameters: []\n", "parameters: needs at least 1 entry, has 0"},
+      {"name: x\nparams: 1\n", "params: unknown key"},
+      {"name: x\nparamters: 1\n", "paramters: unknown key (did you mean parameters?)"},
+      {"parameters:\n  - {key: ESC.kp_beta, lo: 1.0, hi: 2.0, scale: lg}\n",
+       "parameters[0].scale: 'lg' is not one of linear|log (line 2)"},
+      {"parameters:\n  - {key: ESC.kp_beta, lo: 1.0, hi: 2.0, transform: shift}\n",
+       "parameters[0].transform: 'shift' is not one of direct|offset|ratio|scale_array"},
+      {"parameters:\n  - {key: ESC.kp_beta, lo: 1.0, hi: 2.0, tranform: ratio}\n",
+       "parameters[0].tranform: unknown key (did you mean transform?) (line 2)"},
+      {"parameters:\n  - {key: ESC.kp_beta, lo: 1.0, hi: 2.0}\n  - [ESC.kp_psi_dot]\n",
+       "parameters[1]: expected a map {key, transform, of, lo, hi, scale}"},
+      {"parameters:\n  - {key: \"ESC.threshold_velocities[a]\", lo: 1.0, hi: 2.0}\n",
+       "parameters[0].key: bad element index in 'ESC.threshold_velocities[a]'"},
+      {"parameters:\n  - {key: ESC.kp_beta, lo: 1.0, hi: 2.0, hi: 3.0}\n",
+       "parameters[0].hi: given 2 times"},
+      {"parameters:\n  - {key: \"ESC.threshold_velocities[9]\", transform: offset, of: "
+       "ESC.kp_beta, lo: 0.0, hi: 8.0}\n",
+       "parameters[0].key: element index out of range"},
       {"parameters:\n  - {key: ESC.kp_beta, lo: 1.0, hi: 2.0}\n  - {key: ESC.kp_beta, lo: 1.0, "
        "hi: 2.0}\n",
        "tuned twice"},
