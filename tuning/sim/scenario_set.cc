@@ -1,6 +1,5 @@
 #include "tuning/sim/scenario_set.h"
 
-#include <cctype>
 #include <filesystem>
 #include <map>
 
@@ -76,26 +75,16 @@ std::vector<ScenarioEntry> ReadEntries(const YamlNode& list, const std::string& 
   return out;
 }
 
-// A scalar for a flow map written by ToYaml: plain when it reads back as the same text (letters,
-// digits, _ . - + = /, not starting with an indicator, not a null word), else double-quoted.
-std::string Scalar(const std::string& s) {
-  bool plain = !s.empty() && (std::isalnum(static_cast<unsigned char>(s[0])) || s[0] == '_');
-  for (unsigned char c : s)
-    plain = plain && (std::isalnum(c) || c == '_' || c == '.' || c == '-' || c == '+' || c == '=' ||
-                      c == '/');
-  plain = plain && s != "null" && s != "Null" && s != "NULL";  // YAML reads those as null
-  return plain ? s : params::QuoteString(s);
-}
-
 std::string EntriesYaml(const std::vector<ScenarioEntry>& entries) {
   std::string out;
   for (const auto& e : entries) {
-    out += "  - {name: " + Scalar(e.name) + ", weight: " + params::FormatDouble(e.weight);
+    out +=
+        "  - {name: " + params::FlowScalar(e.name) + ", weight: " + params::FormatDouble(e.weight);
     if (!e.file.empty()) out += ", file: " + params::QuoteString(e.file);
     out += ", set: [";
     for (std::size_t i = 0; i < e.overrides.size(); ++i) {
       const std::string& o = e.overrides[i];
-      out += (i ? ", " : "") + Scalar(o);
+      out += (i ? ", " : "") + params::FlowScalar(o);
     }
     out += "]}\n";
   }
@@ -244,7 +233,7 @@ ScenarioSet ScenarioSet::FromFile(const std::string& path) {
 }
 
 std::string ScenarioSet::ToYaml() const {
-  std::string out = "name: " + Scalar(name) + "\n";
+  std::string out = "name: " + params::FlowScalar(name) + "\n";
   out += "cost:\n";
   const std::string cost_yaml = params::ToPlainYaml(cost);
   std::size_t start = 0;
