@@ -159,6 +159,7 @@ struct ScenarioParams {
   int seed = 1;
   bool sensor_noise = false;
   double log_rate = 100.0;
+  double plant_step = 0.0;
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
@@ -236,6 +237,18 @@ struct ScenarioParams {
                          .hi = 1000.0,
                          .doc = "Trace logging rate.",
                          .optional = true});
+    v.Field(s.plant_step,
+            {.key = "plant_step",
+             .unit = "s",
+             .lo = 0.0,
+             .hi = 0.005,
+             .doc = "Plant step h of this scenario; 0 = the vehicle file's "
+                    "simulation.time_step. Must divide the controller period tS. `scw tune` "
+                    "searches with a coarser step (--search-plant-step, 2 ms by default) once a "
+                    "check on the training scenarios shows it gives the same outcomes as the "
+                    "vehicle's own step (docs/plant-step.md); everything it reports runs at the "
+                    "vehicle's step.",
+             .optional = true});
   }
 };
 

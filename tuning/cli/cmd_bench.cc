@@ -10,12 +10,14 @@
 
 #include "params/io/csv.h"
 #include "params/io/load.h"
+#include "params/io/write.h"
 #include "params/schema/vehicle_params.h"
 #include "plant/vehicle/maneuver.h"
 #include "plant/vehicle/vehicle.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
 #include "tuning/optim/evaluator.h"
+#include "tuning/optim/plant_step_check.h"
 #include "tuning/sim/closed_loop.h"
 #include "tuning/sim/parallel/mpi_backend.h"
 #include "tuning/sim/scenario.h"
@@ -27,8 +29,9 @@ struct BenchOptions {
   bool plant = false;
   bool evaluator = false;
   int evaluations = 4;
-  std::string scenarios;  ///< --evaluator: scenario set file ("" = the built-in default set)
-  std::string job_times;  ///< --evaluator: per-job wall times CSV
+  std::string scenarios;    ///< --evaluator: scenario set file ("" = the built-in default set)
+  std::string job_times;    ///< --evaluator: per-job wall times CSV
+  double plant_step = 0.0;  ///< --evaluator: the scenarios' plant_step (0: the vehicles' own)
   std::string vehicle;
   double duration = 600.0;
   int repeat = 3;
@@ -135,12 +138,15 @@ void WriteJobTimes(const tuning::BatchEvaluator& ev, const std::string& path) {
 // of --scenarios) with 1 and 2 threads; under mpirun, with the run's ranks × 1 thread each (run
 // it with -np 1 and -np 2 for the speed-up across processes).
 int BenchEvaluator(const BenchOptions& o) {
-  const auto set = o.scenarios.empty() ? tuning::ScenarioSet::Default()
-                                       : tuning::ScenarioSet::FromFile(o.scenarios);
+  auto set = o.scenarios.empty() ? tuning::ScenarioSet::Default()
+                                 : tuning::ScenarioSet::FromFile(o.scenarios);
+  if (o.plant_step > 0.0) set.training = tuning::WithPlantStep(set.training, o.plant_step);
   std::vector<params::StabilityParams> sets(static_cast<std::size_t>(o.evaluations));
   for (std::size_t i = 0; i < sets.size(); ++i)
     sets[i].ESC.kp_psi_dot = 6.0 + static_cast<double>(i);  // distinct sets
   const bool ranks = tuning::mpi::Launched();
+  const std::string step_note =
+      o.plant_step > 0.0 ? " at plant step " + params::FormatDouble(o.plant_step) + " s" : "";
   double rate[2] = {0, 0};
   for (int threads : {1, 2}) {
     if (ranks && threads > 1) break;
@@ -162,9 +168,9 @@ int BenchEvaluator(const BenchOptions& o) {
         ranks ? std::to_string(tuning::mpi::Ranks()) + " MPI rank(s) x 1 thread"
               : std::to_string(threads) + " thread(s)";
     std::printf(
-        "evaluator: %zu scenarios per evaluation, %s: %.3f evaluations/s "
+        "evaluator: %zu scenarios per evaluation%s, %s: %.3f evaluations/s "
         "(%.1f runs/s; scenarios prepared in %.2f s)\n",
-        set.training.size(), workers.c_str(), rate[threads - 1],
+        set.training.size(), step_note.c_str(), workers.c_str(), rate[threads - 1],
         rate[threads - 1] * static_cast<double>(set.training.size()), prep);
   }
   std::printf("cpu: %s\n", CpuModel().c_str());
@@ -194,6 +200,11 @@ void AddBench(CLI::App& app) {
   cmd->add_option("--job-times", o->job_times,
                   "With --evaluator: write each training scenario's wall time for one run (1 "
                   "thread) to this CSV (input of experiments/scaling_model.py)");
+  NumberIn(cmd->add_option("--plant-step", o->plant_step,
+                           "With --evaluator: run the scenarios at this plant step [s] (their "
+                           "plant_step key, as scw tune's --search-plant-step; 0: the vehicles' "
+                           "own step)"),
+           0.0, 0.005);
   cmd->add_option("--vehicle", o->vehicle, "Vehicle file (default: built-in EAV24 set)");
   NumberIn(cmd->add_option("--duration", o->duration, "Simulated time per run [s]"), 1.0, 1e6);
   WholeNumberIn(cmd->add_option("--repeat", o->repeat, "Runs; the fastest is reported"), 1, 100);

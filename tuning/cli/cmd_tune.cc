@@ -44,6 +44,7 @@ struct TuneOptions {
   bool force = false;  // --out-dir may name an existing folder
   int max_evals = 180;
   double max_time = 0.0;  // opt-in: a wall-time limit makes the result depend on the machine
+  double search_plant_step = tuning::kDefaultSearchPlantStep;  // [s], 0: the vehicles' own
   int threads = 0;
   int batch = 1;  // --batch: candidates per objective call (the batched algorithm lhs+B)
   unsigned long long seed = 1;
@@ -161,6 +162,7 @@ tuning::TuneStudyOptions StudyOptions(const TuneOptions& o, std::set<std::string
   so.base_outside = o.base_outside == "refuse" ? tuning::BaseOutsideSpace::kRefuse
                                                : tuning::BaseOutsideSpace::kGrow;
   so.sensitivity = !o.no_sensitivity;
+  so.search_plant_step = o.search_plant_step;
   so.resume_log = o.resume;
   so.stop = &g_stop;
   so.base_file = o.base;
@@ -504,6 +506,14 @@ void AddTune(CLI::App& app) {
                            "on the machine's speed and the final message says when it stopped "
                            "the run)"),
            0.0, 1e7)
+      ->capture_default_str();
+  NumberIn(cmd->add_option("--search-plant-step", o->search_plant_step,
+                           "Plant step [s] the optimiser evaluates candidates with, used only if "
+                           "the base set gives the same outcomes there as at each vehicle's own "
+                           "step on every training scenario (0: the vehicles' own step). The "
+                           "comparison, sensitivity and exported files always use the vehicle's "
+                           "step (docs/plant-step.md)"),
+           0.0, 0.005)
       ->capture_default_str();
   WholeNumberIn(cmd->add_option("--threads", o->threads, kThreadsHelp), 0, 1024)
       ->capture_default_str();

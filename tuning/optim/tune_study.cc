@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -160,6 +161,7 @@ void Compare(const TuneStudy& study, const BatchEvaluator& training, TuneObserve
     report->held_out_change = CompareSets(held, report->held_out[0], report->held_out[1]);
     md += "\n" + SetChangeMarkdown("Held-out", report->held_out_change);
   }
+  if (report->plant_step.step > 0.0) md += "\n" + PlantStepCheckMarkdown(report->plant_step);
   report->comparison_markdown = md;
   report->comparison_csv = csv;
 }
@@ -232,6 +234,9 @@ TuneStudy::TuneStudy(params::StabilityParams base, const ParameterSpace& space,
       space_(given_.WithBase(base_, options_.base_outside, &grown_)),
       u0_(space_.Encode(base_)) {
   CheckTunerAlgorithm(options_.algorithm);
+  if (!(options_.search_plant_step >= 0.0 && options_.search_plant_step <= 0.005))
+    throw std::invalid_argument("the search plant step must lie in [0, 0.005] s, got " +
+                                params::FormatDouble(options_.search_plant_step));
   CheckTunerBatch(options_.algorithm, options_.batch);
   // Evaluation 0 is the base set, and keys the tuner leaves alone keep their base values.
   if (!params::DifferingKeys(space_.Decode(u0_, base_, nullptr), base_).empty())
@@ -247,15 +252,42 @@ TuneReport TuneStudy::Run(TuneObserver& observer) const {
   const ScenarioSet& set = scenarios_;
   TuneReport report;
   const int n_training = static_cast<int>(set.training.size());
-  observer.OnPhaseBegin(TunePhase::kPrepare, n_training);
+  // With a search step: its evaluator (the preparation is shared with the first) and the base set
+  // run at both steps, 4 jobs per scenario in all.
+  const double step = options_.search_plant_step;
+  const int n_prepare = step > 0.0 ? 4 * n_training : n_training;
+  observer.OnPhaseBegin(TunePhase::kPrepare, n_prepare);
   const BatchEvaluator training =
       BatchEvaluator::FromEntries(set.training, set.base_dir, set.cost, options_.threads,
-                                  Jobs(observer, TunePhase::kPrepare, 0, n_training));
+                                  Jobs(observer, TunePhase::kPrepare, 0, n_prepare));
+  std::optional<BatchEvaluator> coarse;
+  report.plant_step.step = step;
+  if (step > 0.0 && StepDiffers(training, step)) {
+    coarse.emplace(BatchEvaluator::FromEntries(
+        WithPlantStep(set.training, step), set.base_dir, set.cost, options_.threads,
+        Jobs(observer, TunePhase::kPrepare, n_training, n_prepare)));
+    const SetEvaluation fine_base =
+        training.Evaluate({base_}, Jobs(observer, TunePhase::kPrepare, 2 * n_training, n_prepare))
+            .front();
+    const SetEvaluation coarse_base =
+        coarse->Evaluate({base_}, Jobs(observer, TunePhase::kPrepare, 3 * n_training, n_prepare))
+            .front();
+    std::vector<std::string> names;
+    for (const auto& sc : training.scenarios()) names.push_back(sc.spec.name);
+    report.plant_step = ComparePlantSteps(step, names, fine_base, coarse_base,
+                                          options_.search_plant_step_tolerances);
+  } else {
+    // Every vehicle has that step already: nothing to check, the counted jobs are done.
+    for (int done = n_training + 1; done <= n_prepare; ++done)
+      observer.OnJobs(TunePhase::kPrepare, done, n_prepare);
+  }
   report.threads = training.threads();
   report.ranks = mpi::Ranks();
   observer.OnPhaseEnd(TunePhase::kPrepare, report);
 
-  const TrainingObjective objective(space_, base_, training, set.cost);
+  // The optimiser's evaluator: the search step's where its check passed.
+  const BatchEvaluator& search = report.plant_step.used() > 0.0 ? *coarse : training;
+  const TrainingObjective objective(space_, base_, search, set.cost);
   TunerOptions to;
   to.algorithm = options_.algorithm;
   to.max_evals = options_.max_evals;
@@ -374,6 +406,9 @@ std::string TuneStudy::ManifestYaml(const TuneReport& report, const TuneRunRecor
       << "seed: " << o.seed << "\n"
       << "max_evals: " << o.max_evals << "\n"
       << "max_time_s: " << params::FormatDouble(o.max_time_s) << "\n"
+      << "search_plant_step: " << params::FormatDouble(o.search_plant_step) << "\n"
+      << "search_plant_step_check: " << params::QuoteString(report.plant_step.Verdict()) << "\n"
+      << "search_plant_step_used: " << params::FormatDouble(report.plant_step.used()) << "\n"
       << "threads: " << report.threads << "\n"
       << "ranks: " << report.ranks << "\n"
       << "threads_per_rank: " << report.threads << "\n"

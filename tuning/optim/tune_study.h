@@ -6,11 +6,14 @@
 // (TuneStudy::space()) and checks the settings, so that every problem with the inputs is found
 // before anything runs or a folder is made. Run(observer) then goes through four phases:
 //
-//   prepare      resolve the training scenarios (racing line, velocity profile): one evaluator
+//   prepare      resolve the training scenarios (racing line, velocity profile): one evaluator;
+//                with a search plant step (options.search_plant_step) a second one at that
+//                step, and the base set on both decides whether the optimiser may use it
+//                (plant_step_check.h; report.plant_step)
 //   optimise     Tune() (tuning/optim/tuner.h) from the base point u0 = space().Encode(base) over
-//                the unit cube; the objective decodes u against the base and, for a valid set,
-//                J(u) = Σ weight_s · J_s on the training scenarios; a decoded set that breaks a
-//                schema rule is not run and costs
+//                the unit cube, at the step report.plant_step.used(); the objective decodes u
+//                against the base and, for a valid set, J(u) = Σ weight_s · J_s on the training
+//                scenarios; a decoded set that breaks a schema rule is not run and costs
 //                  (P_abort + w_progress + T_lap_cap) · max(1, #training scenarios),
 //                more than any set that runs (abort penalty at zero progress in every scenario).
 //                Every evaluation is appended to options.evaluation_log as it happens (streamed:
@@ -57,6 +60,7 @@
 #include "params/schema/stability_params.h"
 #include "tuning/optim/comparison.h"
 #include "tuning/optim/evaluator.h"
+#include "tuning/optim/plant_step_check.h"
 #include "tuning/optim/sensitivity.h"
 #include "tuning/optim/space.h"
 #include "tuning/optim/tuner.h"
@@ -79,6 +83,11 @@ struct TuneStudyOptions {
   int threads = 0;  ///< worker threads per process of every evaluator (0: all cores)
   BaseOutsideSpace base_outside = BaseOutsideSpace::kGrow;
   bool sensitivity = true;  ///< the parameter sensitivity after the optimisation (and CheckSet)
+  /// The plant step the optimiser evaluates candidates with [s] (0: each vehicle's own step);
+  /// used only where the check on the base set passes (plant_step_check.h). The comparison, the
+  /// sensitivity and the exported files' provenance always run at the vehicle's own step.
+  double search_plant_step = kDefaultSearchPlantStep;
+  PlantStepTolerances search_plant_step_tolerances;
 
   // Streaming (the tuner writes and reads these files while it runs).
   std::string evaluation_log;               ///< CSV log of every evaluation ("" = none)
@@ -114,6 +123,9 @@ struct TuneReport {
   // prepare
   int threads = 0;  ///< worker threads per process of the evaluators
   int ranks = 1;    ///< MPI ranks computing runs
+  /// The search step's check (options.search_plant_step); its used() step is the one the
+  /// optimisation ran with.
+  PlantStepCheck plant_step;
   // optimise
   TuneResult optimisation;  ///< best point and cost, start cost, evaluations, stop reason
   // compare

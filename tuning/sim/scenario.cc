@@ -283,6 +283,20 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
   sc.tracking.vehicle.min_angle = -sc.vehicle.steering.max_angle;
   sc.tracking.vehicle.max_angle = sc.vehicle.steering.max_angle;
   sc.longitudinal_model = LongitudinalModelFor(sc.vehicle);
+
+  // The scenario's own plant step (docs/plant-step.md). Applied last: the racing line, the g-g-v
+  // table and everything planned from them do not depend on it, so the memos above are shared
+  // with the same scenario at the vehicle's step.
+  if (spec.plant_step > 0.0) {
+    sc.vehicle.simulation.time_step = spec.plant_step;
+    params::ValidateOrThrow(sc.vehicle, where + " (vehicle with the scenario's plant_step)");
+    const double ts = sc.stability.tS;
+    const double ratio = ts / spec.plant_step;
+    if (!(std::abs(ratio - std::round(ratio)) <= 1e-9 * ratio))
+      throw ConfigError(where, "plant_step",
+                        "must divide the controller period tS = " + params::FormatDouble(ts) +
+                            " s, got " + params::FormatDouble(spec.plant_step) + " s");
+  }
   return sc;
 }
 

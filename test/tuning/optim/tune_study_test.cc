@@ -60,10 +60,15 @@ class TuneStudyTest : public ::testing::Test {
 
   /// A study of the tiny problem that logs into `log` (one thread: the result is the same for
   /// any count, and the test stays light on a shared machine).
+  /// At each vehicle's own step unless `search_plant_step` says otherwise (the search step has
+  /// its own test below).
   TuneStudy Study(const std::string& log, int max_evals, bool sensitivity,
-                  const std::atomic<bool>* stop = nullptr) const {
+                  const std::atomic<bool>* stop = nullptr, double search_plant_step = 0.0,
+                  const PlantStepTolerances& tolerances = {}) const {
     TuneStudyOptions o;
     o.max_evals = max_evals;
+    o.search_plant_step = search_plant_step;
+    o.search_plant_step_tolerances = tolerances;
     o.threads = 1;
     o.sensitivity = sensitivity;
     o.evaluation_log = (dir_ / log).string();
@@ -180,6 +185,52 @@ TEST_F(TuneStudyTest, BestIsNoWorseThanTheBaseAndTheObserverSeesEveryPhase) {
   EXPECT_NE(manifest.find("changed_keys: " + std::to_string(r.changed.size()) + "\n"),
             std::string::npos)
       << manifest;
+}
+
+// The search step: the base set at both steps decides; the optimiser's costs are the search
+// step's, the comparison's the vehicle's own; a failed check falls back to the vehicle's step.
+TEST_F(TuneStudyTest, TheSearchStepIsUsedWhereItsCheckPassesAndTheReportRunsAtTheOwnStep) {
+  Recorder rec;
+  const TuneStudy coarse = Study("coarse.csv", 4, false, nullptr, 0.002);
+  const TuneReport r = coarse.Run(rec);
+  EXPECT_TRUE(r.plant_step.ran);
+  EXPECT_TRUE(r.plant_step.passed) << PlantStepCheckMarkdown(r.plant_step);
+  EXPECT_EQ(r.plant_step.used(), 0.002);
+  ASSERT_EQ(r.plant_step.scenarios.size(), 2u);
+  EXPECT_EQ(r.plant_step.scenarios[1].scenario, "power_on_c1");
+  // Evaluation 0 is the base set at the search step; the comparison's baseline at the own step.
+  EXPECT_EQ(r.optimisation.start_cost, r.plant_step.coarse_total);
+  EXPECT_EQ(r.training[0].total, r.plant_step.fine_total);
+  EXPECT_NE(r.plant_step.fine_total, r.plant_step.coarse_total);
+  // The preparation counts both evaluators and the base set's two runs per scenario.
+  ASSERT_FALSE(rec.totals.empty());
+  EXPECT_EQ(rec.totals[0], 4 * 2);
+  EXPECT_EQ(rec.last_jobs[0].first, 4 * 2);
+  EXPECT_NE(r.comparison_markdown.find("## Search plant step"), std::string::npos);
+  const std::string manifest = coarse.ManifestYaml(r, {});
+  EXPECT_NE(manifest.find("search_plant_step: 0.002\n"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("search_plant_step_check: \"passed\"\n"), std::string::npos);
+  EXPECT_NE(manifest.find("search_plant_step_used: 0.002\n"), std::string::npos);
+
+  // No tolerance at all: the check fails and the search runs at the vehicle's own step, so the
+  // optimisation starts from the comparison's baseline cost.
+  PlantStepTolerances none;
+  none.lap_time_s = none.progress = none.max_beta_deg = none.total_cost = 0.0;
+  const TuneReport f = Study("fallback.csv", 4, false, nullptr, 0.002, none).Run();
+  EXPECT_TRUE(f.plant_step.ran);
+  EXPECT_FALSE(f.plant_step.passed);
+  EXPECT_EQ(f.plant_step.used(), 0.0);
+  EXPECT_EQ(f.optimisation.start_cost, f.training[0].total);
+  EXPECT_EQ(f.training[0].total, r.training[0].total);
+  EXPECT_NE(f.comparison_markdown.find("own step instead"), std::string::npos);
+
+  // The vehicles' own step asked for: nothing to check.
+  const TuneReport same = Study("same.csv", 2, false, nullptr, 0.001).Run();
+  EXPECT_FALSE(same.plant_step.ran);
+  EXPECT_EQ(same.optimisation.start_cost, same.training[0].total);
+
+  // A step outside [0, 5 ms] is refused before anything runs.
+  EXPECT_THROW(Study("bad.csv", 2, false, nullptr, 0.01), std::invalid_argument);
 }
 
 TEST_F(TuneStudyTest, SameInputsGiveTheSameReport) {
