@@ -90,6 +90,22 @@ class Memo {
   std::map<std::string, std::shared_future<std::shared_ptr<const T>>> items_;
 };
 
+/// The track of a scenario, shared within the process: a built-in track is a pure function of its
+/// name, a track file's of the file's bytes (building Yas Marina North from its clothoids is about
+/// a quarter of a scenario's preparation). A file that cannot be read gets LoadTrack's error.
+std::shared_ptr<const plant::Track> SharedTrack(const std::string& file) {
+  static Memo<plant::Track> tracks;
+  std::string key = "built-in:" + file;
+  if (fs::path(file).has_extension()) {
+    try {
+      key = "file:" + file + "\n" + params::ReadTextFile(file);
+    } catch (const std::exception&) {
+      return std::make_shared<const plant::Track>(LoadTrack(file));
+    }
+  }
+  return tracks.Get(key, [&] { return LoadTrack(file); });
+}
+
 /// Exact text of every input of PlantEnvelope: the vehicle as the params writer emits it (doubles
 /// in shortest round-trip form) and the brake bias. The sensor-noise switch is left out of the key
 /// (written as false): PlantEnvelope switches noise off itself.
@@ -223,7 +239,7 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
   params::ValidateOrThrow(sc.vehicle, where + " (vehicle with the scenario's grip)");
 
   // Track and reference line.
-  auto track = std::make_shared<plant::Track>(LoadTrack(ResolvePath(base_dir, spec.track)));
+  const std::shared_ptr<const plant::Track> track = SharedTrack(ResolvePath(base_dir, spec.track));
   sc.track = track;
   auto compute_line = [&]() -> plant::Track {
     if (spec.motion.raceline == "centerline") return *track;

@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <vector>
 
 #include "plant/track/yas_north.h"
@@ -91,6 +93,33 @@ TEST(PreparationCache, ScenariosWithTheSamePlannedVehicleShareTheTable) {
     EXPECT_EQ(r->ideal_lap_time, a.ideal_lap_time);
     EXPECT_EQ(r->limit_lap_time, a.limit_lap_time);
   }
+}
+
+TEST(PreparationCache, ATrackIsBuiltOncePerNameOrFileContent) {
+  const ResolvedScenario a = Resolve(DefaultScenario());
+  const ResolvedScenario b = Resolve(DefaultScenario({"laps=1", "seed=7"}));
+  EXPECT_EQ(a.track.get(), b.track.get());  // Yas Marina North, built once
+  // A track file is keyed by its bytes: the same path with other content is another track.
+  const std::string file = testing::TempDir() + "scw_cache_track.yaml";
+  const auto write = [&](const char* width) {
+    std::ofstream(file)
+        << "name: oval\nlength: [100, 157.07963267948966, 100, 157.07963267948966]\n"
+        << "curvature_start: [0, 0.02, 0, 0.02]\n"
+        << "curvature_end: [0, 0.02, 0, 0.02]\n"
+        << "width_left: [" << width << "]\nwidth_right: [" << width << "]\n";
+  };
+  const auto resolve = [&] {
+    return Resolve(DefaultScenario({"track=" + file, "motion.raceline=centerline", "laps=1"}));
+  };
+  write("6, 6, 6, 6");
+  const ResolvedScenario f1 = resolve();
+  const ResolvedScenario f2 = resolve();
+  EXPECT_EQ(f1.track.get(), f2.track.get());
+  write("7, 7, 7, 7");
+  const ResolvedScenario f3 = resolve();
+  EXPECT_NE(f3.track.get(), f1.track.get());
+  EXPECT_NE(f1.track.get(), a.track.get());
+  std::remove(file.c_str());
 }
 
 TEST(PreparationCache, AnyOtherVehicleValueGetsItsOwnTable) {
