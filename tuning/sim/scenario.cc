@@ -6,6 +6,7 @@
 #include <future>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <utility>
 
 #include "params/io/load.h"
@@ -16,6 +17,7 @@
 #include "plant/track/yas_north.h"
 #include "tuning/sim/events.h"
 #include "tuning/sim/plant_envelope.h"
+#include "tuning/sim/prep_cache.h"
 #include "tuning/sim/track_csv.h"
 #include "tuning/sim/trajectory/racing_line.h"
 #include "tuning/sim/trajectory/velocity_profile.h"
@@ -93,17 +95,19 @@ class Memo {
 /// The track of a scenario, shared within the process: a built-in track is a pure function of its
 /// name, a track file's of the file's bytes (building Yas Marina North from its clothoids is about
 /// a quarter of a scenario's preparation). A file that cannot be read gets LoadTrack's error.
-std::shared_ptr<const plant::Track> SharedTrack(const std::string& file) {
+/// `key` receives the text that determines the track ("" for a file that cannot be read).
+std::shared_ptr<const plant::Track> SharedTrack(const std::string& file, std::string* key) {
   static Memo<plant::Track> tracks;
-  std::string key = "built-in:" + file;
+  *key = "built-in:" + file;
   if (fs::path(file).has_extension()) {
     try {
-      key = "file:" + file + "\n" + params::ReadTextFile(file);
+      *key = "file:" + file + "\n" + params::ReadTextFile(file);
     } catch (const std::exception&) {
+      key->clear();
       return std::make_shared<const plant::Track>(LoadTrack(file));
     }
   }
-  return tracks.Get(key, [&] { return LoadTrack(file); });
+  return tracks.Get(*key, [&] { return LoadTrack(file); });
 }
 
 /// Exact text of every input of PlantEnvelope: the vehicle as the params writer emits it (doubles
@@ -120,7 +124,49 @@ std::shared_ptr<const controller::planning::GgvTable> PlantGgv(const std::string
                                                                const params::VehicleParams& v,
                                                                double brake_bias_front) {
   static Memo<controller::planning::GgvTable> memo;
-  return memo.Get(key, [&] { return PlantEnvelope(v, brake_bias_front); });
+  using controller::planning::GgvTable;
+  return memo.Get(key, [&] {
+    return ThroughCache<GgvTable>(
+        PrepCache::Process(), "ggv", key, [&] { return PlantEnvelope(v, brake_bias_front); },
+        [](const GgvTable& t) {
+          return CachedArrays{t.speed,        t.ay_max,         t.ax_drive_max,
+                              t.ax_brake_max, t.drive_exponent, t.brake_exponent};
+        },
+        [](const CachedArrays& a) -> std::optional<GgvTable> {
+          if (a.size() != 6) return std::nullopt;
+          GgvTable t;
+          t.speed = a[0];
+          t.ay_max = a[1];
+          t.ax_drive_max = a[2];
+          t.ax_brake_max = a[3];
+          t.drive_exponent = a[4];
+          t.brake_exponent = a[5];
+          try {
+            t.Validate("cache");
+          } catch (const std::exception&) {
+            return std::nullopt;
+          }
+          return t;
+        });
+  });
+}
+
+/// The minimum-curvature line of `track` (its text `track_key`, "" = not cacheable): its
+/// optimised offsets go through the preparation cache, the line is built from them.
+plant::Track OptimalLine(const plant::Track& track, const std::string& track_key,
+                         const RacingLineOptions& ro) {
+  if (track_key.empty()) return MinimumCurvatureLine(track, ro).line;
+  const std::string key = track_key + "\nmargin: " + params::FormatDouble(ro.margin);
+  const PrepCache& cache = PrepCache::Process();
+  if (const auto hit = cache.Load("line", key); hit && hit->size() == 1) {
+    RacingLineOptions known = ro;
+    known.known_offset = &hit->front();
+    RacingLine line = MinimumCurvatureLine(track, known);
+    if (line.status == "known") return std::move(line.line);
+  }
+  RacingLine line = MinimumCurvatureLine(track, ro);
+  cache.Store("line", key, {line.offset});
+  return std::move(line.line);
 }
 
 std::shared_ptr<const controller::motion::Path> ToPath(const ReferenceTrajectory& r) {
@@ -239,14 +285,16 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
   params::ValidateOrThrow(sc.vehicle, where + " (vehicle with the scenario's grip)");
 
   // Track and reference line.
-  const std::shared_ptr<const plant::Track> track = SharedTrack(ResolvePath(base_dir, spec.track));
+  std::string track_key;
+  const std::shared_ptr<const plant::Track> track =
+      SharedTrack(ResolvePath(base_dir, spec.track), &track_key);
   sc.track = track;
   auto compute_line = [&]() -> plant::Track {
     if (spec.motion.raceline == "centerline") return *track;
     if (spec.motion.raceline == "optimal" || spec.motion.raceline.empty()) {
       RacingLineOptions ro;
       ro.margin = spec.motion.raceline_margin;
-      return MinimumCurvatureLine(*track, ro).line;
+      return OptimalLine(*track, track_key, ro);
     }
     return LoadRacingLine(ResolvePath(base_dir, spec.motion.raceline), *track).line;
   };

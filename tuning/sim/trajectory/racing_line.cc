@@ -88,6 +88,28 @@ double SquaredCurvatureIntegral(const plant::Track& path) {
   return acc;
 }
 
+namespace {
+
+/// The racing line through the offsets `n` of the nodes of `p` (the last step of
+/// MinimumCurvatureLine, whether the offsets were optimised or known).
+RacingLine BuildLine(const plant::Track& track, const LineProblem& p, const std::vector<double>& n,
+                     const std::vector<double>& wl, const std::vector<double>& wr,
+                     const std::vector<double>& mu, const RacingLineOptions& o, RacingLine out) {
+  const std::size_t m = n.size();
+  std::vector<double> x(m), y(m), lw(m), rw(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    x[i] = p.cx[i] + n[i] * p.nx[i];
+    y[i] = p.cy[i] + n[i] * p.ny[i];
+    lw[i] = wl[i] - n[i];
+    rw[i] = wr[i] + n[i];
+  }
+  out.line =
+      LineTrack(x, y, lw, rw, mu, o.output_step, track.name() + " racing line", "racing line");
+  return out;
+}
+
+}  // namespace
+
 RacingLine MinimumCurvatureLine(const plant::Track& track, const RacingLineOptions& o) {
   if (!(o.step >= 0.5 && o.step <= 20.0) || !(o.margin >= 0.0) || o.max_evaluations < 1 ||
       !(o.output_step > 0.0))
@@ -131,6 +153,18 @@ RacingLine MinimumCurvatureLine(const plant::Track& track, const RacingLineOptio
   for (std::size_t i = 0; i < m; ++i) n[i] = std::clamp(0.0, lo[i], hi[i]);
   out.objective_initial = Objective(static_cast<unsigned>(m), n.data(), nullptr, &p);
 
+  if (o.known_offset != nullptr && o.known_offset->size() == m) {
+    bool inside = true;
+    for (std::size_t i = 0; i < m; ++i)
+      inside = inside && (*o.known_offset)[i] >= lo[i] && (*o.known_offset)[i] <= hi[i];
+    if (inside) {
+      n = *o.known_offset;
+      out.status = "known";
+      out.objective_final = Objective(static_cast<unsigned>(m), n.data(), nullptr, &p);
+      out.offset = n;
+      return BuildLine(track, p, n, wl, wr, mu, o, std::move(out));
+    }
+  }
   const auto t0 = std::chrono::steady_clock::now();
   nlopt::opt opt(algorithm, static_cast<unsigned>(m));
   opt.set_lower_bounds(lo);
@@ -155,17 +189,7 @@ RacingLine MinimumCurvatureLine(const plant::Track& track, const RacingLineOptio
   out.objective_final = f;
   out.status = ResultName(res);
   out.offset = n;
-
-  std::vector<double> x(m), y(m), lw(m), rw(m);
-  for (std::size_t i = 0; i < m; ++i) {
-    x[i] = p.cx[i] + n[i] * p.nx[i];
-    y[i] = p.cy[i] + n[i] * p.ny[i];
-    lw[i] = wl[i] - n[i];
-    rw[i] = wr[i] + n[i];
-  }
-  out.line =
-      LineTrack(x, y, lw, rw, mu, o.output_step, track.name() + " racing line", "racing line");
-  return out;
+  return BuildLine(track, p, n, wl, wr, mu, o, std::move(out));
 }
 
 RacingLine LoadRacingLine(const std::string& path, const plant::Track& track, double output_step) {

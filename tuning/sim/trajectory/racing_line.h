@@ -31,6 +31,11 @@ struct RacingLineOptions {
   int max_evaluations = 50000;
   double ftol_rel = 1e-9;    ///< relative change of J that ends the search
   double output_step = 1.0;  ///< node spacing of the returned line [m]
+  /// The optimisation's known result (the `offset` of an earlier call with the same track and
+  /// options, e.g. from the preparation cache): used instead of optimising when it has one value
+  /// per node, each within the bounds; otherwise ignored. The line built from it is bit for bit
+  /// the one the optimisation gave.
+  const std::vector<double>* known_offset = nullptr;
 };
 
 struct RacingLine {

@@ -1,0 +1,67 @@
+// The preparation cache on disk: results of the expensive, pure steps of scenario preparation
+// (the plant's g-g-v table, the racing line's optimised offsets) kept between runs and shared by
+// the processes of an MPI run, so that a second tune, sweep or rank does not compute them again.
+//
+// Content-keyed: an entry's name is the SHA-256 of its kind, the exact text of every input (the
+// callers' memo keys: the vehicle as the params writer prints it, the track's bytes, the options)
+// and the identity of the program (the SHA-256 of the running executable and the NLopt version),
+// so a rebuilt scw or another input never reads an older result. Values are arrays of doubles
+// stored exactly (hexadecimal floating point), so a result read from the cache is bit for bit the
+// one computed: outputs do not depend on whether the cache was warm.
+//
+// Where: $SCW_CACHE_DIR if set ("off" or empty: no cache), else $XDG_CACHE_HOME/scw, else
+// $HOME/.cache/scw. Best effort: a folder that cannot be made, a file that cannot be written, read
+// or parsed (truncated, foreign, another version) is treated as a miss and never an error; files
+// are written atomically (a reader sees a whole entry or none), so concurrent processes may write
+// the same entry. Entries are small (a table: a few kB; a line: ~50 kB); nothing removes them
+// (delete the folder to reclaim the space).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace scw::tuning {
+
+using CachedArrays = std::vector<std::vector<double>>;
+
+class PrepCache {
+ public:
+  /// The process's cache, configured from the environment on first use.
+  static const PrepCache& Process();
+  /// A cache in `folder` ("" = disabled) with `program` as the program identity.
+  PrepCache(std::string folder, std::string program);
+
+  bool enabled() const { return !folder_.empty(); }
+  const std::string& folder() const { return folder_; }
+
+  /// The arrays stored under (kind, key), or nothing (disabled, absent, unreadable, malformed).
+  std::optional<CachedArrays> Load(const std::string& kind, const std::string& key) const;
+  /// Stores the arrays under (kind, key); failures are ignored.
+  void Store(const std::string& kind, const std::string& key, const CachedArrays& arrays) const;
+
+  /// The file an entry lives in (for tests and docs).
+  std::string PathOf(const std::string& kind, const std::string& key) const;
+
+ private:
+  std::string folder_;
+  std::string program_;
+};
+
+/// The cache folder the environment asks for ("" = none); see the header comment.
+std::string PrepCacheFolderFromEnvironment();
+
+/// A value through the cache: Load, else compute with `make`, store and return it. `to_arrays`
+/// and `from_arrays` convert exactly.
+template <class T, class Make, class To, class From>
+T ThroughCache(const PrepCache& cache, const std::string& kind, const std::string& key, Make&& make,
+               To&& to_arrays, From&& from_arrays) {
+  if (auto hit = cache.Load(kind, key)) {
+    if (auto value = from_arrays(*hit)) return *std::move(value);
+  }
+  T value = make();
+  cache.Store(kind, key, to_arrays(value));
+  return value;
+}
+
+}  // namespace scw::tuning
