@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "test/tuning/optim/default_training.h"
 #include "tuning/optim/evaluator.h"
 #include "tuning/optim/set_check.h"
 #include "tuning/sim/closed_loop.h"
@@ -14,13 +15,6 @@
 
 namespace scw::tuning {
 namespace {
-
-const ScenarioEntry& Training(const std::string& name) {
-  static const ScenarioSet set = ScenarioSet::Default();
-  for (const auto& e : set.training)
-    if (e.name == name) return e;
-  throw std::runtime_error("no training scenario " + name);
-}
 
 params::StabilityParams WithoutAny(params::StabilityParams p) {
   return ApplySubsystemSwitches(std::move(p), {false, false, false, false, false});
@@ -43,7 +37,7 @@ class CriticalScenarioTest : public ::testing::TestWithParam<Critical> {};
 
 TEST_P(CriticalScenarioTest, FailsWithoutStabilityControlAndTheCreditedSubsystemsAct) {
   const Critical& c = GetParam();
-  const ResolvedScenario sc = Resolve(LoadEntry(Training(c.name), ""));
+  const ResolvedScenario sc = Resolve(LoadEntry(DefaultTraining(c.name), ""));
   EXPECT_EQ(sc.spec.kind, "critical");
   const RunMetrics off = RunClosedLoop(sc, WithoutAny(sc.stability));
   EXPECT_TRUE(off.aborted()) << c.name << " must fail without stability control";

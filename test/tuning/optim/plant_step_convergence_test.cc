@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "params/io/write.h"
+#include "test/tuning/optim/default_training.h"
 #include "tuning/optim/plant_step_check.h"
 #include "tuning/sim/closed_loop.h"
 #include "tuning/sim/scenario.h"
@@ -22,15 +23,8 @@
 namespace scw::tuning {
 namespace {
 
-const ScenarioEntry& Training(const std::string& name) {
-  static const ScenarioSet set = ScenarioSet::Default();
-  for (const auto& e : set.training)
-    if (e.name == name) return e;
-  throw std::runtime_error("no training scenario " + name);
-}
-
 ResolvedScenario AtStep(const std::string& name, double step) {
-  ScenarioEntry e = Training(name);
+  ScenarioEntry e = DefaultTraining(name);
   if (step > 0.0) e = WithPlantStep({e}, step).front();
   return Resolve(LoadEntry(e, ""));
 }
@@ -51,7 +45,7 @@ TEST(PlantStepKey, SetsTheVehicleStepAndSharesThePreparation) {
 }
 
 TEST(PlantStepKey, AStepThatDoesNotDivideTheControllerPeriodIsRefusedByName) {
-  ScenarioEntry e = Training("power_on_c1");
+  ScenarioEntry e = DefaultTraining("power_on_c1");
   e.overrides.push_back("plant_step=0.003");
   try {
     Resolve(LoadEntry(e, ""));
