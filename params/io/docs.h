@@ -3,6 +3,8 @@
 
 #include <string>
 #include <type_traits>
+#include <utility>
+#include <variant>
 
 #include "params/io/write.h"
 #include "params/schema/field.h"
@@ -17,6 +19,106 @@ const char* ScaleName(Scale s);
 
 namespace detail {
 
+template <class T>
+std::string TypeName() {
+  if constexpr (kIsOptional<T>) {
+    return TypeName<UnoptionalT<T>>();
+  } else if constexpr (kIsList<T>) {
+    return "list";
+  } else if constexpr (kIsMap<T>) {
+    using V = typename T::value_type::second_type;
+    if constexpr (kIsStruct<V>)
+      return "map";
+    else
+      return "map of " + TypeName<V>();
+  } else if constexpr (kIsStruct<T>) {
+    return "map";
+  } else {
+    return std::is_same_v<T, double>                     ? "double"
+           : std::is_same_v<T, int>                      ? "int"
+           : std::is_same_v<T, std::int64_t>             ? "int64"
+           : std::is_same_v<T, bool>                     ? "bool"
+           : std::is_same_v<T, std::vector<double>>      ? "double[]"
+           : std::is_same_v<T, std::vector<std::string>> ? "string[]"
+                                                         : "string";
+  }
+}
+
+/// The Bounds cell: numeric bounds, sizes, and the text rule ("keys: a scenario key").
+template <class T>
+std::string BoundsCell(const Meta& m) {
+  std::string out;
+  auto add = [&](const std::string& part) {
+    if (!part.empty()) out += (out.empty() ? "" : "; ") + part;
+  };
+  auto at_least = [&](const char* one, const char* many) {
+    return ">= " + std::to_string(m.min_size) + " " + (m.min_size == 1 ? one : many);
+  };
+  if constexpr (kIsList<T>) {
+    add(at_least("entry", "entries"));
+  } else if constexpr (kIsMap<T>) {
+    add(at_least("key", "keys"));
+    if (!m.rule.doc.empty()) add("keys: " + std::string(m.rule.doc));
+    using V = typename T::value_type::second_type;
+    if constexpr (std::is_same_v<V, std::vector<std::string>>)
+      add("each " + at_least("value", "values"));
+  } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+    add(at_least("value", "values"));
+    if (!m.rule.doc.empty()) add("each: " + std::string(m.rule.doc));
+  } else if constexpr (std::is_same_v<T, std::string>) {
+    add(std::string(m.rule.doc));
+  } else if constexpr (std::is_same_v<T, double> || std::is_same_v<T, int> ||
+                       std::is_same_v<T, std::int64_t> || std::is_same_v<T, std::vector<double>>) {
+    add(BoundsText(m.lo, m.hi));
+  }
+  return out;
+}
+
+template <class T>
+std::string DefaultCell(const T& value) {
+  if constexpr (kIsOptional<T>) {
+    return value ? DefaultCell(*value) : "—";
+  } else if constexpr (kIsList<T>) {
+    return "`" + (value.empty() ? std::string("[]") : std::to_string(value.size()) + " entries") +
+           "`";
+  } else {
+    return "`" + EscapeCell(RenderValue(value)) + "`";
+  }
+}
+
+inline std::string Row(const std::string& path, const std::string& type, std::string_view unit,
+                       const std::string& shown, const std::string& bounds, const Meta& m,
+                       bool required, std::string_view doc) {
+  return "| `" + path + "` | " + type + " | " + EscapeCell(unit) + " | " + shown + " | " +
+         EscapeCell(bounds) + " | " + ScaleName(m.scale) +
+         (m.scale != Scale::kFixed && m.resolution > 0 ? ", step " + FormatNumber(m.resolution)
+                                                       : std::string()) +
+         " | " + (required ? "yes" : (m.workspace_only ? "no (workspace only)" : "no")) + " | " +
+         EscapeCell(doc) + " |\n";
+}
+
+template <class P>
+void MarkdownRows(const P& p, const std::string& prefix, std::string* out);
+
+/// The rows of one alternative of a list entry under `path` ("training[]"): a block alternative
+/// (kBlock) first gets a row of its own, `training[].monte_carlo`.
+template <class A>
+void AlternativeRows(const std::string& path, std::string* out) {
+  if constexpr (requires { A::kBlock; }) {
+    const std::string at = path + "." + std::string(A::kBlock.key);
+    *out += Row(at, "map", "-", "", "", Meta{}, false,
+                "An entry written as a single-key map {" + std::string(A::kBlock.key) +
+                    ": {...}}. " + std::string(A::kBlock.doc));
+    MarkdownRows(A{}, at, out);
+  } else {
+    MarkdownRows(A{}, path, out);
+  }
+}
+template <class E, std::size_t... I>
+void AlternativesRows(const std::string& path, std::string* out, std::index_sequence<I...>) {
+  (AlternativeRows<std::variant_alternative_t<I, E>>(path, out), ...);
+}
+
 /// The rows of MarkdownTable for the fields of `p`, keys prefixed with `prefix`.
 template <class P>
 void MarkdownRows(const P& p, const std::string& prefix, std::string* out) {
@@ -24,31 +126,31 @@ void MarkdownRows(const P& p, const std::string& prefix, std::string* out) {
       p,
       [&](const std::string& path, const auto& value, const Meta& m) {
         using T = std::decay_t<decltype(value)>;
-        const char* type = kIsList<T>                               ? "list"
-                           : std::is_same_v<T, double>              ? "double"
-                           : std::is_same_v<T, int>                 ? "int"
-                           : std::is_same_v<T, bool>                ? "bool"
-                           : std::is_same_v<T, std::vector<double>> ? "double[]"
-                                                                    : "string";
-        std::string bounds = "", shown;
-        if constexpr (kIsList<T>) {
-          bounds = ">= " + std::to_string(m.min_size) + (m.min_size == 1 ? " entry" : " entries");
-          shown = value.empty() ? "[]" : std::to_string(value.size()) + " entries";
+        using U = UnoptionalT<T>;
+        const bool required = !m.optional && !kIsOptional<T>;
+        if constexpr (kIsStruct<U>) {
+          // A std::optional group: one row for it, then its fields (required when it is given).
+          *out += Row(path, "map", "-", DefaultCell(value), "", m, false,
+                      "Optional section; when given, every key below marked required must be "
+                      "given.");
+          MarkdownRows(U{}, path, out);
         } else {
-          if constexpr (std::is_same_v<T, double> || std::is_same_v<T, int> ||
-                        std::is_same_v<T, std::vector<double>>)
-            bounds = BoundsText(m.lo, m.hi);
-          shown = RenderValue(value);
+          *out += Row(path, TypeName<T>(), m.unit, DefaultCell(value), BoundsCell<U>(m), m,
+                      required, m.doc);
+          // A list's entry fields follow it as `key[].field`, with the entry's defaults; a map's
+          // struct values as `key.<key>.field`.
+          if constexpr (kIsList<U>) {
+            using E = typename U::value_type;
+            if constexpr (kIsVariant<E>)
+              AlternativesRows<E>(path + "[]", out,
+                                  std::make_index_sequence<std::variant_size_v<E>>{});
+            else
+              MarkdownRows(E{}, path + "[]", out);
+          } else if constexpr (kIsMap<U>) {
+            using V = typename U::value_type::second_type;
+            if constexpr (kIsStruct<V>) MarkdownRows(V{}, path + ".<key>", out);
+          }
         }
-        *out +=
-            "| `" + path + "` | " + type + " | " + EscapeCell(m.unit) + " | `" + EscapeCell(shown) +
-            "` | " + bounds + " | " + ScaleName(m.scale) +
-            (m.scale != Scale::kFixed && m.resolution > 0 ? ", step " + FormatNumber(m.resolution)
-                                                          : std::string()) +
-            " | " + (m.optional ? (m.workspace_only ? "no (workspace only)" : "no") : "yes") +
-            " | " + EscapeCell(m.doc) + " |\n";
-        // A list's entry fields follow it as `key[].field`, with the entry's defaults.
-        if constexpr (kIsList<T>) MarkdownRows(typename T::value_type{}, path + "[]", out);
       },
       prefix);
 }
@@ -57,7 +159,9 @@ void MarkdownRows(const P& p, const std::string& prefix, std::string* out) {
 
 /// One row per field: key, type, unit, default, bounds, tuning scale (with the resolution of tuned
 /// values, "log, step 0.01"), required, description. A list (`v.List`) is one row, followed by
-/// one row per field of its entries (`parameters[].lo`).
+/// one row per field of its entries (`parameters[].lo`; a variant entry's block alternative as
+/// `training[].monte_carlo` and its fields); a map of structs (`v.Map`) one row followed by its
+/// values' fields (`vary.<key>.uniform`); a std::optional group one row followed by its fields.
 template <class P>
 std::string MarkdownTable(const P& defaults = P{}) {
   std::string out =

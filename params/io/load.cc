@@ -77,6 +77,21 @@ std::string ConvertLeaf(const YamlNode& node, const Meta&, int* out) {
   return "";
 }
 
+std::string ConvertLeaf(const YamlNode& node, const Meta&, std::int64_t* out) {
+  if (node.kind != YamlNode::Kind::kScalar) return "expected an integer, got " + Got(node);
+  const ScalarType t = ClassifyScalar(node.text, node.quoted);
+  if (t != ScalarType::kInt) {
+    if (t == ScalarType::kDouble)
+      return "expected an integer, got the double " + node.text +
+             " (write it without a decimal point)";
+    return "expected an integer, got " + Got(node);
+  }
+  long long v = 0;
+  ParseInt(node.text, &v);
+  *out = static_cast<std::int64_t>(v);
+  return "";
+}
+
 std::string ConvertLeaf(const YamlNode& node, const Meta&, bool* out) {
   if (node.kind == YamlNode::Kind::kScalar && !node.quoted && ParseBool(node.text, out)) return "";
   return "expected true or false, got " + Got(node);
@@ -121,6 +136,33 @@ std::string ConvertLeaf(const YamlNode& node, const Meta&, std::string* out) {
   if (node.kind != YamlNode::Kind::kScalar) return "expected a text value, got " + Got(node);
   *out = node.text;
   return "";
+}
+
+std::string ConvertLeaf(const YamlNode& node, const Meta&, std::vector<std::string>* out) {
+  if (node.kind != YamlNode::Kind::kSequence)
+    return "expected a list like [a, b], got " + Got(node);
+  out->clear();
+  for (std::size_t i = 0; i < node.items.size(); ++i) {
+    const YamlNode& item = node.items[i];
+    if (item.kind != YamlNode::Kind::kScalar)
+      return "element [" + std::to_string(i) + "]: expected a text value, got " + Got(item);
+    out->push_back(item.text);
+  }
+  return "";
+}
+
+const YamlNode* FindNode(const YamlNode* map, const std::string& path) {
+  if (!map || map->kind != YamlNode::Kind::kMap) return nullptr;
+  const YamlNode* found = nullptr;
+  for (const auto& [key, value] : map->entries) {
+    if (key == path) {
+      found = &value;
+    } else if (path.size() > key.size() && path.compare(0, key.size(), key) == 0 &&
+               path[key.size()] == '.') {
+      if (const YamlNode* deeper = FindNode(&value, path.substr(key.size() + 1))) found = deeper;
+    }
+  }
+  return found;
 }
 
 std::string SuggestKey(const std::string& unknown, const std::vector<std::string>& known) {

@@ -247,6 +247,7 @@ FlatDoc Flatten(const YamlNode& root, Layout layout, const std::string& expected
     return doc;
   }
   if (layout == Layout::kPlain) {
+    doc.map = &root;
     FlattenInto(root, "", &doc);
     return doc;
   }
@@ -284,6 +285,7 @@ FlatDoc Flatten(const YamlNode& root, Layout layout, const std::string& expected
         found = true;
         doc.node_key = name;
         doc.root_line = value.line;
+        doc.map = &value;
         FlattenInto(value, "", &doc);
       } else if (value.kind == YamlNode::Kind::kMap) {
         std::string name = w.name.empty() ? key : w.name + "/" + key;

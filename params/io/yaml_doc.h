@@ -61,7 +61,8 @@ enum class Layout {
 /// while locating the parameter root.
 struct FlatDoc {
   std::vector<FlatEntry> entries;
-  std::string node_key;  ///< the node key found (kRos2)
+  const YamlNode* map = nullptr;  ///< the map the entries come from (maps a loader reads whole)
+  std::string node_key;           ///< the node key found (kRos2)
   int root_line = 0;
 };
 

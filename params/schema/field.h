@@ -8,13 +8,31 @@
 //   template <class Self, class V> static void Visit(Self& self, V& v);   // Self = P or const P
 //
 // which calls, in file order,
-//   v.Field(self.member, Meta{...});            // member: double, int, bool, std::vector<double>,
-//                                               //         std::string
+//   v.Field(self.member, Meta{...});            // member: double, int, std::int64_t, bool,
+//                                               //   std::vector<double>, std::string,
+//                                               //   std::vector<std::string> (a list of texts,
+//                                               //   each checked by Meta::rule)
 //   v.Nested("key", self.sub_struct);           // a nested map (its own Visit), dotted path "key."
 //   v.List(self.entries, Meta{...});            // a list of maps: std::vector<E>, E with its own
 //                                               // Visit; element i has the path "key[i]."
+//                                               // E may be std::variant<Plain, Block...>: an
+//                                               // entry is a Plain map or a single-key map
+//                                               // {block-key: {...}} (see kBlock below)
+//   v.Map(self.by_key, Meta{...});              // a map whose keys are data (OrderedMap<V>, in
+//                                               // file order): V a struct with its own Visit or
+//                                               // a field type above; path "key.<its key>"
 // and optionally
 //   static void CrossCheck(const P& p, Problems& problems);    // rules between fields
+//                                               // (path "" names the struct itself)
+//
+// A member that may be absent, where absent means something no value does (a draw that is not
+// uniform, a cost section not given), is a std::optional of any of the above (including a
+// nested struct: `v.Nested("key", self.optional_group)`). It is optional in files, written only
+// when present, and when present it is complete: every rule applies to it as to a plain member.
+//
+// A Block alternative of a variant list entry declares its key and description as
+//   static constexpr Meta kBlock{.key = "monte_carlo", .doc = "..."};
+// and is written `- {monte_carlo: {...}}`; the entry's path is then "key[i].monte_carlo.".
 //
 // Header-only and dependency-free so that controller/ and plant/ can use parameter structs
 // without linking yaml-cpp (the YAML I/O lives in params/io).
@@ -22,13 +40,16 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <type_traits>
 #include <utility>
+#include <variant>
 #include <vector>
 
 namespace scw {
@@ -95,6 +116,20 @@ enum class Scale {
   kLog,     ///< tuned on a log10 scale within [lo, hi] (requires lo > 0)
 };
 
+/// A rule on text: a string value, each element of a string list, each key of a map.
+struct TextRule {
+  std::string_view doc = "";  ///< the rule in a few words, for the docs table: "key=value"
+  /// "" when `text` follows the rule, else the broken rule naming the text ("must look like
+  /// key=value, got 'laps'").
+  std::string (*check)(const std::string& text) = nullptr;
+};
+
+inline std::string CheckNotEmpty(const std::string& text) {
+  return text.empty() ? "must not be empty" : "";
+}
+/// A text that must be given as something (a name).
+inline constexpr TextRule kNotEmpty{"not empty", &CheckNotEmpty};
+
 /// Metadata of one field. `key` is relative to the enclosing struct (may itself contain dots).
 struct Meta {
   std::string_view key;
@@ -109,7 +144,7 @@ struct Meta {
   /// itself, so the overrides file lists only real changes (tuning/optim/space.h).
   double resolution = 0.0;
   bool optional = false;          ///< may be absent from a file; the in-class default is then kept
-  int min_size = 1;               ///< arrays and lists: minimum number of elements
+  int min_size = 1;               ///< arrays, lists, maps (keys): minimum number of elements
   bool ascending = false;         ///< arrays: strictly ascending elements required
   std::string_view choices = "";  ///< strings: '|'-separated list of allowed values (empty: any)
   /// Accepted by the workspace but not declared by the car's node (the node ignores the key).
@@ -117,7 +152,57 @@ struct Meta {
   /// Plain workspace files: the writer leaves the field out while it holds its in-class default
   /// (a list entry's `transform: direct`); the loader then restores that default (needs optional).
   bool omit_default = false;
+  /// Strings: the value; string lists: each element; maps (v.Map): each key.
+  TextRule rule = {};
 };
+
+/// The value type of `v.Map`: a map whose keys are data (scenario keys), in the order written.
+template <class V>
+using OrderedMap = std::vector<std::pair<std::string, V>>;
+
+template <class T>
+inline constexpr bool kIsOptional = false;
+template <class T>
+inline constexpr bool kIsOptional<std::optional<T>> = true;
+
+/// The member type without its std::optional.
+template <class T>
+struct Unoptional {
+  using type = T;
+};
+template <class T>
+struct Unoptional<std::optional<T>> {
+  using type = T;
+};
+template <class T>
+using UnoptionalT = typename Unoptional<std::remove_cv_t<T>>::type;
+
+template <class T>
+inline constexpr bool kIsPair = false;
+template <class A, class B>
+inline constexpr bool kIsPair<std::pair<A, B>> = true;
+
+template <class T>
+inline constexpr bool kIsVariant = false;
+template <class... A>
+inline constexpr bool kIsVariant<std::variant<A...>> = true;
+
+/// True for the value type of `v.Map` (std::optional removed).
+template <class T>
+inline constexpr bool kIsMap = false;
+template <class V>
+inline constexpr bool kIsMap<std::vector<std::pair<std::string, V>>> = true;
+
+template <class T>
+inline constexpr bool kIsVector = false;
+template <class T>
+inline constexpr bool kIsVector<std::vector<T>> = true;
+
+/// A schema struct (with its own Visit), as a map value or a std::optional group: any class type
+/// that is not a field type.
+template <class T>
+inline constexpr bool kIsStruct = std::is_class_v<T> && !std::is_same_v<T, std::string> &&
+                                  !kIsVector<T> && !kIsOptional<T> && !kIsVariant<T>;
 
 /// True for the value type of `v.List`: a vector of schema structs (std::vector<double> is an
 /// array field).
@@ -125,7 +210,7 @@ template <class T>
 inline constexpr bool kIsList = false;
 template <class E>
 inline constexpr bool kIsList<std::vector<E>> =
-    std::is_class_v<E> && !std::is_same_v<E, std::string>;
+    std::is_class_v<E> && !std::is_same_v<E, std::string> && !kIsPair<E>;
 
 /// Path of element `i` of the list at `path`: "parameters[3]".
 inline std::string ListItemPath(std::string_view path, std::size_t i) {
@@ -174,21 +259,37 @@ class PathVisitor {
       : fn_(fn), prefix_(std::move(prefix)), optional_(optional) {}
   template <class T>
   void Field(T& value, const Meta& meta) {
-    static_assert(!kIsList<std::remove_const_t<T>>, "a list of structs is declared with v.List");
+    using U = UnoptionalT<T>;
+    static_assert(!kIsList<U>, "a list of structs is declared with v.List");
+    static_assert(!kIsMap<U>, "a map is declared with v.Map");
+    static_assert(!kIsStruct<U>, "a nested struct is declared with v.Nested");
     Call(value, meta);
   }
-  /// The whole list is passed to `fn` (value: std::vector<E>); its elements are not expanded
-  /// (their number is only known to the caller: the loader, the writer, the validator).
+  /// The whole list is passed to `fn` (value: std::vector<E>, or a std::optional of it); its
+  /// elements are not expanded (their number is only known to the caller: the loader, the writer,
+  /// the validator).
   template <class E>
   void List(E& list, const Meta& meta) {
-    static_assert(kIsList<std::remove_const_t<E>>, "v.List takes a std::vector of schema structs");
+    static_assert(kIsList<UnoptionalT<E>>, "v.List takes a std::vector of schema structs");
     Call(list, meta);
   }
-  /// `optional`: the whole group may be absent (all its fields become optional).
+  /// The whole map is passed to `fn` (value: OrderedMap<V>, or a std::optional of it).
+  template <class M>
+  void Map(M& map, const Meta& meta) {
+    static_assert(kIsMap<UnoptionalT<M>>, "v.Map takes an OrderedMap");
+    Call(map, meta);
+  }
+  /// `optional`: the whole group may be absent (all its fields become optional). A std::optional
+  /// group is passed to `fn` whole (value: std::optional<S>; meta: its key, optional): when
+  /// present it is complete, so its fields keep their own `optional`.
   template <class S>
   void Nested(std::string_view key, S& sub, bool optional = false) {
-    PathVisitor inner(fn_, JoinKey(prefix_, key), optional_ || optional);
-    std::remove_const_t<S>::Visit(sub, inner);
+    if constexpr (kIsOptional<std::remove_const_t<S>>) {
+      Call(sub, Meta{.key = key, .optional = true});
+    } else {
+      PathVisitor inner(fn_, JoinKey(prefix_, key), optional_ || optional);
+      std::remove_const_t<S>::Visit(sub, inner);
+    }
   }
 
  private:
@@ -264,12 +365,26 @@ inline void CheckScalar(const std::string& path, double x, const Meta& m, Proble
 }  // namespace detail
 
 namespace detail {
+inline void CheckText(const std::string& path, const std::string& text, const Meta& m,
+                      Problems& pr) {
+  if (!m.rule.check) return;
+  const std::string broken = m.rule.check(text);
+  if (!broken.empty()) pr.Add(path, broken);
+}
+
+inline std::string Plural(std::size_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
 class ValidateVisitor {
  public:
   ValidateVisitor(Problems& pr, std::string prefix) : pr_(pr), prefix_(std::move(prefix)) {}
 
   void Field(const double& value, const Meta& m) { CheckScalar(Path(m), value, m, pr_, ""); }
   void Field(const int& value, const Meta& m) {
+    CheckScalar(Path(m), static_cast<double>(value), m, pr_, "");
+  }
+  void Field(const std::int64_t& value, const Meta& m) {
     CheckScalar(Path(m), static_cast<double>(value), m, pr_, "");
   }
   void Field(const bool&, const Meta&) {}
@@ -289,6 +404,7 @@ class ValidateVisitor {
         }
   }
   void Field(const std::string& value, const Meta& m) {
+    CheckText(Path(m), value, m, pr_);
     if (m.choices.empty()) return;
     std::string_view rest = m.choices;
     while (true) {
@@ -299,10 +415,35 @@ class ValidateVisitor {
     }
     pr_.Add(Path(m), "'" + value + "' is not one of " + std::string(m.choices));
   }
+  /// A list of texts: its size, then the rule of each element (path "key[i]").
+  void Field(const std::vector<std::string>& value, const Meta& m) {
+    const std::string path = Path(m);
+    if (static_cast<int>(value.size()) < m.min_size)
+      pr_.Add(path, "needs at least " +
+                        Plural(static_cast<std::size_t>(m.min_size), "value", "values") + ", has " +
+                        std::to_string(value.size()));
+    for (std::size_t i = 0; i < value.size(); ++i)
+      CheckText(ListItemPath(path, i), value[i], m, pr_);
+  }
+  /// Absent: nothing to check; present: as the plain member.
+  template <class T>
+  void Field(const std::optional<T>& value, const Meta& m) {
+    if (value) Field(*value, m);
+  }
   template <class S>
   void Nested(std::string_view key, const S& sub, bool optional = false);
   template <class E>
   void List(const std::vector<E>& list, const Meta& m);
+  template <class E>
+  void List(const std::optional<std::vector<E>>& list, const Meta& m) {
+    if (list) List(*list, m);
+  }
+  template <class V>
+  void Map(const OrderedMap<V>& map, const Meta& m);
+  template <class V>
+  void Map(const std::optional<OrderedMap<V>>& map, const Meta& m) {
+    if (map) Map(*map, m);
+  }
 
  private:
   std::string Path(const Meta& m) const { return JoinKey(prefix_, m.key); }
@@ -321,14 +462,42 @@ Problems Validate(const P& p, const std::string& prefix = "") {
   if constexpr (HasCrossCheck<P>) {
     Problems cross;
     P::CrossCheck(p, cross);
-    for (const auto& c : cross.items()) pr.Add(JoinKey(prefix, c.path), c.message);
+    for (const auto& c : cross.items())
+      pr.Add(c.path.empty() ? prefix : JoinKey(prefix, c.path), c.message);
   }
   return pr;
 }
 
+/// The path of a list entry's struct: "key[i]" for the plain alternative, "key[i].<block key>"
+/// for a block (kBlock) of a variant entry.
+template <class A>
+std::string EntryPath(const std::string& item_path) {
+  if constexpr (requires { A::kBlock; })
+    return JoinKey(item_path, A::kBlock.key);
+  else
+    return item_path;
+}
+
+/// Validate for one list entry (a struct, or a variant of structs).
+template <class E>
+Problems ValidateEntry(const E& e, const std::string& item_path) {
+  if constexpr (kIsVariant<E>)
+    return std::visit(
+        [&](const auto& alt) {
+          return Validate(alt, EntryPath<std::decay_t<decltype(alt)>>(item_path));
+        },
+        e);
+  else
+    return Validate(e, item_path);
+}
+
 template <class S>
 void detail::ValidateVisitor::Nested(std::string_view key, const S& sub, bool /*optional*/) {
-  pr_.Append(Validate(sub, JoinKey(prefix_, key)));
+  if constexpr (kIsOptional<S>) {
+    if (sub) pr_.Append(Validate(*sub, JoinKey(prefix_, key)));
+  } else {
+    pr_.Append(Validate(sub, JoinKey(prefix_, key)));
+  }
 }
 
 template <class E>
@@ -338,7 +507,36 @@ void detail::ValidateVisitor::List(const std::vector<E>& list, const Meta& m) {
     pr_.Add(path, "needs at least " + std::to_string(m.min_size) + " entr" +
                       (m.min_size == 1 ? "y" : "ies") + ", has " + std::to_string(list.size()));
   for (std::size_t i = 0; i < list.size(); ++i)
-    pr_.Append(Validate(list[i], ListItemPath(path, i)));
+    pr_.Append(ValidateEntry(list[i], ListItemPath(path, i)));
+}
+
+/// A map: its number of keys (>= min_size), each key once and following `rule`, each value (a
+/// struct by its own rules; a field by `m` without the key rule: bounds, choices, min_size).
+template <class V>
+void detail::ValidateVisitor::Map(const OrderedMap<V>& map, const Meta& m) {
+  const std::string path = Path(m);
+  if (static_cast<int>(map.size()) < m.min_size)
+    pr_.Add(path, "needs at least " + Plural(static_cast<std::size_t>(m.min_size), "key", "keys") +
+                      ", has " + std::to_string(map.size()));
+  for (std::size_t i = 0; i < map.size(); ++i) {
+    const auto& [key, value] = map[i];
+    const std::string at = JoinKey(path, key);
+    for (std::size_t j = 0; j < i; ++j)
+      if (map[j].first == key) {
+        pr_.Add(at, "given twice; give each key once");
+        break;
+      }
+    CheckText(at, key, m, pr_);
+    if constexpr (kIsStruct<V>) {
+      pr_.Append(Validate(value, at));
+    } else {
+      Meta vm = m;
+      vm.key = key;
+      vm.rule = {};
+      ValidateVisitor inner(pr_, path);
+      inner.Field(value, vm);
+    }
+  }
 }
 
 /// Throws ConfigError listing every problem (file name used only for the message).

@@ -5,9 +5,11 @@
 #                                       the commit message)
 # CASE: simulate (the default scenario, 3 laps: the trace's SHA-256 and the summary), tune (a
 # short fixed-seed tune on a small set: evaluations.csv and the tuned file below its provenance
-# header), sweep (a GG sweep with two configurations: the CSV).
+# header), sweep (a GG sweep with two configurations: the CSV), scenarios (the expansion of the
+# shipped Monte-Carlo set params/scenarios/robust_set.yaml, `scw tune --print-scenarios`: its
+# SHA-256).
 # To regenerate all of them from the source root after a stated behaviour change:
-#   for c in simulate tune sweep; do
+#   for c in simulate tune sweep scenarios; do
 #     test/golden/golden.sh record $c "$PWD/build/ci/tuning/scw" /tmp/scw-golden; done
 set -u
 mode=$1 test_case=$2 scw=$3 work=$4
@@ -63,6 +65,12 @@ case $test_case in
       --config all --threads 2 --progress never -o sweep.csv >out.txt 2>&1 ||
       fail "scw sweep failed: $(cat out.txt)"
     settle sweep.csv sweep.csv
+    ;;
+  scenarios)
+    "$scw" tune --scenarios "$here/../../params/scenarios/robust_set.yaml" --print-scenarios \
+      >robust.yaml 2>out.txt || fail "scw tune --print-scenarios failed: $(cat out.txt)"
+    sha256sum <robust.yaml | cut -d' ' -f1 >robust.sha256
+    settle robust.sha256 robust_set_expanded.sha256
     ;;
   *) fail "unknown case '$test_case'" ;;
 esac

@@ -162,7 +162,8 @@ TEST(ExportTest, AtomicWriteLeavesNoPartialFile) {
 }
 
 TEST(ExportTest, GeneratedDocsExist) {
-  for (const char* kind : {"tracking", "scenario", "vehicle", "track", "cost"}) {
+  for (const char* kind :
+       {"tracking", "scenario", "vehicle", "track", "cost", "scenario-set", "space"}) {
     const std::string path = scw::test::SourcePath(std::string("docs/parameters-") + kind + ".md");
     EXPECT_TRUE(std::filesystem::exists(path))
         << path << ": regenerate with scw params docs --kind " << kind << " -o " << path;

@@ -18,6 +18,8 @@
 #include "params/schema/vehicle_params.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
+#include "tuning/optim/space.h"
+#include "tuning/sim/scenario_set.h"
 
 namespace scw::cli {
 namespace {
@@ -211,6 +213,12 @@ int Docs(const ParamsOptions& o) {
     return WriteDocs<params::TrackParams>(o, "Piecewise track files (params/tracks/*.yaml)");
   if (o.kind == "cost")
     return WriteDocs<params::CostWeights>(o, "Tuning cost weights (`cost:` of a scenario set)");
+  if (o.kind == "scenario-set")
+    return WriteDocs<tuning::ScenarioSetFile>(
+        o, "Scenario-set files (params/scenarios/*_set.yaml; scw tune --scenarios)");
+  if (o.kind == "space")
+    return WriteDocs<tuning::SpaceFile>(
+        o, "Search-space files (params/spaces/*.yaml; scw tune --space)");
   return WriteDocs<params::StabilityParams>(
       o, "Stability controller parameters (node `" + DefaultNode(o.kind) + "`)");
 }
@@ -302,8 +310,10 @@ void AddParams(CLI::App& app) {
   auto* doc = cmd->add_subcommand("docs", "Print the parameter reference table (Markdown)");
   doc->add_option("-o,--output", o->out, "Write to a file instead of stdout");
   doc->add_option("--kind", o->kind,
-                  "stability (default), tracking, scenario, vehicle, track, cost")
-      ->check(CLI::IsMember({"stability", "tracking", "scenario", "vehicle", "track", "cost"}));
+                  "stability (default), tracking, scenario, vehicle, track, cost, scenario-set, "
+                  "space")
+      ->check(CLI::IsMember({"stability", "tracking", "scenario", "vehicle", "track", "cost",
+                             "scenario-set", "space"}));
   doc->callback([o] { SetExitCode(Docs(*o)); });
 }
 

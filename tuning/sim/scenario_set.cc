@@ -4,92 +4,12 @@
 #include <map>
 
 #include "params/io/load.h"
-#include "params/io/override.h"
 #include "params/io/write.h"
 #include "params/io/yaml_doc.h"
-#include "tuning/sim/monte_carlo.h"
 #include "tuning/sim/scenario.h"
 
 namespace scw::tuning {
 namespace {
-
-using params::YamlNode;
-
-std::vector<ScenarioEntry> ReadEntries(const YamlNode& list, const std::string& where,
-                                       Problems* pr) {
-  std::vector<ScenarioEntry> out;
-  if (list.kind != YamlNode::Kind::kSequence || list.items.empty()) {
-    pr->Add(where, "must be a non-empty list of {name, weight, file, set} or {monte_carlo: {...}}");
-    return out;
-  }
-  for (std::size_t i = 0; i < list.items.size(); ++i) {
-    const YamlNode& item = list.items[i];
-    const std::string at = where + "[" + std::to_string(i) + "]";
-    const std::string line = " (line " + std::to_string(item.line) + ")";
-    if (item.kind != YamlNode::Kind::kMap) {
-      pr->Add(at, "must be a map {name, weight, file, set} or {monte_carlo: {...}}" + line);
-      continue;
-    }
-    if (item.entries.size() == 1 && item.entries.front().first == "monte_carlo") {
-      const Problems before = *pr;
-      const MonteCarloBlock block =
-          ReadMonteCarloBlock(item.entries.front().second, at + ".monte_carlo", pr);
-      if (pr->size() == before.size())
-        for (auto& e : block.Expand()) out.push_back(std::move(e));
-      continue;
-    }
-    ScenarioEntry e;
-    for (const auto& [k, v] : item.entries) {
-      const std::string path = at + "." + k;
-      if (k == "set") {
-        if (v.kind != YamlNode::Kind::kSequence) {
-          pr->Add(path, "must be a list of key=value overrides" + line);
-          continue;
-        }
-        for (const auto& o : v.items) {
-          if (o.kind != YamlNode::Kind::kScalar || o.text.find('=') == std::string::npos)
-            pr->Add(path, "each override must look like key=value" + line);
-          else
-            e.overrides.push_back(o.text);
-        }
-        continue;
-      }
-      if (v.kind != YamlNode::Kind::kScalar) {
-        pr->Add(path, "must be a single value" + line);
-        continue;
-      }
-      if (k == "name") {
-        e.name = v.text;
-      } else if (k == "file") {
-        e.file = v.text;
-      } else if (k == "weight") {
-        if (!params::ParseDouble(v.text, &e.weight) || !(e.weight >= 0) || !std::isfinite(e.weight))
-          pr->Add(path, "must be a finite number >= 0, got '" + v.text + "'" + line);
-      } else {
-        pr->Add(path, "unknown key (expected name, weight, file, set)" + line);
-      }
-    }
-    if (e.name.empty()) pr->Add(at + ".name", "required key is missing" + line);
-    out.push_back(e);
-  }
-  return out;
-}
-
-std::string EntriesYaml(const std::vector<ScenarioEntry>& entries) {
-  std::string out;
-  for (const auto& e : entries) {
-    out +=
-        "  - {name: " + params::FlowScalar(e.name) + ", weight: " + params::FormatDouble(e.weight);
-    if (!e.file.empty()) out += ", file: " + params::QuoteString(e.file);
-    out += ", set: [";
-    for (std::size_t i = 0; i < e.overrides.size(); ++i) {
-      const std::string& o = e.overrides[i];
-      out += (i ? ", " : "") + params::FlowScalar(o);
-    }
-    out += "]}\n";
-  }
-  return out;
-}
 
 using Overrides = std::vector<std::string>;
 
@@ -181,50 +101,62 @@ ScenarioSet ScenarioSet::Default() {
   return s;
 }
 
-ScenarioSet ScenarioSet::FromYamlText(const std::string& text, const std::string& file) {
-  const YamlNode root = params::ParseYaml(text, file);
-  if (root.kind != YamlNode::Kind::kMap) throw ConfigError(file, "", "top level must be a map");
-  ScenarioSet s;
-  s.base_dir = std::filesystem::path(file).parent_path().string();
-  Problems pr;
-  bool has_training = false;
-  for (const auto& [k, v] : root.entries) {
-    if (k == "name" && v.kind == YamlNode::Kind::kScalar) {
-      s.name = v.text;
-    } else if (k == "training") {
-      s.training = ReadEntries(v, "training", &pr);
-      has_training = true;
-    } else if (k == "held_out") {
-      s.held_out = ReadEntries(v, "held_out", &pr);
-    } else if (k == "cost") {
-      // Re-use the strict plain loader on the sub-map.
-      YamlNode wrapper;
-      wrapper.kind = YamlNode::Kind::kMap;
-      try {
-        std::string sub;
-        for (const auto& [ck, cv] : v.entries) sub += ck + ": " + params::Render(cv) + "\n";
-        s.cost = params::LoadPlainText<params::CostWeights>(sub.empty() ? "{}" : sub, file);
-      } catch (const ConfigError& e) {
-        for (const auto& p : e.problems()) pr.Add("cost." + p.path, p.message);
-      }
-    } else {
-      pr.Add(k, "unknown key (expected name, cost, training, held_out)");
-    }
-  }
-  if (!has_training) pr.Add("training", "required key is missing");
-  // Names identify scenarios in every report and log: one name, one scenario.
-  std::map<std::string, std::string> seen;
-  auto check_names = [&](const std::vector<ScenarioEntry>& list, const std::string& where) {
+void ScenarioSetFile::CrossCheck(const ScenarioSetFile& f, Problems& pr) {
+  // Names identify scenarios in every report and log: one name, one scenario. A block's names
+  // are those of its expansion; one without a name or too large to expand names nothing (its own
+  // rules report it). A block's clashes are one problem, naming the first.
+  std::map<std::string, std::string> seen;  // name → what it names, for the message
+  auto check = [&](const std::vector<SetEntry>& list, const std::string& where) {
     for (std::size_t i = 0; i < list.size(); ++i) {
-      const std::string at = where + "[" + std::to_string(i) + "]";
-      const auto [it, fresh] = seen.emplace(list[i].name, at);
-      if (!fresh && !list[i].name.empty())
-        pr.Add(at + ".name", "'" + list[i].name + "' is already the name of " + it->second);
+      const std::string at = params::ListItemPath(where, i);
+      if (const auto* e = std::get_if<ScenarioEntry>(&list[i])) {
+        if (e->name.empty()) continue;
+        const auto [it, fresh] = seen.emplace(e->name, at);
+        if (!fresh) pr.Add(at + ".name", "'" + e->name + "' is already the name of " + it->second);
+        continue;
+      }
+      const auto& block = std::get<MonteCarloBlock>(list[i]);
+      const std::string path = at + ".monte_carlo";
+      const std::size_t n = block.Size();
+      if (block.name.empty() || n > kMaxMonteCarloScenarios) continue;
+      std::size_t clashes = 0;
+      std::string first;
+      for (std::size_t k = 0; k < n; ++k) {
+        const std::string name = block.ScenarioName(k);
+        const auto [it, fresh] =
+            seen.emplace(name, "scenario " + std::to_string(k) + " of " + path);
+        if (!fresh && clashes++ == 0)
+          first = "'" + name + "' (its scenario " + std::to_string(k) +
+                  ") is already the name of " + it->second;
+      }
+      if (clashes > 0)
+        pr.Add(path + ".name",
+               first + (clashes > 1 ? " (and " + std::to_string(clashes - 1) + " more)" : ""));
     }
   };
-  check_names(s.training, "training");
-  check_names(s.held_out, "held_out");
-  if (!pr.empty()) throw ConfigError(file, pr.items());
+  check(f.training, "training");
+  if (f.held_out) check(*f.held_out, "held_out");
+}
+
+ScenarioSet ScenarioSet::FromYamlText(const std::string& text, const std::string& file) {
+  const auto f = params::LoadPlainText<ScenarioSetFile>(text, file);
+  ScenarioSet s;
+  s.name = f.name;
+  if (f.cost) s.cost = *f.cost;
+  s.base_dir = std::filesystem::path(file).parent_path().string();
+  auto expand = [](const std::vector<SetEntry>& list, std::vector<ScenarioEntry>* out) {
+    for (const auto& entry : list) {
+      if (const auto* e = std::get_if<ScenarioEntry>(&entry)) {
+        out->push_back(*e);
+      } else {
+        auto drawn = std::get<MonteCarloBlock>(entry).Expand();
+        out->insert(out->end(), std::make_move_iterator(drawn.begin()),
+                    std::make_move_iterator(drawn.end()));
+      }
+    }
+  };
+  expand(f.training, &s.training);
+  if (f.held_out) expand(*f.held_out, &s.held_out);
   return s;
 }
 
@@ -232,19 +164,17 @@ ScenarioSet ScenarioSet::FromFile(const std::string& path) {
   return FromYamlText(params::ReadTextFile(path), path);
 }
 
+ScenarioSetFile ScenarioSet::ToFile() const {
+  ScenarioSetFile f;
+  f.name = name;
+  f.cost = cost;
+  f.training.assign(training.begin(), training.end());
+  if (!held_out.empty()) f.held_out.emplace(held_out.begin(), held_out.end());
+  return f;
+}
+
 std::string ScenarioSet::ToYaml() const {
-  std::string out = "name: " + params::FlowScalar(name) + "\n";
-  out += "cost:\n";
-  const std::string cost_yaml = params::ToPlainYaml(cost);
-  std::size_t start = 0;
-  while (start < cost_yaml.size()) {
-    const auto nl = cost_yaml.find('\n', start);
-    out += "  " + cost_yaml.substr(start, nl - start) + "\n";
-    start = nl + 1;
-  }
-  out += "training:\n" + EntriesYaml(training);
-  if (!held_out.empty()) out += "held_out:\n" + EntriesYaml(held_out);
-  return out;
+  return params::ToPlainYaml(ToFile(), "", params::TextStyle::kPlainWhereSafe);
 }
 
 params::ScenarioParams LoadEntry(const ScenarioEntry& e, const std::string& base_dir) {

@@ -1,30 +1,52 @@
 // Scenario sets: the weighted training scenarios the tuner optimises on, the held-out scenarios
 // used only for the final comparison, and the cost weights.
 //
-// File format (plain YAML):
+// File format (plain YAML, described once by ScenarioSetFile below: the strict loader, the writer,
+// validation and the docs table, `scw params docs --kind scenario-set`, derive from it):
 //   name: default
-//   cost: {sideslip_allowed_deg: 5.0, sideslip_weight: 2.0}        # optional, CostWeights keys
+//   cost: {sideslip_allowed_deg: 5.0, ...}          # optional; when given, every CostWeights key
 //   training:
 //     - {name: nominal, weight: 1.0, set: [gg_scale=1.2, laps=2]}  # overrides of the default
-//     - {name: wet, file: wet.yaml, set: [laps=2]}                 # or a scenario file (+
-//     overrides)
-//   held_out:
+//     - {name: wet, file: wet.yaml, set: [laps=2]}  # or of a scenario file
+//     - monte_carlo: {name: mc, count: 8, ...}      # or a Monte-Carlo block (monte_carlo.h)
+//   held_out:                                       # optional
 //     - {name: nominal_3laps, set: [gg_scale=1.1]}
 #pragma once
 
+#include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "params/schema/cost_params.h"
 #include "params/schema/scenario_params.h"
+#include "tuning/sim/monte_carlo.h"
+#include "tuning/sim/scenario_entry.h"
 
 namespace scw::tuning {
 
-struct ScenarioEntry {
-  std::string name;
-  double weight = 1.0;
-  std::string file;                    ///< "" = the built-in default scenario
-  std::vector<std::string> overrides;  ///< "key=value"
+/// An entry of a set file: one scenario, or a Monte-Carlo block `{monte_carlo: {...}}`.
+using SetEntry = std::variant<ScenarioEntry, MonteCarloBlock>;
+
+/// A scenario-set file as written: Monte-Carlo blocks not yet expanded.
+struct ScenarioSetFile {
+  std::string name = "default";
+  std::optional<params::CostWeights> cost;
+  std::vector<SetEntry> training;
+  std::optional<std::vector<SetEntry>> held_out;
+
+  template <class Self, class V>
+  static void Visit(Self& s, V& v) {
+    v.Field(s.name, {.key = "name", .doc = "Name of the set (logs, reports).", .optional = true});
+    v.Nested("cost", s.cost);
+    v.List(s.training, {.key = "training",
+                        .doc = "The scenarios the tuner optimises on: each a scenario or a "
+                               "Monte-Carlo block."});
+    v.List(s.held_out,
+           {.key = "held_out", .doc = "Scenarios for the final comparison only, never tuned on."});
+  }
+  /// Scenario names are unique across training and held_out (Monte-Carlo blocks expanded).
+  static void CrossCheck(const ScenarioSetFile& f, Problems& pr);
 };
 
 struct ScenarioSet {
@@ -36,10 +58,15 @@ struct ScenarioSet {
 
   /// The built-in default set (params/scenarios/default_set.yaml holds the same).
   static ScenarioSet Default();
-  /// Throws ConfigError naming the file, the entry and the rule.
+  /// Throws ConfigError naming the file, the key path (`training[2].monte_carlo.count`), the rule
+  /// and the line.
   static ScenarioSet FromYamlText(const std::string& text, const std::string& file);
   static ScenarioSet FromFile(const std::string& path);
+  /// The set with every Monte-Carlo block expanded (scw tune --print-scenarios); reads back to
+  /// the same set.
   std::string ToYaml() const;
+  /// The file form of this set (no Monte-Carlo blocks: they are expanded).
+  ScenarioSetFile ToFile() const;
 };
 
 /// The scenario of one entry (file or default, then overrides; name from the entry).

@@ -125,7 +125,8 @@ TEST(MonteCarloTest, BadBlocksNameTheFileTheKeyAndTheRule) {
             std::string::npos);
   EXPECT_NE(problem("      vary:\n        seed: {integer: [1.5, 3]}\n").find("whole numbers"),
             std::string::npos);
-  EXPECT_NE(problem("      vary:\n        seed: {choice: []}\n").find("non-empty list"),
+  EXPECT_NE(problem("      vary:\n        seed: {choice: []}\n")
+                .find("training[0].monte_carlo.vary.seed.choice: needs at least 1 value, has 0"),
             std::string::npos);
   EXPECT_NE(
       problem("      vary:\n        seed: {choice: [1], uniform: [1, 2]}\n").find("exactly one of"),
@@ -133,7 +134,7 @@ TEST(MonteCarloTest, BadBlocksNameTheFileTheKeyAndTheRule) {
   EXPECT_NE(problem("      vary:\n        seed: {integer: [1, 2], step: 1}\n")
                 .find("only a uniform draw takes a step"),
             std::string::npos);
-  EXPECT_NE(problem("", "0").find("training[0].monte_carlo.count: must be a whole number"),
+  EXPECT_NE(problem("", "0").find("training[0].monte_carlo.count: 0 is below the lower bound 1"),
             std::string::npos);
   EXPECT_NE(problem("      grid:\n        laps: [1, 2]\n        gg_scale: [1.0, 1.1]\n", "100000")
                 .find("expands to more than"),
@@ -155,8 +156,9 @@ TEST(MonteCarloTest, NamesAreUniqueAcrossTheSet) {
     ScenarioSet::FromYamlText(text, "dup.yaml");
     FAIL() << "a duplicate name must be refused";
   } catch (const ConfigError& e) {
+    // The earlier name is that of the block's scenario 1 (the file has no training[1]).
     EXPECT_NE(std::string(e.what()).find("held_out[0].name: 'mc_001' is already the name of "
-                                         "training[1]"),
+                                         "scenario 1 of training[0].monte_carlo (line 4)"),
               std::string::npos)
         << e.what();
   }
