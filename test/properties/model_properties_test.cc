@@ -26,10 +26,8 @@
 #include "controller/stability/stability_controller.h"
 #include "params/schema/vehicle_params.h"
 #include "plant/vehicle/vehicle.h"
+#include "test/common/alloc_counter.h"
 #include "test/controller/stability/scenario_inputs.h"
-
-/// Calls of the global operator new so far (alloc_counter.cc replaces it for this binary).
-long AllocationCount() noexcept;
 
 namespace scw {
 namespace {

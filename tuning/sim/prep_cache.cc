@@ -1,6 +1,5 @@
 #include "tuning/sim/prep_cache.h"
 
-#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -12,6 +11,7 @@
 
 #include "params/io/atomic_file.h"
 #include "params/io/sha256.h"
+#include "params/io/yaml_doc.h"
 
 namespace scw::tuning {
 namespace {
@@ -36,18 +36,6 @@ std::string HexDouble(double x) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%a", x);
   return buf;
-}
-
-/// Exactly the text of HexDouble (any strtod-readable finite or infinite number, no trailing
-/// characters); false on anything else.
-bool ParseHexDouble(const std::string& text, double* out) {
-  if (text.empty()) return false;
-  errno = 0;
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (end != text.c_str() + text.size() || errno == ERANGE) return false;
-  *out = v;
-  return true;
 }
 
 }  // namespace
@@ -104,7 +92,7 @@ std::optional<CachedArrays> PrepCache::Load(const std::string& kind, const std::
     a.reserve(n);
     while (values >> word) {
       double v = 0.0;
-      if (!ParseHexDouble(word, &v)) return std::nullopt;
+      if (!params::ParseDouble(word, &v)) return std::nullopt;  // strtod: %a reads back exactly
       a.push_back(v);
     }
     if (a.size() != n) return std::nullopt;

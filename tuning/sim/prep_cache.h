@@ -51,17 +51,4 @@ class PrepCache {
 /// The cache folder the environment asks for ("" = none); see the header comment.
 std::string PrepCacheFolderFromEnvironment();
 
-/// A value through the cache: Load, else compute with `make`, store and return it. `to_arrays`
-/// and `from_arrays` convert exactly.
-template <class T, class Make, class To, class From>
-T ThroughCache(const PrepCache& cache, const std::string& kind, const std::string& key, Make&& make,
-               To&& to_arrays, From&& from_arrays) {
-  if (auto hit = cache.Load(kind, key)) {
-    if (auto value = from_arrays(*hit)) return *std::move(value);
-  }
-  T value = make();
-  cache.Store(kind, key, to_arrays(value));
-  return value;
-}
-
 }  // namespace scw::tuning

@@ -118,36 +118,39 @@ std::string GgvKey(params::VehicleParams v, double brake_bias_front) {
   return params::ToPlainYaml(v) + "|brake_bias_front: " + params::FormatDouble(brake_bias_front);
 }
 
+/// A g-g-v table from the preparation cache's arrays (the order PlantGgv stores), if valid.
+std::optional<controller::planning::GgvTable> GgvFromArrays(const CachedArrays& a) {
+  if (a.size() != 6) return std::nullopt;
+  controller::planning::GgvTable t;
+  t.speed = a[0];
+  t.ay_max = a[1];
+  t.ax_drive_max = a[2];
+  t.ax_brake_max = a[3];
+  t.drive_exponent = a[4];
+  t.brake_exponent = a[5];
+  try {
+    t.Validate("cache");
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  return t;
+}
+
 /// The planner's g-g-v table: the plant's own combined envelope (tuning/sim/plant_envelope.h), per
 /// vehicle and brake bias, shared within the process.
 std::shared_ptr<const controller::planning::GgvTable> PlantGgv(const std::string& key,
                                                                const params::VehicleParams& v,
                                                                double brake_bias_front) {
   static Memo<controller::planning::GgvTable> memo;
-  using controller::planning::GgvTable;
   return memo.Get(key, [&] {
-    return ThroughCache<GgvTable>(
-        PrepCache::Process(), "ggv", key, [&] { return PlantEnvelope(v, brake_bias_front); },
-        [](const GgvTable& t) {
-          return CachedArrays{t.speed,        t.ay_max,         t.ax_drive_max,
-                              t.ax_brake_max, t.drive_exponent, t.brake_exponent};
-        },
-        [](const CachedArrays& a) -> std::optional<GgvTable> {
-          if (a.size() != 6) return std::nullopt;
-          GgvTable t;
-          t.speed = a[0];
-          t.ay_max = a[1];
-          t.ax_drive_max = a[2];
-          t.ax_brake_max = a[3];
-          t.drive_exponent = a[4];
-          t.brake_exponent = a[5];
-          try {
-            t.Validate("cache");
-          } catch (const std::exception&) {
-            return std::nullopt;
-          }
-          return t;
-        });
+    const PrepCache& cache = PrepCache::Process();
+    if (const auto hit = cache.Load("ggv", key))
+      if (auto table = GgvFromArrays(*hit)) return *std::move(table);
+    controller::planning::GgvTable table = PlantEnvelope(v, brake_bias_front);
+    cache.Store("ggv", key,
+                {table.speed, table.ay_max, table.ax_drive_max, table.ax_brake_max,
+                 table.drive_exponent, table.brake_exponent});
+    return table;
   });
 }
 

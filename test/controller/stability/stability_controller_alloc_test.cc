@@ -2,32 +2,12 @@
 // run of StabilityController::Step — including NaN, inf and missing inputs — must allocate nothing.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
 #include <limits>
 #include <new>
 
 #include "controller/stability/stability_controller.h"
+#include "test/common/alloc_counter.h"
 #include "test/controller/stability/scenario_inputs.h"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 
 namespace scw::controller {
 namespace {
@@ -63,17 +43,17 @@ TEST(StabilityControllerAllocationTest, StepAllocatesNothing) {
     }
     inputs.push_back(in);
   }
-  const long before = g_allocations.load();
+  const long before = AllocationCount();
   double sink = 0.0;
   for (const auto& in : inputs) sink += c.Step(in, &s).brake_bar[kFR];
-  const long after = g_allocations.load();
+  const long after = AllocationCount();
   EXPECT_EQ(after - before, 0) << "Step allocated";
   EXPECT_TRUE(std::isfinite(sink));
   // The guard itself works.
-  const long probe = g_allocations.load();
+  const long probe = AllocationCount();
   void* volatile probe_block = ::operator new(16);
   ::operator delete(probe_block);
-  EXPECT_EQ(g_allocations.load() - probe, 1);
+  EXPECT_EQ(AllocationCount() - probe, 1);
 }
 
 }  // namespace

@@ -3,29 +3,13 @@
 // is built apart from the other tests.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <new>
 
 #include "params/schema/vehicle_params.h"
 #include "plant/vehicle/maneuver.h"
 #include "plant/vehicle/vehicle.h"
-
-namespace {
-std::atomic<long> g_allocations{0};
-}  // namespace
-
-void* operator new(std::size_t n) {
-  g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+#include "test/common/alloc_counter.h"
 
 namespace scw::plant {
 namespace {
@@ -39,7 +23,7 @@ TEST(PlantAllocation, StepAndMeasureAllocateNothing) {
     State s = v.MakeState();
     SensorNoiseState noise(3);
     const double radius = p.wheels.radius_rear;
-    const long before = g_allocations.load();
+    const long before = AllocationCount();
     Environment gusty;
     gusty.mu[kRL] = 0.7;
     for (int k = 0; k < 30000; ++k) {
@@ -53,17 +37,17 @@ TEST(PlantAllocation, StepAndMeasureAllocateNothing) {
         v.Step(u, gusty, &s);
       }
     }
-    EXPECT_EQ(g_allocations.load() - before, 0) << diff;
+    EXPECT_EQ(AllocationCount() - before, 0) << diff;
     EXPECT_EQ(s.status, kStatusOk);
   }
 }
 
 TEST(PlantAllocation, GuardCountsAllocations) {
-  const long before = g_allocations.load();
+  const long before = AllocationCount();
   // A direct call (a new-expression may legally be elided by the optimiser).
   void* volatile p = ::operator new(64);
   ::operator delete(p);
-  EXPECT_EQ(g_allocations.load() - before, 1);
+  EXPECT_EQ(AllocationCount() - before, 1);
 }
 
 }  // namespace

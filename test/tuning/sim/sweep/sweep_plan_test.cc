@@ -5,26 +5,17 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <functional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "params/io/write.h"
+#include "test/common/error_of.h"
 
 namespace scw::tuning {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string ErrorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(SweepGridTest, ConfigsTimesCartesianProductWithTheFirstAxisInnermost) {
   const std::vector<SweepAxis> axes = {{"gg_scale", {"1.0", "1.1", "1.2"}},

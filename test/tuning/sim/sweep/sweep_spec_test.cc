@@ -4,24 +4,16 @@
 
 #include <gtest/gtest.h>
 
-#include <functional>
 #include <string>
 #include <tuple>
 #include <vector>
+
+#include "test/common/error_of.h"
 
 namespace scw::tuning {
 namespace {
 
 using Values = std::vector<std::string>;
-
-std::string ErrorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(SweepParseTest, VaryList) {
   const SweepAxis a = ParseVary("gg_scale=1.0, 1.1,1.25");

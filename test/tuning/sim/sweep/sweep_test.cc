@@ -9,10 +9,10 @@
 
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <sstream>
 
 #include "params/schema/field.h"
+#include "test/common/error_of.h"
 
 namespace scw::tuning {
 namespace {
@@ -20,15 +20,6 @@ namespace {
 namespace fs = std::filesystem;
 
 using Values = std::vector<std::string>;
-
-std::string ErrorOf(const std::function<void()>& fn) {
-  try {
-    fn();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 TEST(SweepGridTest, SeriesStopsAtItsFirstAbort) {
   struct Row {

@@ -1,6 +1,8 @@
-// The global operator new of the property suite's binary counts its calls (a translation unit of
-// its own, so that the compiler cannot inline malloc into the callers and mistake the matching
-// free for a mismatch).
+// The counting global operator new of test/common/alloc_counter.h (a translation unit of its own,
+// so that the compiler cannot inline malloc into the callers and mistake the matching free for a
+// mismatch).
+#include "test/common/alloc_counter.h"
+
 #include <atomic>
 #include <cstdlib>
 #include <new>
