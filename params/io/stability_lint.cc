@@ -38,6 +38,23 @@ void CheckSchedule(const std::string& key, const std::vector<double>& xs,
 
 }  // namespace
 
+double ScheduledMinimum(const StabilityParams& p, const std::string& key, const LintOptions& o) {
+  const auto& e = p.ESC;
+  const std::vector<double>* ys = nullptr;
+  if (key == "ESC.beta_threshold_activate") ys = &e.beta_threshold_activate;
+  if (key == "ESC.psi_dot_error_threshold_activate") ys = &e.psi_dot_error_threshold_activate;
+  if (key == "ESC.beta_error_threshold_activate") ys = &e.beta_error_threshold_activate;
+  const auto& xs = e.threshold_velocities;
+  if (!ys || ys->size() != xs.size() || xs.size() < 2) return NAN;
+  const double lo = std::max(o.v_min, e.min_activation_velocity), hi = o.v_max;
+  if (!(lo <= hi)) return NAN;
+  // A piecewise-linear function takes its minimum over [lo, hi] at an end or a breakpoint.
+  double m = std::min(Extrapolated(xs, *ys, lo), Extrapolated(xs, *ys, hi));
+  for (std::size_t i = 0; i < xs.size(); ++i)
+    if (xs[i] > lo && xs[i] < hi) m = std::min(m, (*ys)[i]);
+  return m > 0 && std::isfinite(m) ? m : NAN;
+}
+
 std::vector<Problem> LintStability(const StabilityParams& p, const LintOptions& o) {
   std::vector<Problem> out;
   const auto& e = p.ESC;

@@ -21,4 +21,14 @@ struct LintOptions {
 /// Warnings (path + sentence). Empty for a set without surprises.
 std::vector<Problem> LintStability(const StabilityParams& p, const LintOptions& o = {});
 
+/// The smallest value the car's node uses of the velocity-scheduled ESC threshold array `key`
+/// (ESC.beta_threshold_activate, ESC.psi_dot_error_threshold_activate,
+/// ESC.beta_error_threshold_activate): the minimum of its piecewise-linear interpolation over
+/// ESC.threshold_velocities, outer segments extended, between max(o.v_min,
+/// ESC.min_activation_velocity) and o.v_max — the speeds at which LintStability checks the
+/// hysteresis. A deactivation threshold below it never meets the inverted-hysteresis warning. NaN
+/// for another key, an array that does not match the breakpoints, or a minimum ≤ 0.
+double ScheduledMinimum(const StabilityParams& p, const std::string& key,
+                        const LintOptions& o = {});
+
 }  // namespace scw::params

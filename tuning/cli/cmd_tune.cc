@@ -52,6 +52,7 @@ struct TuneOptions {
   bool print_set = false;
   bool check_set = false;       // --check-set: which subsystems the scenario set can see, then exit
   bool no_sensitivity = false;  // skip the parameter sensitivity (after the tune; --check-set)
+  bool no_freeze = false;       // keep the dimensions the training cannot see free
   std::vector<std::string> params_files;  // evaluate
   std::vector<std::string> labels;        // evaluate
   std::string csv;                        // evaluate
@@ -162,6 +163,7 @@ tuning::TuneStudyOptions StudyOptions(const TuneOptions& o, std::set<std::string
   so.base_outside = o.base_outside == "refuse" ? tuning::BaseOutsideSpace::kRefuse
                                                : tuning::BaseOutsideSpace::kGrow;
   so.sensitivity = !o.no_sensitivity;
+  so.freeze_unexercised = !o.no_freeze;
   so.search_plant_step = o.search_plant_step;
   so.resume_log = o.resume;
   so.stop = &g_stop;
@@ -190,6 +192,8 @@ const char* JobUnit(tuning::TunePhase phase) {
   switch (phase) {
     case tuning::TunePhase::kPrepare:
       return "scenarios";
+    case tuning::TunePhase::kScreen:
+      return "runs";
     case tuning::TunePhase::kOptimise:
       return "evals";
     case tuning::TunePhase::kCompare:
@@ -220,8 +224,13 @@ class TuneRun : public tuning::TuneObserver {
         prepare_.emplace(o_.progress);
         OnJobs(phase, 0, total);
         break;
-      case tuning::TunePhase::kOptimise:
+      case tuning::TunePhase::kScreen:
+        t_screen_ = std::chrono::steady_clock::now();
         progress_.emplace(o_.progress);
+        OnJobs(phase, 0, total);
+        break;
+      case tuning::TunePhase::kOptimise:
+        if (!progress_) progress_.emplace(o_.progress);
         g_stop = false;
         previous_ = std::signal(SIGINT, OnSigint);
         sigint_ = true;
@@ -260,16 +269,20 @@ class TuneRun : public tuning::TuneObserver {
                   << (r.ranks > 1 ? std::to_string(r.ranks) + " MPI ranks x " : "") << r.threads
                   << " threads)\n";
         break;
-      case tuning::TunePhase::kOptimise:
-        Optimised(r.optimisation);
-        break;
-      case tuning::TunePhase::kCompare:
+      case tuning::TunePhase::kScreen:
         progress_->Finish();
-        Compared(r);
+        Screened(r);
+        break;
+      case tuning::TunePhase::kOptimise:
+        Optimised(r);
         break;
       case tuning::TunePhase::kSensitivity:
         progress_->Finish();
         SensitivityDone(r);
+        break;
+      case tuning::TunePhase::kCompare:
+        progress_->Finish();
+        Compared(r);
         break;
     }
   }
@@ -282,7 +295,19 @@ class TuneRun : public tuning::TuneObserver {
     sigint_ = false;
   }
 
-  void Optimised(const tuning::TuneResult& r) {
+  void Screened(const tuning::TuneReport& r) const {
+    std::cerr << "  screen: " << r.screening.sets << " sets x " << r.screening.scenarios.size()
+              << " scenarios in " << Seconds(SecondsSince(t_screen_)) << "; ";
+    if (r.frozen.empty()) {
+      std::cerr << "every parameter changes some training run at an end of its range\n";
+      return;
+    }
+    std::cerr << r.frozen.size() << " of " << study_.space().size()
+              << " parameters frozen at the base value (no training run responds to them)\n";
+  }
+
+  void Optimised(const tuning::TuneReport& report) {
+    const tuning::TuneResult& r = report.optimisation;
     RestoreSigint();
     progress_->Finish();
     std::cerr << "  optimisation: " << r.evals << " evaluations (" << r.replayed
@@ -294,7 +319,7 @@ class TuneRun : public tuning::TuneObserver {
                 << " evaluations; the result depends on this machine's speed\n";
   }
 
-  /// The outputs without the sensitivity: the folder is complete from here on.
+  /// The outputs: the folder is complete from here on.
   void Compared(const tuning::TuneReport& r) {
     io::WriteFileAtomic(Path(tuning::kTunedParamsFile), r.tuned_file);
     io::WriteFileAtomic(Path(tuning::kOverridesParamsFile), r.overrides_file);
@@ -306,28 +331,27 @@ class TuneRun : public tuning::TuneObserver {
     else
       std::cerr << "  note: no plots (" << plot_message
                 << "); the run's other outputs are complete\n";
+    if (r.sensitivity_state == tuning::SensitivityState::kDone) {
+      io::WriteFileAtomic(Path("sensitivity.csv"), r.sensitivity_csv);
+    } else {
+      std::error_code ec;  // a --force or --resume folder may hold an earlier run's table
+      fs::remove(Path("sensitivity.csv"), ec);
+    }
     io::WriteFileAtomic(Path("comparison.md"), r.comparison_markdown + plots_md_);
-    std::error_code ec;  // a --force or --resume folder may hold an earlier run's table
-    fs::remove(Path("sensitivity.csv"), ec);
     WriteManifest(r);
   }
 
-  void SensitivityDone(const tuning::TuneReport& r) {
-    io::WriteFileAtomic(Path("sensitivity.csv"), r.sensitivity_csv);
-    io::WriteFileAtomic(Path("comparison.md"), r.comparison_markdown + plots_md_);
-    WriteManifest(r);
+  void SensitivityDone(const tuning::TuneReport& r) const {
     const std::vector<std::string> not_exercised = r.sensitivity.NotExercised();
     std::cerr << "  sensitivity: " << r.sensitivity.sets << " sets x "
               << r.sensitivity.scenarios.size() << " scenarios in "
-              << Seconds(SecondsSince(t_sensitivity_)) << "; ";
-    if (not_exercised.empty()) {
-      std::cerr << "every parameter is exercised by the training scenarios\n";
-    } else {
-      std::cerr << not_exercised.size() << " of " << study_.space().size()
-                << " parameters not exercised by the training scenarios:";
-      for (const auto& label : not_exercised) std::cerr << " " << label;
-      std::cerr << "\n";
+              << Seconds(SecondsSince(t_sensitivity_)) << "; " << not_exercised.size() << " of "
+              << study_.space().size() << " parameters not exercised around the best point";
+    if (r.reverted.empty()) {
+      std::cerr << ", none of them changed by the search\n";
+      return;
     }
+    std::cerr << "; " << r.reverted.size() << " changed by the search reverted to the base value\n";
   }
 
   void WriteManifest(const tuning::TuneReport& r) const {
@@ -338,9 +362,10 @@ class TuneRun : public tuning::TuneObserver {
     if (!o_.space.empty()) record.space_sha256 = FileSha256(o_.space);
     if (!o_.scenarios.empty()) record.scenarios_sha256 = FileSha256(o_.scenarios);
     record.wall_time_s = SecondsSince(t_start_);
-    for (const char* f : {"evaluations.csv", tuning::kTunedParamsFile, tuning::kOverridesParamsFile,
-                          "comparison.md", "comparison.csv", "sensitivity.csv",
-                          tuning::kConvergencePlotFile, tuning::kComparisonPlotFile})
+    for (const char* f :
+         {"evaluations.csv", "evaluations.identity.yaml", tuning::kTunedParamsFile,
+          tuning::kOverridesParamsFile, "comparison.md", "comparison.csv", "sensitivity.csv",
+          tuning::kConvergencePlotFile, tuning::kComparisonPlotFile})
       if (fs::exists(Path(f))) record.files_sha256.emplace_back(f, FileSha256(Path(f)));
     io::WriteFileAtomic(Path("manifest.yaml"), study_.ManifestYaml(r, record));
   }
@@ -349,13 +374,58 @@ class TuneRun : public tuning::TuneObserver {
   const tuning::TuneStudy& study_;
   const std::string dir_;
   const std::chrono::steady_clock::time_point t_start_;
-  std::chrono::steady_clock::time_point t_sensitivity_;
+  std::chrono::steady_clock::time_point t_sensitivity_, t_screen_;
   std::optional<ProgressLine> prepare_;   ///< the preparation's line
   std::optional<ProgressLine> progress_;  ///< from the optimisation on
   bool sigint_ = false;                   ///< OnSigint is installed
   void (*previous_)(int) = SIG_DFL;
   std::string plots_md_;
 };
+
+/// One line per scenario group: cost before -> after, the verdict and the aborts.
+std::string GroupLine(const std::string& group, const std::vector<tuning::SetEvaluation>& sets,
+                      const tuning::SetChange& change) {
+  const auto aborts = [](const tuning::SetEvaluation& e) {
+    int n = 0;
+    for (const auto& m : e.runs) n += m.aborted();
+    return n;
+  };
+  const std::size_t n = sets[0].runs.size();
+  return "  " + group + " (" + std::to_string(n) + (n == 1 ? " scenario" : " scenarios") +
+         "): cost " + Cost(sets[0].total) + " -> " + Cost(sets[1].total) + ", aborts " +
+         std::to_string(aborts(sets[0])) + " -> " + std::to_string(aborts(sets[1])) +
+         ", verdict: " + tuning::VerdictName(change.verdict) + " (" +
+         std::to_string(change.better) + " better, " + std::to_string(change.worse) + " worse, " +
+         std::to_string(change.new_aborts) + " new aborts)\n";
+}
+
+/// The console's account of a tune (the tables stay in the files): verdicts, totals, the
+/// convergence verdict, what the file changes and what it keeps at the base.
+std::string TuneSummary(const tuning::TuneReport& r, const tuning::TuneStudy& study) {
+  std::string out = "scw tune: baseline -> tuned (lower cost is better)\n";
+  out += GroupLine("training", r.training, r.training_change);
+  if (!r.held_out.empty()) out += GroupLine("held-out", r.held_out, r.held_out_change);
+  out += "  convergence: " + r.convergence + "\n";
+  out += "  changed keys: " + std::to_string(r.changed.size()) + " of the " +
+         std::to_string(study.space().size()) + " parameters searched\n";
+  const auto list = [&out](const std::string& what, const std::vector<std::string>& items) {
+    out += "  " + what + ": " +
+           (items.empty() ? std::string("none") : std::to_string(items.size())) + "\n";
+    for (const auto& item : items) out += "    " + item + "\n";
+  };
+  if (r.screened) list("frozen at the base value before the search", r.frozen);
+  if (r.sensitivity_state == tuning::SensitivityState::kDone)
+    list("reverted to the base value after the search", r.reverted);
+  else
+    out +=
+        "  reverted after the search: NOT CHECKED (no sensitivity): the file may change "
+        "parameters no training run responds to\n";
+  if (r.new_findings.empty())
+    out += "  params check: no finding the base set does not have\n";
+  else
+    list("params check findings the base set does not have", r.new_findings);
+  return out;
+}
 
 int RunTune(const TuneOptions& o) {
   const auto t_start = std::chrono::steady_clock::now();
@@ -405,13 +475,14 @@ int RunTune(const TuneOptions& o) {
   TuneRun run(o, study, dir, t_start);
   const tuning::TuneReport r = study.Run(run);
   const bool sensitivity = r.sensitivity_state == tuning::SensitivityState::kDone;
-  std::cout << AlignMarkdownTables(r.comparison_markdown + run.plots_markdown());
-  std::cout << "outputs: " << dir << "/{evaluations.csv, stability_tuned.yaml, "
-            << "stability_overrides.yaml, comparison.md, comparison.csv, "
+  std::cout << TuneSummary(r, study);
+  std::cout << "outputs: " << dir << "/{evaluations.csv, evaluations.identity.yaml, "
+            << "stability_tuned.yaml, stability_overrides.yaml, comparison.md, comparison.csv, "
             << (sensitivity ? "sensitivity.csv, " : "")
-            << (run.plots() ? "convergence.png, comparison.png, " : "") << "manifest.yaml}\n";
+            << (run.plots() ? "convergence.png, comparison.png, " : "") << "manifest.yaml}\n"
+            << "the tables, per-scenario verdicts and the sensitivity are in " << dir
+            << "/comparison.md: read its held-out rows before a car run\n";
   const std::string& stop = r.optimisation.stop_reason;
-  if (stop == "resume_mismatch") return kExitBadInput;
   // Ctrl-C: the outputs of the best set so far are written; exit as an interrupted program does.
   return stop == "interrupted" ? kExitInterrupted : kExitOk;
 }
@@ -535,8 +606,13 @@ void AddTune(CLI::App& app) {
   cmd->add_flag("--no-sensitivity", o->no_sensitivity,
                 "Skip the parameter sensitivity that by default follows the optimisation (and "
                 "--check-set): each parameter of the space moved by +/- one resolution step and "
-                "+/- 10 %, one batch on the training scenarios, the parameters the scenarios "
-                "cannot see flagged in comparison.md");
+                "+/- 10 %, one batch on the training scenarios, around the best point; every "
+                "parameter it finds not exercised is reverted to the base value before the "
+                "export. Without it nothing is checked, and the files say so");
+  cmd->add_flag("--no-freeze", o->no_freeze,
+                "Do not screen and freeze before the search: by default each parameter is moved "
+                "alone to both ends of its range on the training scenarios (one batch at the "
+                "search step), and one that changes no run is kept at the base value");
   cmd->footer(
       "Under MPI (mpirun -np N scw tune ...): rank 0 runs the tune and writes every file, all\n"
       "ranks compute runs; the outputs equal a plain run's for any N (docs/scaling.md).");

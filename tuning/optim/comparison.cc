@@ -115,6 +115,18 @@ std::string TunedFileHeader(const TuneProvenance& p, bool overrides) {
     }
     out += line + "\n";
   }
+  const auto list = [&out](const std::string& title, const std::vector<std::string>& items) {
+    if (items.empty()) return;
+    out += title + " (" + std::to_string(items.size()) + "), kept at the base value:\n";
+    for (const auto& item : items) out += "  " + item + "\n";
+  };
+  list("frozen before the search: no training run changes when the parameter alone spans its range",
+       p.frozen);
+  list("reverted after the search: no training run changes around the tuned set", p.reverted);
+  if (!p.revert_skipped.empty())
+    out += "not checked for untested changes after the search (" + p.revert_skipped +
+           "): run the sensitivity before using this file\n";
+  for (const auto& f : p.new_findings) out += "NEW params check finding: " + f + "\n";
   out +=
       "Tuned values are rounded to their schema resolution (within one step of the base: the base "
       "value);\nevery other key is the base value.\n";

@@ -109,6 +109,14 @@ struct TuneProvenance {
   int held_out_scenarios = 0;  ///< 0: no held-out scenarios (their costs are not printed)
   double held_out_before = 0, held_out_after = 0;
   std::vector<std::string> changed;  ///< dotted keys whose exported value differs from the base
+  /// Dimensions frozen at the base value before the search (no training run changes when the
+  /// parameter alone moves to either end of its range), and reverted to the base after it (zero
+  /// sensitivity at the tuned point); each "label (reason)".
+  std::vector<std::string> frozen, reverted;
+  /// Why no revert was possible ("" when the sensitivity ran), e.g. "--no-sensitivity".
+  std::string revert_skipped;
+  /// `scw params check` findings of the tuned set that the base set does not have ("key: text").
+  std::vector<std::string> new_findings;
 };
 
 /// Comment lines (without the leading '#', joined by '\n') for the head of the tuned full file

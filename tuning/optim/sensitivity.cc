@@ -132,8 +132,10 @@ const char* PerturbationKindName(PerturbationKind k) {
 }
 
 SensitivityPlan PlanSensitivity(const ParameterSpace& space, const std::vector<double>& u_centre,
-                                const StabilityParams& base) {
+                                const StabilityParams& base, SensitivityMode mode) {
   SensitivityPlan plan;
+  plan.mode = mode;
+  const bool range = mode == SensitivityMode::kRange;
   const StabilityParams centre = space.Decode(u_centre, base, nullptr);
   plan.sets.push_back(centre);
   std::map<std::string, int> seen = {{Fingerprint(centre), 0}};
@@ -162,7 +164,8 @@ SensitivityPlan PlanSensitivity(const ParameterSpace& space, const std::vector<d
     plan.step.push_back(step);
     plan.value_centre.push_back(ShownValue(e, centre, xc));
     const double rel = kSensitivityRelative * std::abs(xc);
-    const std::array<double, kSensitivityPerturbations> moves = {-rel, -step, step, rel};
+    std::array<double, kSensitivityPerturbations> moves = {-rel, -step, step, rel};
+    if (range) moves = {e.lo - xc, 0.0, 0.0, e.hi - xc};
     std::array<PerturbedPoint, kSensitivityPerturbations> points;
     for (int k = 0; k < kSensitivityPerturbations; ++k) {
       PerturbedPoint& pt = points[static_cast<std::size_t>(k)];
@@ -170,8 +173,12 @@ SensitivityPlan PlanSensitivity(const ParameterSpace& space, const std::vector<d
       pt.value = plan.value_centre.back();
       const double move = moves[static_cast<std::size_t>(k)];
       if (move == 0.0) {
-        pt.kind = PerturbationKind::kNoOp;
-        pt.note = k == 0 || k == 3 ? "10 % of 0" : "no resolution step";
+        pt.kind =
+            range && (k == 0 || k == 3) ? PerturbationKind::kAtBound : PerturbationKind::kNoOp;
+        if (range)
+          pt.note = k == 0 || k == 3 ? "at the end of the range" : "range ends only";
+        else
+          pt.note = k == 0 || k == 3 ? "10 % of 0" : "no resolution step";
         continue;
       }
       const double target = xc + move;
@@ -186,7 +193,17 @@ SensitivityPlan PlanSensitivity(const ParameterSpace& space, const std::vector<d
         continue;
       }
       Problems problems;
-      const StabilityParams p = space.Decode(u, base, &problems);
+      StabilityParams p = space.Decode(u, base, &problems);
+      // The range screen asks whether the parameter can reach the runs at all: an end that breaks
+      // a schema rule (an ordering with keys outside the space) is approached instead, halving
+      // the move until the set is valid.
+      for (int halve = 0; range && !problems.empty() && halve < 8; ++halve) {
+        const double closer = xc + (space.Arguments(u)[i] - xc) / 2.0;
+        u[i] = Coordinate(e, closer);
+        if (u[i] == u_centre[i]) break;
+        problems = Problems();
+        p = space.Decode(u, base, &problems);
+      }
       pt.x = space.Arguments(u)[i];
       pt.value = ShownValue(e, p, pt.x);
       if (!problems.empty()) {
@@ -225,8 +242,9 @@ std::vector<std::string> SensitivityResult::NotExercised() const {
 
 SensitivityResult ComputeSensitivity(const BatchEvaluator& ev, const ParameterSpace& space,
                                      const std::vector<double>& u_centre,
-                                     const StabilityParams& base, const BatchProgress& progress) {
-  return EvaluateSensitivity(ev, space, PlanSensitivity(space, u_centre, base), progress);
+                                     const StabilityParams& base, const BatchProgress& progress,
+                                     SensitivityMode mode) {
+  return EvaluateSensitivity(ev, space, PlanSensitivity(space, u_centre, base, mode), progress);
 }
 
 SensitivityResult EvaluateSensitivity(const BatchEvaluator& ev, const ParameterSpace& space,

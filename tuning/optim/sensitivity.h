@@ -85,8 +85,19 @@ struct PerturbedPoint {
   std::string note;  ///< kDuplicate: which point it duplicates; kInfeasible: the first problem
 };
 
+/// Which perturbations a plan makes.
+enum class SensitivityMode {
+  kLocal,  ///< the four local moves above (±10 %, ±1 step): what the tuned point is sensitive to
+  /// Reach: the argument moved to each end of its range (points 0 and 3; points 1 and 2 are
+  /// kNoOp); an end whose set breaks a schema rule is approached, halving the move (up to 8
+  /// times) until the set is valid. A dimension no training run notices at either end cannot be exercised by the scenario
+  /// set from this point on its own: `scw tune` freezes it at the base value before the search.
+  kRange,
+};
+
 /// The plan: the centre and the distinct perturbed sets, in batch order.
 struct SensitivityPlan {
+  SensitivityMode mode = SensitivityMode::kLocal;
   std::vector<params::StabilityParams> sets;  ///< [0] = the centre
   std::vector<std::string> labels;            ///< per dimension, SpaceEntry::Label()
   std::vector<double> x_centre;               ///< per dimension, the centre's argument
@@ -98,7 +109,8 @@ struct SensitivityPlan {
 /// Perturbs `u_centre` (a point of `space`, decoded against `base` as the tuner does) one
 /// dimension at a time as described above. Deterministic; runs nothing.
 SensitivityPlan PlanSensitivity(const ParameterSpace& space, const std::vector<double>& u_centre,
-                                const params::StabilityParams& base);
+                                const params::StabilityParams& base,
+                                SensitivityMode mode = SensitivityMode::kLocal);
 
 /// One dimension's result.
 struct DimensionSensitivity {
@@ -141,7 +153,8 @@ struct SensitivityResult {
 SensitivityResult ComputeSensitivity(const BatchEvaluator& ev, const ParameterSpace& space,
                                      const std::vector<double>& u_centre,
                                      const params::StabilityParams& base,
-                                     const BatchProgress& progress = {});
+                                     const BatchProgress& progress = {},
+                                     SensitivityMode mode = SensitivityMode::kLocal);
 
 /// The same for a plan made by PlanSensitivity with the same `space` (the plan's sets are the
 /// batch; `progress` counts its runs: plan.sets.size() × scenarios).

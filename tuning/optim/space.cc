@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "params/io/load.h"
+#include "params/io/stability_lint.h"
 #include "params/io/write.h"
 #include "params/io/yaml_doc.h"
 #include "tuning/optim/default_space_yaml.h"  // generated: generated::kDefaultSpaceYaml
@@ -82,9 +83,25 @@ double RefValue(const FieldRef& f, int index) {
   return *std::min_element(f.array->begin(), f.array->end());
 }
 
+// The reference of a ratio in `set` (whose fields are `fields`): one element, a scalar, or for a
+// whole array its smallest value — for a velocity-scheduled ESC threshold the smallest value the
+// car's node interpolates at the speeds where it checks the hysteresis (params::ScheduledMinimum),
+// so that a fraction below 1 keeps the deactivation threshold below the activation threshold at
+// every speed; the smallest element where that schedule is not positive.
+double RatioRef(const SpaceEntry& e, const std::map<std::string, FieldRef>& fields,
+                const StabilityParams& set) {
+  const FieldRef& f = fields.at(e.of);
+  if (e.of_index < 0 && f.array) {
+    const double scheduled = params::ScheduledMinimum(set, e.of);
+    if (std::isfinite(scheduled)) return scheduled;
+  }
+  return RefValue(f, e.of_index);
+}
+
 // The transform argument x that reproduces the target value of `e` in the set behind `fields`
 // (references taken from the same set). NaN: no x can (a ratio of a zero reference).
-double ArgumentOf(const SpaceEntry& e, std::map<std::string, FieldRef>& fields) {
+double ArgumentOf(const SpaceEntry& e, std::map<std::string, FieldRef>& fields,
+                  const StabilityParams& set) {
   const FieldRef& f = fields.at(e.key);
   if (e.transform == Transform::kScaleArray) return 1.0;  // the base array itself
   const double v = RefValue(f, e.index);
@@ -94,7 +111,7 @@ double ArgumentOf(const SpaceEntry& e, std::map<std::string, FieldRef>& fields) 
     case Transform::kOffset:
       return v - RefValue(fields.at(e.of), e.of_index);
     case Transform::kRatio: {
-      const double r = RefValue(fields.at(e.of), e.of_index);
+      const double r = RatioRef(e, fields, set);
       if (r != 0) return v / r;
       return v == 0 ? std::clamp(1.0, e.lo, e.hi) : std::numeric_limits<double>::quiet_NaN();
     }
@@ -226,12 +243,17 @@ StabilityParams ParameterSpace::Decode(const std::vector<double>& u, const Stabi
       continue;
     }
     const bool relative = e.transform == Transform::kOffset || e.transform == Transform::kRatio;
-    const double ref = relative ? RefValue(fields.at(e.of), e.of_index) : 0.0;
+    const auto reference = [&](const std::map<std::string, FieldRef>& fs,
+                               const StabilityParams& set) {
+      if (e.transform == Transform::kRatio) return RatioRef(e, fs, set);
+      return relative ? RefValue(fs.at(e.of), e.of_index) : 0.0;
+    };
+    const double ref = reference(fields, p);
 
     // At the base's own coordinate with the reference unchanged: the base value, bit for bit.
-    const double xb = ArgumentOf(e, base_fields);
+    const double xb = ArgumentOf(e, base_fields, base_copy);
     if (std::isfinite(xb) && xb >= e.lo && xb <= e.hi && ui == ToU(e, xb) &&
-        (!relative || ref == RefValue(base_fields.at(e.of), e.of_index))) {
+        (!relative || ref == reference(base_fields, base_copy))) {
       if (e.transform == Transform::kScaleArray)
         *f.array = *bf.array;
       else if (f.array)
@@ -291,7 +313,7 @@ std::vector<double> ParameterSpace::Encode(const StabilityParams& p_in) const {
   auto fields = Fields(p);
   std::vector<double> u(entries_.size(), 0.5);
   for (std::size_t i = 0; i < entries_.size(); ++i)
-    u[i] = ToU(entries_[i], ArgumentOf(entries_[i], fields));
+    u[i] = ToU(entries_[i], ArgumentOf(entries_[i], fields, p));
   return u;
 }
 
@@ -301,7 +323,7 @@ std::vector<BaseMismatch> ParameterSpace::BaseMismatches(const StabilityParams& 
   std::vector<BaseMismatch> out;
   for (std::size_t i = 0; i < entries_.size(); ++i) {
     const SpaceEntry& e = entries_[i];
-    const double xb = ArgumentOf(e, fields);
+    const double xb = ArgumentOf(e, fields, p);
     const bool log_bad = e.scale == Scale::kLog && !(xb > 0);
     if (std::isfinite(xb) && !log_bad && xb >= e.lo && xb <= e.hi) continue;
     BaseMismatch m;
@@ -317,7 +339,9 @@ std::vector<BaseMismatch> ParameterSpace::BaseMismatches(const StabilityParams& 
                                   ? params::FormatDoubleList(*f.array)
                                   : params::FormatNumber(RefValue(f, e.index));
     std::string of = e.of_index >= 0 ? e.of + "[" + std::to_string(e.of_index) + "]" : e.of;
-    if (!e.of.empty() && e.of_index < 0 && fields.at(e.of).array) of = "min(" + of + ")";
+    if (!e.of.empty() && e.of_index < 0 && fields.at(e.of).array)
+      of =
+          (std::isfinite(params::ScheduledMinimum(p, e.of)) ? "scheduled_min(" : "min(") + of + ")";
     switch (e.transform) {
       case Transform::kDirect:
         m.message = "the base value " + value + " lies outside the range " + range;

@@ -5,9 +5,15 @@
 // is applied to a parameter by one of four transforms, in the order the entries are listed:
 //   direct       key := x                      (key may name one array element: key[i])
 //   offset       key := value(of) + x          (orderings: e.g. reduce_hold = hold_reduce + x, x<0)
-//   ratio        key := min(value(of)) · x     (hysteresis: deactivation = x · activation, x<1)
+//   ratio        key := ref(of) · x            (hysteresis: deactivation = x · activation, x<1)
 //   scale_array  key[j] := base[j] · x for all j (velocity-scheduled arrays keep shape and length)
-// `value(of)` is the already decoded value (entries earlier in the list) or the base value.
+// `value(of)` is the already decoded value (entries earlier in the list) or the base value;
+// ref(of) is value(of) for a scalar or one element (key[i]), and for a whole array its smallest
+// value — for the velocity-scheduled ESC thresholds the smallest value the car's node
+// interpolates (outer segments extended) at the speeds where `scw params check` checks the
+// hysteresis (params::ScheduledMinimum), so that x < 1 keeps the deactivation below the
+// activation threshold at every speed and a tuned set adds no inverted-hysteresis finding;
+// the smallest element where that schedule is not positive (the base then has the finding too).
 // Re-parameterising orderings and hysteresis pairs this way keeps almost every point of the cube
 // valid; a decoded set that still violates a schema rule is reported as infeasible (the cost then
 // gives a finite penalty), never thrown through the optimiser.
@@ -96,13 +102,17 @@ struct SpaceFileEntry {
     v.Field(s.key, {.key = "key",
                     .doc = "Dotted key of a double or double[] stability parameter; key[i] names "
                            "one element of an array (direct, offset, ratio)."});
-    v.Field(s.transform, {.key = "transform",
-                          .doc = "How the argument x sets the key: direct (key = x), offset "
-                                 "(key = of + x), ratio (key = min(of) · x), scale_array (every "
-                                 "element of the base array × x).",
-                          .optional = true,
-                          .choices = "direct|offset|ratio|scale_array",
-                          .omit_default = true});
+    v.Field(
+        s.transform,
+        {.key = "transform",
+         .doc = "How the argument x sets the key: direct (key = x), offset "
+                "(key = of + x), ratio (key = ref(of) · x: for an array its smallest value, for a "
+                "velocity-scheduled ESC threshold the smallest value the car interpolates between "
+                "ESC.min_activation_velocity and 90 m/s), scale_array (every "
+                "element of the base array × x).",
+         .optional = true,
+         .choices = "direct|offset|ratio|scale_array",
+         .omit_default = true});
     v.Field(s.of, {.key = "of",
                    .doc = "Reference key of offset and ratio (key[i] for one element); its value "
                           "as decoded by an earlier entry, else the base value.",

@@ -3,17 +3,22 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 
 #include <nlopt.hpp>
 
+#include "params/io/atomic_file.h"
 #include "params/io/ros2_check.h"
 #include "params/io/sha256.h"
+#include "params/io/stability_lint.h"
 #include "params/io/write.h"
 #include "tuning/optim/set_check.h"
 #include "tuning/sim/parallel/mpi_backend.h"
+#include "tuning/sim/prep_cache.h"
 
 namespace scw::tuning {
 namespace {
@@ -119,6 +124,170 @@ class TrainingObjective {
   double invalid_cost_;
 };
 
+/// A finding's kind: its text without the numbers in it (the speed at which a hysteresis inverts
+/// moves with the values; the kind of problem does not).
+std::string FindingKind(const Problem& p) {
+  std::string kind = p.path + ":";
+  bool number = false;
+  for (char c : p.message) {
+    const bool digit = (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+' || c == 'e';
+    if (digit && (number || (c >= '0' && c <= '9'))) {
+      if (!number) kind += '#';
+      number = true;
+      continue;
+    }
+    number = false;
+    kind += c;
+  }
+  return kind;
+}
+
+}  // namespace
+
+std::vector<std::string> NewCheckFindings(const params::StabilityParams& base,
+                                          const params::StabilityParams& tuned) {
+  std::set<std::string> known;
+  for (const auto& p : params::LintStability(base)) known.insert(FindingKind(p));
+  std::vector<std::string> out;
+  for (const auto& p : params::LintStability(tuned))
+    if (!known.count(FindingKind(p))) out.push_back(p.path + ": " + p.message);
+  return out;
+}
+
+namespace {
+
+/// "label (reason)" for the dimensions `dims` of a sensitivity result.
+std::vector<std::string> Described(const SensitivityResult& r, const std::vector<int>& dims) {
+  std::vector<std::string> out;
+  for (int i : dims) {
+    const DimensionSensitivity& d = r.dimensions[static_cast<std::size_t>(i)];
+    out.push_back(d.label + " (" + d.reason + ")");
+  }
+  return out;
+}
+
+/// comparison.md's section on what the exported file changes and why.
+std::string WhatChangedMarkdown(const TuneReport& r) {
+  std::string md = "## What the tuned file changes\n\n";
+  md += "- convergence: " + r.convergence + "\n";
+  if (!r.screened)
+    md += "- frozen before the search: not screened (freezing off)\n";
+  else if (r.frozen.empty())
+    md +=
+        "- frozen before the search: none (every parameter changes some training run at an end "
+        "of its range)\n";
+  else {
+    md += "- frozen before the search at the base value (" + std::to_string(r.frozen.size()) +
+          "; no training run changes when the parameter alone moves to either end of its "
+          "range, so the training cannot tune it):\n";
+    for (const auto& f : r.frozen) md += "  - " + f + "\n";
+  }
+  if (r.sensitivity_state != SensitivityState::kDone)
+    md +=
+        "- reverted after the search: **not checked** (the sensitivity did not run); the file "
+        "may change parameters no training run responds to\n";
+  else if (r.reverted.empty())
+    md +=
+        "- reverted after the search: none (every changed parameter is exercised around the "
+        "best point)\n";
+  else {
+    md += "- reverted after the search to the base value (" + std::to_string(r.reverted.size()) +
+          "; changed by the search, but no training run changes around the best point):\n";
+    for (const auto& f : r.reverted) md += "  - " + f + "\n";
+  }
+  if (r.new_findings.empty())
+    md += "- `scw params check`: no finding the base set does not have\n";
+  else {
+    md += "- `scw params check`: **" + std::to_string(r.new_findings.size()) +
+          " finding(s) the base set does not have**:\n";
+    for (const auto& f : r.new_findings) md += "  - " + f + "\n";
+  }
+  md += "- the tables below evaluate exactly the exported file\n\n";
+  return md;
+}
+
+/// The identity lines of a log ("key: value"); throws ConfigError when the file cannot be read.
+std::map<std::string, std::string> ReadIdentity(const std::string& path, bool* found) {
+  std::map<std::string, std::string> out;
+  std::ifstream in(path, std::ios::binary);
+  *found = static_cast<bool>(in);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto colon = line.find(": ");
+    if (colon == std::string::npos) continue;
+    out[line.substr(0, colon)] = line.substr(colon + 2);
+  }
+  return out;
+}
+
+/// Refuses (ConfigError, every difference) a resume log whose identity file differs from this
+/// run's identity `mine`.
+void CheckLogIdentity(const std::string& log, const std::string& mine) {
+  const std::string path = EvaluationLogIdentityPath(log);
+  bool found = false;
+  const auto theirs = ReadIdentity(path, &found);
+  if (!found)
+    throw ConfigError(log, "",
+                      "cannot be resumed: its identity file " + path +
+                          " is missing (it records the program, settings and inputs that wrote "
+                          "the log; logs of scw before the identity file cannot be resumed)");
+  std::istringstream in(mine);
+  std::string line;
+  std::vector<Problem> problems;
+  std::set<std::string> seen;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    const auto colon = line.find(": ");
+    if (colon == std::string::npos) continue;
+    const std::string key = line.substr(0, colon), value = line.substr(colon + 2);
+    seen.insert(key);
+    const auto it = theirs.find(key);
+    if (it == theirs.end())
+      problems.push_back({key, "the log's identity does not record it (this run: " + value + ")"});
+    else if (it->second != value)
+      problems.push_back(
+          {key, "the log was written with " + it->second + ", this run has " + value});
+  }
+  for (const auto& [key, value] : theirs)
+    if (!seen.count(key))
+      problems.push_back({key, "recorded by the log (" + value + "), unknown to this run"});
+  if (!problems.empty()) {
+    problems.push_back({"",
+                        "refused before anything was written; resume with the settings and "
+                        "inputs of the logged run, or start a new run folder"});
+    throw ConfigError(path, problems);
+  }
+}
+
+/// Reverts every dimension that the sensitivity found not exercised, and that the search moved,
+/// to the base point: report->exported_u, report->reverted. A revert that would make the set
+/// invalid is left out (and said so).
+void Revert(const TuneStudy& study, TuneReport* report) {
+  const auto& dims = report->sensitivity.dimensions;
+  const std::vector<double>& u0 = study.start_point();
+  std::vector<double> u = report->exported_u;
+  const params::StabilityParams best = study.space().Decode(u, study.base(), nullptr);
+  const std::set<std::string> moved = params::DifferingKeys(best, study.base());
+  for (std::size_t i = 0; i < dims.size(); ++i) {
+    if (dims[i].exercised || u[i] == u0[i]) continue;
+    std::vector<double> trial = u;
+    trial[i] = u0[i];
+    Problems pr;
+    const params::StabilityParams p = study.space().Decode(trial, study.base(), &pr);
+    const bool changes_value = moved.count(study.space().entries()[i].key) > 0;
+    if (!pr.empty()) {
+      report->reverted.push_back(dims[i].label + " (NOT reverted: the base value would break " +
+                                 pr.items()[0].path + ")");
+      continue;
+    }
+    u = trial;
+    if (changes_value || params::DifferingKeys(p, best).size() > 0)
+      report->reverted.push_back(dims[i].label + " (" + dims[i].reason + ")");
+  }
+  report->exported_u = u;
+}
+
 /// The best point decoded, and the base and tuned sets compared on the training and held-out
 /// scenarios (the phase kCompare up to the files).
 void Compare(const TuneStudy& study, const BatchEvaluator& training, TuneObserver& observer,
@@ -128,9 +297,10 @@ void Compare(const TuneStudy& study, const BatchEvaluator& training, TuneObserve
   const params::StabilityParams& base = study.base();
   const TuneResult& r = report->optimisation;
   Problems pr;
-  report->tuned = study.space().Decode(r.best_u, base, &pr);
+  report->tuned = study.space().Decode(report->exported_u, base, &pr);
   if (!pr.empty())
-    throw std::runtime_error("internal error: the best point decodes to an invalid set");
+    throw std::runtime_error("internal error: the exported point decodes to an invalid set");
+  report->new_findings = NewCheckFindings(base, report->tuned);
   const std::set<std::string> changed = params::DifferingKeys(report->tuned, base);
   report->changed.assign(changed.begin(), changed.end());
 
@@ -144,6 +314,7 @@ void Compare(const TuneStudy& study, const BatchEvaluator& training, TuneObserve
                    "; tuned = best of " + std::to_string(r.evals) + " evaluations (" + o.algorithm +
                    BatchNote(o.batch) + ", seed " + std::to_string(o.seed) + "), " +
                    std::to_string(changed.size()) + " key(s) changed\n\n";
+  md += WhatChangedMarkdown(*report);
   md += ComparisonMarkdown("Training scenarios", training, labels, report->training);
   std::string csv = ComparisonCsv("training", training, labels, report->training, true);
   report->training_change = CompareSets(training, report->training[0], report->training[1]);
@@ -162,6 +333,8 @@ void Compare(const TuneStudy& study, const BatchEvaluator& training, TuneObserve
     md += "\n" + SetChangeMarkdown("Held-out", report->held_out_change);
   }
   if (report->plant_step.step > 0.0) md += "\n" + PlantStepCheckMarkdown(report->plant_step);
+  if (report->sensitivity_state == SensitivityState::kDone)
+    md += "\n" + SensitivityMarkdown(report->sensitivity, "the best point of the search");
   report->comparison_markdown = md;
   report->comparison_csv = csv;
 }
@@ -199,6 +372,11 @@ void ComposeTunedFiles(const TuneStudy& study, TuneReport* report) {
     prov.held_out_after = report->held_out[1].total;
   }
   prov.changed = report->changed;
+  prov.frozen = report->frozen;
+  prov.reverted = report->reverted;
+  if (report->sensitivity_state != SensitivityState::kDone)
+    prov.revert_skipped = o.sensitivity ? "the run was " + r.stop_reason : "--no-sensitivity";
+  prov.new_findings = report->new_findings;
   report->tuned_file = params::ToRosYaml(report->tuned, params::kStabilityNodeKey, o.base_keys,
                                          TunedFileHeader(prov, false));
   report->overrides_file = params::ToRosOverrides(report->tuned, base, params::kStabilityNodeKey,
@@ -211,10 +389,65 @@ void ComposeTunedFiles(const TuneStudy& study, TuneReport* report) {
 
 }  // namespace
 
+std::string EvaluationLogIdentityPath(const std::string& log) {
+  const std::string ext = ".csv";
+  if (log.size() > ext.size() && log.compare(log.size() - ext.size(), ext.size(), ext) == 0)
+    return log.substr(0, log.size() - ext.size()) + ".identity.yaml";
+  return log + ".identity.yaml";
+}
+
+std::string ConvergenceVerdict(const TuneResult& r, int max_evals) {
+  const std::string last = "last improvement of more than " +
+                           params::FormatNumber(100.0 * kSignificantImprovement) +
+                           " % at evaluation " + std::to_string(r.last_improvement_eval) + " of " +
+                           std::to_string(r.evals);
+  if (r.stop_reason == "converged") return last + ": converged (the optimiser met its tolerance)";
+  if (r.stop_reason == "interrupted" || r.stop_reason == "max_time")
+    return last + ": stopped early (" + r.stop_reason + "), not converged";
+  const int quiet = r.evals - 1 - r.last_improvement_eval;
+  if (r.evals >= 5 && quiet >= r.evals / 5)
+    return last + ": converged by this measure (no such improvement in the last " +
+           std::to_string(quiet) + " evaluations)";
+  return last + ": not converged, raise --max-evals (now " + std::to_string(max_evals) + ")";
+}
+
+std::string TuneStudy::LogIdentity(const TuneReport& report, const BatchEvaluator& training) const {
+  const TuneStudyOptions& o = options_;
+  std::string resolved;
+  for (const auto& sc : training.scenarios())
+    resolved += params::ToPlainYaml(sc.spec) + params::ToPlainYaml(sc.vehicle);
+  std::string frozen = "[";
+  for (std::size_t k = 0; k < report.frozen_dims.size(); ++k)
+    frozen +=
+        (k ? ", " : "") + space_.entries()[static_cast<std::size_t>(report.frozen_dims[k])].Label();
+  frozen += "]";
+  std::ostringstream id;
+  id << "# scw tune: what wrote the evaluation log beside this file. `scw tune --resume` compares "
+        "every line\n# with its own before it writes anything, and refuses to continue on any "
+        "difference.\n"
+     << "format: scw-tune-log 1\n"
+     << "program: " << ProgramIdentity() << "\n"
+     << "algorithm: " << o.algorithm << "\n"
+     << "batch: " << o.batch << "\n"
+     << "seed: " << o.seed << "\n"
+     << "max_evals: " << o.max_evals << "\n"
+     << "search_plant_step: " << params::FormatDouble(o.search_plant_step) << "\n"
+     << "search_plant_step_used: " << params::FormatDouble(report.plant_step.used()) << "\n"
+     << "freeze_unexercised: " << (o.freeze_unexercised ? "true" : "false") << "\n"
+     << "base_sha256: " << io::Sha256Hex(params::ToRosYaml(base_, params::kStabilityNodeKey))
+     << "\n"
+     << "space_sha256: " << io::Sha256Hex(space_.ToYaml()) << "\n"
+     << "scenarios_sha256: " << io::Sha256Hex(scenarios_.ToYaml() + resolved) << "\n"
+     << "frozen: " << frozen << "\n";
+  return id.str();
+}
+
 const char* TunePhaseName(TunePhase phase) {
   switch (phase) {
     case TunePhase::kPrepare:
       return "prepare";
+    case TunePhase::kScreen:
+      return "screen";
     case TunePhase::kOptimise:
       return "optimise";
     case TunePhase::kCompare:
@@ -287,50 +520,123 @@ TuneReport TuneStudy::Run(TuneObserver& observer) const {
 
   // The optimiser's evaluator: the search step's where its check passed.
   const BatchEvaluator& search = report.plant_step.used() > 0.0 ? *coarse : training;
+  const int n = space_.size();
+
+  // Screen: which dimensions can the training scenarios see at all? Those that cannot are frozen.
+  if (options_.freeze_unexercised) {
+    const SensitivityPlan plan = PlanSensitivity(space_, u0_, base_, SensitivityMode::kRange);
+    const int n_runs = static_cast<int>(plan.sets.size() * search.scenarios().size());
+    observer.OnPhaseBegin(TunePhase::kScreen, n_runs);
+    report.screening =
+        EvaluateSensitivity(search, space_, plan, Jobs(observer, TunePhase::kScreen, 0, n_runs));
+    report.screened = true;
+    for (int i = 0; i < n; ++i)
+      if (!report.screening.dimensions[static_cast<std::size_t>(i)].exercised)
+        report.frozen_dims.push_back(i);
+    report.frozen = Described(report.screening, report.frozen_dims);
+    observer.OnPhaseEnd(TunePhase::kScreen, report);
+  }
+  std::vector<int> free_dims;
+  for (int i = 0; i < n; ++i)
+    if (std::find(report.frozen_dims.begin(), report.frozen_dims.end(), i) ==
+        report.frozen_dims.end())
+      free_dims.push_back(i);
+  // Nothing left to tune: the base set is evaluated once, as evaluation 0.
+  const bool all_frozen = free_dims.empty();
+  if (all_frozen)
+    for (int i = 0; i < n; ++i) free_dims.push_back(i);
+  const auto expand = [this, &free_dims](const std::vector<double>& v) {
+    std::vector<double> u = u0_;
+    for (std::size_t k = 0; k < free_dims.size() && k < v.size(); ++k)
+      u[static_cast<std::size_t>(free_dims[k])] = v[k];
+    return u;
+  };
+  std::vector<double> v0;
+  for (int i : free_dims) v0.push_back(u0_[static_cast<std::size_t>(i)]);
+
   const TrainingObjective objective(space_, base_, search, set.cost);
   TunerOptions to;
   to.algorithm = options_.algorithm;
-  to.max_evals = options_.max_evals;
+  to.max_evals = all_frozen ? 1 : options_.max_evals;
   to.max_time_s = options_.max_time_s;
   to.seed = options_.seed;
   to.batch = options_.batch;
-  to.log_path = options_.evaluation_log;
-  to.resume_path = options_.resume_log;
   to.log_extra_header = objective.LogHeader();
-  for (const auto& e : space_.entries()) to.dimension_names.push_back("u:" + e.Label());
+  for (int i : free_dims)
+    to.dimension_names.push_back("u:" + space_.entries()[static_cast<std::size_t>(i)].Label());
   to.stop = options_.stop;
   to.failure_cost = objective.invalid_cost();
-  to.on_progress = [&observer](const Progress& p) { observer.OnEvaluation(p); };
-  const BatchObjective batch_objective = [&objective](const std::vector<std::vector<double>>& u) {
-    return objective(u);
+  const BatchObjective batch_objective = [&objective,
+                                          &expand](const std::vector<std::vector<double>>& vs) {
+    std::vector<std::vector<double>> us;
+    for (const auto& v : vs) us.push_back(expand(v));
+    return objective(us);
   };
   // One point: a batch of one (the evaluator runs one set exactly as it runs a batch).
-  const Objective single = [&objective](const std::vector<double>& u) {
-    return objective({u}).front();
+  const Objective single = [&objective, &expand](const std::vector<double>& v) {
+    return objective({expand(v)}).front();
   };
-  observer.OnPhaseBegin(TunePhase::kOptimise, options_.max_evals);
-  report.optimisation = Tune(u0_, single, batch_objective, to);
+
+  // Resume: refused before anything is written when the log belongs to another run.
+  const std::string identity = LogIdentity(report, training);
+  if (!options_.resume_log.empty()) {
+    CheckLogIdentity(options_.resume_log, identity);
+    TunerOptions verify = to;
+    verify.resume_path = options_.resume_log;
+    verify.verify_resume = true;
+    verify.stop = nullptr;
+    verify.max_time_s = 0.0;
+    try {
+      (void)Tune(v0, single, batch_objective, verify);
+    } catch (const ResumeMismatch& e) {
+      throw ConfigError(options_.resume_log, "", e.what());
+    }
+  }
+  if (!options_.evaluation_log.empty()) {
+    const std::string id_path = EvaluationLogIdentityPath(options_.evaluation_log);
+    std::ifstream existing(id_path, std::ios::binary);
+    std::ostringstream text;
+    text << existing.rdbuf();
+    if (!existing || text.str() != identity) io::WriteFileAtomic(id_path, identity);
+  }
+
+  to.log_path = options_.evaluation_log;
+  to.resume_path = options_.resume_log;
+  to.on_progress = [&observer](const Progress& p) { observer.OnEvaluation(p); };
+  observer.OnPhaseBegin(TunePhase::kOptimise, to.max_evals);
+  try {
+    report.optimisation = Tune(v0, single, batch_objective, to);
+  } catch (const ResumeMismatch& e) {
+    throw ConfigError(options_.resume_log, "", e.what());
+  }
+  TuneResult& opt = report.optimisation;
+  opt.best_u = expand(opt.best_u);
+  if (all_frozen) opt.stop_reason = "all_frozen";
+  report.convergence = all_frozen ? std::string("nothing to tune: every parameter is frozen")
+                                  : ConvergenceVerdict(opt, options_.max_evals);
   observer.OnPhaseEnd(TunePhase::kOptimise, report);
+
+  // Sensitivity around the best point; what no training run responds to goes back to the base.
+  report.exported_u = opt.best_u;
+  const std::string& stop = opt.stop_reason;
+  report.sensitivity_state = options_.sensitivity && stop != "interrupted"
+                                 ? SensitivityState::kPending
+                                 : SensitivityState::kSkipped;
+  if (report.sensitivity_state == SensitivityState::kPending) {
+    const SensitivityPlan plan = PlanSensitivity(space_, opt.best_u, base_);
+    const int n_runs = static_cast<int>(plan.sets.size() * training.scenarios().size());
+    observer.OnPhaseBegin(TunePhase::kSensitivity, n_runs);
+    report.sensitivity = EvaluateSensitivity(training, space_, plan,
+                                             Jobs(observer, TunePhase::kSensitivity, 0, n_runs));
+    report.sensitivity_csv = SensitivityCsv(report.sensitivity);
+    report.sensitivity_state = SensitivityState::kDone;
+    Revert(*this, &report);
+    observer.OnPhaseEnd(TunePhase::kSensitivity, report);
+  }
 
   Compare(*this, training, observer, &report);
   ComposeTunedFiles(*this, &report);
-  const std::string& stop = report.optimisation.stop_reason;
-  report.sensitivity_state =
-      options_.sensitivity && stop != "interrupted" && stop != "resume_mismatch"
-          ? SensitivityState::kPending
-          : SensitivityState::kSkipped;
   observer.OnPhaseEnd(TunePhase::kCompare, report);
-  if (report.sensitivity_state == SensitivityState::kSkipped) return report;
-
-  const SensitivityPlan plan = PlanSensitivity(space_, report.optimisation.best_u, base_);
-  const int n_runs = static_cast<int>(plan.sets.size() * training.scenarios().size());
-  observer.OnPhaseBegin(TunePhase::kSensitivity, n_runs);
-  report.sensitivity = EvaluateSensitivity(training, space_, plan,
-                                           Jobs(observer, TunePhase::kSensitivity, 0, n_runs));
-  report.comparison_markdown += "\n" + SensitivityMarkdown(report.sensitivity, "the tuned set");
-  report.sensitivity_csv = SensitivityCsv(report.sensitivity);
-  report.sensitivity_state = SensitivityState::kDone;
-  observer.OnPhaseEnd(TunePhase::kSensitivity, report);
   return report;
 }
 
@@ -431,12 +737,19 @@ std::string TuneStudy::ManifestYaml(const TuneReport& report, const TuneRunRecor
   else if (report.sensitivity_state == SensitivityState::kSkipped)
     state = o.sensitivity ? "skipped (" + r.stop_reason + ")" : "skipped (--no-sensitivity)";
   man << "sensitivity: " << params::QuoteString(state) << "\n";
+  const auto list = [&man](const char* key, const std::vector<std::string>& items) {
+    man << key << ":" << (items.empty() ? " []" : "") << "\n";
+    for (const auto& item : items) man << "  - " << params::QuoteString(item) << "\n";
+  };
   if (report.sensitivity_state == SensitivityState::kDone) {
-    const std::vector<std::string> not_exercised = report.sensitivity.NotExercised();
-    man << "sensitivity_sets: " << report.sensitivity.sets << "\n"
-        << "not_exercised:" << (not_exercised.empty() ? " []" : "") << "\n";
-    for (const auto& label : not_exercised) man << "  - " << params::QuoteString(label) << "\n";
+    man << "sensitivity_sets: " << report.sensitivity.sets << "\n";
+    list("not_exercised", report.sensitivity.NotExercised());
   }
+  man << "convergence: " << params::QuoteString(report.convergence) << "\n";
+  man << "freeze_unexercised: " << (o.freeze_unexercised ? "true" : "false") << "\n";
+  list("frozen", report.frozen);
+  list("reverted", report.reverted);
+  list("new_findings", report.new_findings);
   man << "hash_algorithm: sha256\n";
   man << "changed_keys: " << report.changed.size() << "\n"
       << "wall_time_s: " << params::FormatDouble(record.wall_time_s) << "\n";

@@ -10,25 +10,38 @@
 //                with a search plant step (options.search_plant_step) a second one at that
 //                step, and the base set on both decides whether the optimiser may use it
 //                (plant_step_check.h; report.plant_step)
+//   screen       (options.freeze_unexercised) which parameters the training scenarios can see at
+//                all: the base set with each dimension alone moved to each end of its range, one
+//                batch at the search step (sensitivity.h, SensitivityMode::kRange). A dimension
+//                that changes no run, bit for bit, at either end is FROZEN at the base point: the
+//                optimiser never moves it (report.frozen).
+//   (resume)     with options.resume_log: the log's identity file (EvaluationLogIdentityPath)
+//                must equal this run's (program, settings, base, space, scenarios, frozen set)
+//                and the whole log must replay (Tune with verify_resume); otherwise ConfigError
+//                naming every difference, before anything is written. The log is then appended
+//                to, never rewritten.
 //   optimise     Tune() (tuning/optim/tuner.h) from the base point u0 = space().Encode(base) over
-//                the unit cube, at the step report.plant_step.used(); the objective decodes u
+//                the free dimensions of the unit cube (frozen ones stay at u0), at the step
+//                report.plant_step.used(); the objective decodes u
 //                against the base and, for a valid set, J(u) = Σ weight_s · J_s on the training
 //                scenarios; a decoded set that breaks a schema rule is not run and costs
 //                  (P_abort + w_progress + T_lap_cap) · max(1, #training scenarios),
 //                more than any set that runs (abort penalty at zero progress in every scenario).
 //                Every evaluation is appended to options.evaluation_log as it happens (streamed:
 //                an interrupted run keeps it); options.resume_log is replayed first.
-//   compare      the base set ("baseline") and the tuned set on the training scenarios, then on
-//                the held-out ones: tables and CSV rows (comparison.h), the verdict per group,
-//                the texts of the tuned full and overrides-only params files with their
-//                provenance header, both checked as the car's ROS 2 node would load them.
+//   sensitivity  the one-at-a-time parameter sensitivity around the best point on the training
+//                scenarios at the vehicle's own step (sensitivity.h); skipped when
+//                options.sensitivity is false or the optimisation stopped as "interrupted". Every
+//                dimension it finds not exercised is REVERTED to the base point (report.reverted):
+//                the exported set changes only what some training run responds to.
+//   compare      the base set ("baseline") and the exported set ("tuned": the best point with the
+//                reverted dimensions at the base) on the training scenarios, then on the held-out
+//                ones: tables and CSV rows (comparison.h), the verdict per group, the texts of the
+//                tuned full and overrides-only params files with their provenance header (frozen
+//                and reverted keys, new `scw params check` findings), both checked as the car's
+//                ROS 2 node would load them. The comparison evaluates exactly the exported file.
 //                The outputs are complete here: OnPhaseEnd(kCompare, report) is where a caller
-//                writes them, before the sensitivity, so that a run stopped during the last phase
-//                keeps a complete folder.
-//   sensitivity  the one-at-a-time parameter sensitivity around the tuned point on the training
-//                scenarios (sensitivity.h); skipped when options.sensitivity is false or the
-//                optimisation stopped as "interrupted" or "resume_mismatch". Its section is
-//                appended to the comparison Markdown.
+//                writes them.
 //
 // Stop: options.stop (scw tune's SIGINT flag) ends the optimisation after the current evaluation
 // (or batch); the best set so far then goes through the comparison as usual, with stop reason
@@ -83,6 +96,8 @@ struct TuneStudyOptions {
   int threads = 0;  ///< worker threads per process of every evaluator (0: all cores)
   BaseOutsideSpace base_outside = BaseOutsideSpace::kGrow;
   bool sensitivity = true;  ///< the parameter sensitivity after the optimisation (and CheckSet)
+  /// Freeze the dimensions the training scenarios cannot see before the search (phase kScreen).
+  bool freeze_unexercised = true;
   /// The plant step the optimiser evaluates candidates with [s] (0: each vehicle's own step);
   /// used only where the check on the base set passes (plant_step_check.h). The comparison, the
   /// sensitivity and the exported files' provenance always run at the vehicle's own step.
@@ -107,15 +122,15 @@ struct TuneStudyOptions {
   std::function<std::string()> date_utc;
 };
 
-enum class TunePhase { kPrepare, kOptimise, kCompare, kSensitivity };
-/// "prepare", "optimise", "compare", "sensitivity".
+enum class TunePhase { kPrepare, kScreen, kOptimise, kSensitivity, kCompare };
+/// "prepare", "screen", "optimise", "sensitivity", "compare".
 const char* TunePhaseName(TunePhase phase);
 
 /// The sensitivity's state in a report.
 enum class SensitivityState {
-  kPending,  ///< will run after the comparison (a report handed to OnPhaseEnd(kCompare))
+  kPending,  ///< not run yet (a report handed to OnPhaseEnd before kSensitivity)
   kDone,
-  kSkipped,  ///< options.sensitivity is false, or the run was interrupted / did not resume
+  kSkipped,  ///< options.sensitivity is false, or the run was interrupted
 };
 
 /// What a TuneStudy returns: everything `scw tune` writes, as values and as texts.
@@ -126,12 +141,31 @@ struct TuneReport {
   /// The search step's check (options.search_plant_step); its used() step is the one the
   /// optimisation ran with.
   PlantStepCheck plant_step;
+  // screen
+  bool screened = false;            ///< the screen ran (options.freeze_unexercised)
+  SensitivityResult screening;      ///< the range screen around the base point (screened only)
+  std::vector<std::string> frozen;  ///< labels of the frozen dimensions, "label (reason)"
+  std::vector<int> frozen_dims;     ///< their indices in space()
   // optimise
   TuneResult optimisation;  ///< best point and cost, start cost, evaluations, stop reason
+  /// "last improvement of more than 0.5 % at evaluation 177 of 180: not converged, raise
+  /// --max-evals" (ConvergenceVerdict).
+  std::string convergence;
+  // sensitivity
+  SensitivityState sensitivity_state = SensitivityState::kPending;
+  SensitivityResult sensitivity;  ///< kDone only
+  std::string sensitivity_csv;    ///< sensitivity.csv (kDone only)
+  /// Dimensions reverted to the base point after the search, "label (reason)", and the exported
+  /// point (the best point with those dimensions at the base point).
+  std::vector<std::string> reverted;
+  std::vector<double> exported_u;
   // compare
-  /// The best point decoded against the base, quantised to the schema resolutions: exactly what
-  /// is exported.
+  /// The exported point decoded against the base, quantised to the schema resolutions: exactly
+  /// what is exported and compared.
   params::StabilityParams tuned;
+  /// `scw params check` findings of the tuned set that the base set does not have ("key: text";
+  /// by construction of the space there should be none).
+  std::vector<std::string> new_findings;
   std::vector<std::string> changed;            ///< dotted keys where tuned ≠ base (sorted)
   std::vector<SetEvaluation> training;         ///< [0] base, [1] tuned, on the training scenarios
   std::vector<SetEvaluation> held_out;         ///< the same on the held-out ones (empty: none)
@@ -140,13 +174,25 @@ struct TuneReport {
   std::string tuned_file;                      ///< text of stability_tuned.yaml (checked)
   std::string overrides_file;                  ///< text of stability_overrides.yaml (checked)
   std::string comparison_csv;                  ///< comparison.csv
-  /// comparison.md without the plots: heading, tables and verdicts, then (kDone) the sensitivity.
+  /// comparison.md without the plots: heading, what the file changes and why (frozen, reverted,
+  /// findings, convergence), tables and verdicts, then (kDone) the sensitivity.
   std::string comparison_markdown;
-  // sensitivity
-  SensitivityState sensitivity_state = SensitivityState::kPending;
-  SensitivityResult sensitivity;  ///< kDone only
-  std::string sensitivity_csv;    ///< sensitivity.csv (kDone only)
 };
+
+/// The convergence verdict of an optimisation (see TuneReport::convergence): converged when NLopt
+/// met its tolerance, or when the last improvement of the best cost by more than 0.5 % came
+/// before the last 20 % of the evaluations.
+std::string ConvergenceVerdict(const TuneResult& r, int max_evals);
+
+/// The `scw params check` warnings (params::LintStability) of `tuned` whose kind the base does not
+/// have, "key: text" (a kind is a warning's key and text without its numbers: the speed at which
+/// a hysteresis inverts moves with the values, the kind of problem does not).
+std::vector<std::string> NewCheckFindings(const params::StabilityParams& base,
+                                          const params::StabilityParams& tuned);
+
+/// The identity file beside an evaluation log: "DIR/evaluations.csv" ->
+/// "DIR/evaluations.identity.yaml".
+std::string EvaluationLogIdentityPath(const std::string& log);
 
 /// Watches a study. Every method has an empty default. The job counts (OnJobs) may come from the
 /// evaluator's worker threads, never two at once; everything else comes from the thread that
@@ -164,9 +210,9 @@ class TuneObserver {
   /// After every evaluation of the optimisation (replayed ones included).
   virtual void OnEvaluation(const Progress& /*progress*/) {}
   /// A phase ended; `report` holds the results so far: after kPrepare the threads and ranks,
-  /// after kOptimise also the optimisation, after kCompare everything but the sensitivity (the
-  /// outputs are complete), after kSensitivity the final report. Not called for a phase that
-  /// threw.
+  /// after kScreen the frozen dimensions, after kOptimise the optimisation, after kSensitivity
+  /// the sensitivity and the reverted dimensions, after kCompare the final report (the outputs
+  /// are complete). Not called for a phase that threw or did not run.
   virtual void OnPhaseEnd(TunePhase /*phase*/, const TuneReport& /*report*/) {}
 };
 
@@ -217,6 +263,11 @@ class TuneStudy {
   const TuneStudyOptions& options() const { return options_; }
 
  private:
+  /// The identity file of this run's evaluation log: program, settings, hashes of the base, the
+  /// fitted space and the scenarios (the set and each training scenario as loaded), the frozen
+  /// dimensions. A resume must match it line for line.
+  std::string LogIdentity(const TuneReport& report, const BatchEvaluator& training) const;
+
   params::StabilityParams base_;
   ParameterSpace given_;  ///< as loaded (the header names the ranges grown from it)
   ScenarioSet scenarios_;

@@ -36,6 +36,7 @@ constexpr AlgorithmName kAlgorithms[] = {
     {"esch", nlopt::GN_ESCH, true},      {"direct_l", nlopt::GN_DIRECT_L, true},
     {"sbplx", nlopt::LN_SBPLX, false},   {"neldermead", nlopt::LN_NELDERMEAD, false},
     {"bobyqa", nlopt::LN_BOBYQA, false}, {"cobyla", nlopt::LN_COBYLA, false},
+    {"mlsl", nlopt::G_MLSL_LDS, true},
 };
 
 /// The batched design phase; not an NLopt algorithm.
@@ -106,23 +107,47 @@ class Run {
                             : "u" + std::to_string(i));
     for (const auto& h : o.log_extra_header) header_.push_back(h);
     if (!o.resume_path.empty()) {
-      resume_.open(o.resume_path);
-      if (!resume_) throw std::runtime_error("cannot read the resume log " + o.resume_path);
+      resume_.open(o.resume_path, std::ios::binary);
+      if (!resume_) throw ResumeMismatch("cannot read the resume log " + o.resume_path);
       std::string first;
       std::getline(resume_, first);
       if (first != io::CsvRecord(header_))
-        throw std::runtime_error("the resume log " + o.resume_path +
-                                 " was written for a different problem (its header differs)");
+        throw ResumeMismatch("the resume log " + o.resume_path +
+                             " was written for a different problem (its header differs)");
+      // A log cut inside a row (the process was killed while writing it) cannot be continued
+      // without rewriting it, and a log is never rewritten.
+      std::ifstream tail(o.resume_path, std::ios::binary | std::ios::ate);
+      const auto size = static_cast<long long>(tail.tellg());
+      char last = '\n';
+      if (size > 0) {
+        tail.seekg(size - 1);
+        tail.get(last);
+      }
+      if (last != '\n')
+        throw ResumeMismatch("the resume log " + o.resume_path +
+                             " ends inside a row (its last line has no line break): remove the "
+                             "incomplete last line, then resume");
     }
-    if (!o.log_path.empty()) {
-      log_target_ = o.log_path;
-      log_file_ = o.log_path == o.resume_path ? o.log_path + ".resume.tmp" : o.log_path;
-      log_.open(log_file_, std::ios::trunc);
-      if (!log_) throw std::runtime_error("cannot write the evaluation log " + log_file_);
-      const std::string head = io::CsvRecord(header_) + '\n';
-      log_ << head << std::flush;
-      if (!log_) throw std::runtime_error("cannot write the evaluation log " + log_file_);
-      log_bytes_ = head.size();
+    if (!o.log_path.empty() && !o.verify_resume) {
+      log_file_ = o.log_path;
+      std::error_code ec;
+      in_place_ =
+          !o.resume_path.empty() && (o.log_path == o.resume_path ||
+                                     std::filesystem::equivalent(o.log_path, o.resume_path, ec));
+      if (in_place_) {
+        // Append-only: the logged rows stay as they are, new rows follow them.
+        log_bytes_ = std::filesystem::file_size(log_file_, ec);
+        if (ec) throw std::runtime_error("cannot read the size of the evaluation log " + log_file_);
+        log_.open(log_file_, std::ios::app | std::ios::binary);
+        if (!log_) throw std::runtime_error("cannot append to the evaluation log " + log_file_);
+      } else {
+        log_.open(log_file_, std::ios::trunc | std::ios::binary);
+        if (!log_) throw std::runtime_error("cannot write the evaluation log " + log_file_);
+        const std::string head = io::CsvRecord(header_) + '\n';
+        log_ << head << std::flush;
+        if (!log_) throw std::runtime_error("cannot write the evaluation log " + log_file_);
+        log_bytes_ = head.size();
+      }
     }
     start_ = std::chrono::steady_clock::now();
     result_.best_u.assign(static_cast<std::size_t>(n), 0.5);
@@ -132,14 +157,22 @@ class Run {
     if (log_.is_open()) log_.close();
   }
 
-  /// Moves a "resume into the same file" log into place.
+  /// Closes the log; throws what stopped the run (ResumeMismatch for a log that diverges).
   void Finish() {
-    if (log_.is_open()) {
-      log_.close();
-      if (log_file_ != log_target_ && std::rename(log_file_.c_str(), log_target_.c_str()) != 0)
-        throw std::runtime_error("cannot replace " + log_target_ + " with the resumed log");
-    }
+    if (log_.is_open()) log_.close();
+    if (verify_left_rows_ && mismatch_.empty())
+      mismatch_ = "the resume log " + o_.resume_path +
+                  " holds more evaluations than this run makes (" + std::to_string(result_.evals) +
+                  " with these settings)";
+    if (!mismatch_.empty()) throw ResumeMismatch(mismatch_);
     if (!error_.empty()) throw std::runtime_error(error_);
+  }
+
+  /// After a verifying run: whether rows of the resume log were left unread.
+  void NoteUnreadRows() {
+    if (!o_.verify_resume || !resume_.is_open()) return;
+    std::string line;
+    verify_left_rows_ = static_cast<bool>(std::getline(resume_, line)) && !line.empty();
   }
 
   void RunPhase(const AlgorithmName& a, int budget, std::vector<double> x,
@@ -315,6 +348,16 @@ class Run {
     if (!a.global) opt.set_initial_step(o_.initial_step);
     if (a.alg == nlopt::GN_CRS2_LM || a.alg == nlopt::GN_ISRES)
       opt.set_population(static_cast<unsigned>(o_.population > 0 ? o_.population : 5 * (n_ + 1)));
+    if (a.alg == nlopt::G_MLSL_LDS) {
+      // Multi-level single linkage on a low-discrepancy sequence: local Subplex searches from
+      // the most promising of its sample points.
+      nlopt::opt local(nlopt::LN_SBPLX, static_cast<unsigned>(n_));
+      local.set_lower_bounds(std::vector<double>(static_cast<std::size_t>(n_), 0.0));
+      local.set_upper_bounds(std::vector<double>(static_cast<std::size_t>(n_), 1.0));
+      local.set_xtol_abs(o_.xtol_abs);
+      local.set_initial_step(o_.initial_step);
+      opt.set_local_optimizer(local);
+    }
   }
 
   void NoteResult(nlopt::result r) {
@@ -387,7 +430,11 @@ class Run {
     return out;
   }
 
+  /// The log does not belong to this run, or cannot be written: nothing more is evaluated.
+  bool Broken() const { return !mismatch_.empty() || !error_.empty(); }
+
   double Evaluate(const std::vector<double>& u) {
+    if (Broken()) return Halt(reason_.empty() ? "resume_mismatch" : reason_);
     if (o_.stop && o_.stop->load()) return Halt("interrupted");
     if (result_.evals >= std::min(o_.max_evals, phase_end_)) return Halt("max_evals");
     const double elapsed = Elapsed();
@@ -401,9 +448,11 @@ class Run {
     Evaluation ev;
     const Replayed replayed = ReplayNext(ucells, &ev);
     if (replayed == Replayed::kMismatch) return Halt("resume_mismatch");
+    if (replayed == Replayed::kNo && o_.verify_resume) return Halt("verified");
     if (replayed == Replayed::kNo) ev = Call(u);
     const double cost = ev.cost;
-    if (!Record(u, ucells, std::move(ev), elapsed)) return Halt("log_error");
+    if (!Record(u, ucells, std::move(ev), elapsed, replayed == Replayed::kYes))
+      return Halt("log_error");
     return cost;
   }
 
@@ -412,6 +461,7 @@ class Run {
   /// the time limit; the budget admits its first new points only.
   std::vector<Answer> EvaluateBatch(const std::vector<std::vector<double>>& points) {
     std::vector<Answer> out(points.size(), Answer{o_.failure_cost, true});
+    if (Broken()) return out;
     if (o_.stop && o_.stop->load()) {
       Halt("interrupted");
       return out;
@@ -442,11 +492,16 @@ class Run {
       Evaluation ev;
       const Replayed replayed = ReplayNext(cells[done], &ev);
       if (replayed == Replayed::kNo) break;
-      ok = replayed == Replayed::kYes ? Record(u, cells[done], std::move(ev), Elapsed()) : false;
+      ok = replayed == Replayed::kYes ? Record(u, cells[done], std::move(ev), Elapsed(), true)
+                                      : false;
       if (!ok) {
         Halt(replayed == Replayed::kYes ? "log_error" : "resume_mismatch");
         break;
       }
+    }
+    if (ok && done < fresh.size() && o_.verify_resume) {
+      Halt("verified");
+      return out;
     }
     if (ok && done < fresh.size()) {
       std::vector<std::vector<double>> todo;
@@ -454,7 +509,7 @@ class Run {
       std::vector<Evaluation> evs = CallBatch(todo);
       for (std::size_t k = done; k < fresh.size(); ++k) {
         if (cells[k].empty()) cells[k] = Cells(points[fresh[k]]);
-        if (!Record(points[fresh[k]], cells[k], std::move(evs[k - done]), Elapsed())) {
+        if (!Record(points[fresh[k]], cells[k], std::move(evs[k - done]), Elapsed(), false)) {
           Halt("log_error");
           break;
         }
@@ -485,9 +540,9 @@ class Run {
     match = match && cells.size() == header_.size();
     for (std::size_t i = 0; match && i < nu; ++i) match = cells[5 + i] == ucells[i];
     if (!match) {
-      error_ = "the resume log " + o_.resume_path + " diverges at evaluation " +
-               std::to_string(result_.evals) +
-               " (different settings, seed or problem than the logged run)";
+      mismatch_ = "the resume log " + o_.resume_path + " diverges at evaluation " +
+                  std::to_string(result_.evals) +
+                  " (different settings, seed or problem than the logged run)";
       return Replayed::kMismatch;
     }
     params::ParseDouble(cells[2], &ev->cost);
@@ -548,18 +603,22 @@ class Run {
     return out;
   }
 
-  /// Logs an evaluation and updates the memo and the best; false if the log cannot be written.
+  /// Logs an evaluation and updates the memo and the best; false if the log cannot be written. A
+  /// row replayed from the log being appended to is already there and is not written again.
   bool Record(const std::vector<double>& u, const std::vector<std::string>& ucells, Evaluation ev,
-              double elapsed) {
+              double elapsed, bool replayed) {
     const int index = result_.evals++;
     memo_.emplace(u, Known{ev.cost, index});
     if (index == 0) result_.start_cost = ev.cost;
     if (ev.cost < result_.best_cost) {
+      if (!std::isfinite(result_.best_cost) ||
+          result_.best_cost - ev.cost > kSignificantImprovement * std::abs(result_.best_cost))
+        result_.last_improvement_eval = index;
       result_.best_cost = ev.cost;
       result_.best_u = u;
       result_.best_eval = index;
     }
-    if (log_.is_open()) {
+    if (log_.is_open() && !(replayed && in_place_)) {
       std::vector<std::string> row = {std::to_string(index), phase_, params::FormatDouble(ev.cost),
                                       ev.status, params::FormatDouble(result_.best_cost)};
       row.insert(row.end(), ucells.begin(), ucells.end());
@@ -597,7 +656,10 @@ class Run {
   std::ifstream resume_;
   std::ofstream log_;
   std::uintmax_t log_bytes_ = 0;  ///< size of the log's whole rows written so far
-  std::string log_file_, log_target_;
+  std::string log_file_;
+  bool in_place_ = false;          ///< appending to the resume log itself
+  bool verify_left_rows_ = false;  ///< a verifying run left rows of the resume log unread
+  std::string mismatch_;           ///< why the resume log does not belong to this run
   std::chrono::steady_clock::time_point start_;
   TuneResult result_;
   std::string phase_, reason_, error_;
@@ -670,6 +732,7 @@ TuneResult Tune(const std::vector<double>& u0, const Objective& f, const BatchOb
     else
       run.RunPhase(*plan.second, o.max_evals - run.evals(), run.result().best_u, o.seed + 1);
   }
+  run.NoteUnreadRows();
   TuneResult r = run.result();
   r.stop_reason = run.reason().empty() ? "finished" : run.reason();
   run.Finish();

@@ -1,8 +1,9 @@
 // Derivative-free tuning loop over the unit cube with NLopt 2.7.1 (ecosystem spec §2).
 //
-// * Algorithms by name: crs2 (GN_CRS2_LM), isres, esch, direct_l, sbplx (LN_SBPLX), neldermead,
-//   bobyqa, cobyla, and lhs (a batched Latin-hypercube design, below); "A+B" runs A on a share of
-//   the budget (global phase) and polishes with B from the best point. Default: "crs2+sbplx".
+// * Algorithms by name: crs2 (GN_CRS2_LM), isres, esch, direct_l, mlsl (G_MLSL_LDS with Subplex
+//   as its local search), sbplx (LN_SBPLX), neldermead, bobyqa, cobyla, and lhs (a batched
+//   Latin-hypercube design, below); "A+B" runs A on a share of the budget (global phase) and
+//   polishes with B from the best point. Default: "crs2+sbplx".
 // * The objective never throws into NLopt and never returns NaN/inf: exceptions and non-finite
 //   values become a finite penalty and are logged with their reason.
 // * Evaluation 0 is always the start point u0 itself (phase "start"), whatever the algorithm, so
@@ -20,7 +21,11 @@
 // * Stop flag (Ctrl-C): the current evaluation finishes, NLopt is stopped, the best is kept.
 // * Resume: the evaluations of an earlier log are replayed in order without being recomputed —
 //   the optimiser is deterministic, so it asks for exactly the logged points — and the run goes on
-//   from there; the result equals that of an uninterrupted run.
+//   from there; the result equals that of an uninterrupted run. The log is append-only: resuming
+//   into the log itself appends the new rows after the logged ones and never rewrites a byte of
+//   them (resuming into another file copies the logged rows first). A run with verify_resume
+//   writes nothing: it replays the whole resume log and stops where it ends, so a caller can find
+//   a log that diverges (ResumeMismatch) before anything is written.
 // * Batches (algorithm "lhs" or "lhs+B", TunerOptions::batch = K): a Latin-hypercube design of
 //   the global share of the budget, evaluated K points per objective call, then K local searches
 //   B (one nlopt::opt and thread each) from the K best points so far, in lockstep: every round
@@ -38,6 +43,7 @@
 #include <atomic>
 #include <functional>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -78,23 +84,39 @@ struct TunerOptions {
   std::vector<std::string> log_extra_header;
   std::vector<std::string> dimension_names;  ///< header names of u (default u0, u1, …)
   std::string resume_path;                   ///< earlier log to replay first ("" = none)
+  /// Only replay the resume log (no objective call, no log written) and stop where it ends: Tune()
+  /// then returns with stop reason "verified", or throws ResumeMismatch.
+  bool verify_resume = false;
   const std::atomic<bool>* stop = nullptr;
   std::function<void(const Progress&)> on_progress;
 };
+
+/// Relative size of an improvement of the best cost that counts for the convergence verdict.
+inline constexpr double kSignificantImprovement = 0.005;
 
 struct TuneResult {
   std::vector<double> best_u;
   double best_cost = std::numeric_limits<double>::infinity();
   int best_eval = -1;
+  /// The last evaluation that lowered the best cost by more than kSignificantImprovement of it
+  /// (evaluation 0 counts: it sets the first best).
+  int last_improvement_eval = -1;
   double start_cost = std::numeric_limits<double>::quiet_NaN();  ///< cost of u0 (evaluation 0)
   int evals = 0;
   int replayed = 0;         ///< evaluations taken from the resume log
   std::string stop_reason;  ///< "max_evals", "max_time", "converged", "interrupted", …
 };
 
+/// The resume log does not belong to this run: another header, a point that differs from the one
+/// this run asks for, more rows than this run makes, or a last row without its line break.
+class ResumeMismatch : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 /// Minimises f over [0,1]^n starting from u0. Throws std::invalid_argument for bad options
-/// (unknown algorithm, n = 0) and std::runtime_error if the log cannot be written or the resume
-/// log does not match this problem.
+/// (unknown algorithm, n = 0), ResumeMismatch for a resume log that does not match this problem
+/// and std::runtime_error if the log cannot be written.
 TuneResult Tune(const std::vector<double>& u0, const Objective& f, const TunerOptions& options);
 /// The same with a batch objective for the batched algorithms (empty: `f` point by point).
 TuneResult Tune(const std::vector<double>& u0, const Objective& f, const BatchObjective& batch_f,

@@ -20,18 +20,6 @@ namespace fs = std::filesystem;
 
 constexpr const char* kMagic = "scw-prep-cache 1";
 
-/// The running program's identity: the SHA-256 of its executable and the NLopt version (the
-/// racing line depends on the library too). "" when the executable cannot be read: then there is
-/// no cache, as a stale result could not be told apart.
-std::string ProgramIdentity() {
-  std::ifstream exe("/proc/self/exe", std::ios::binary);
-  if (!exe) return "";
-  const std::string bytes((std::istreambuf_iterator<char>(exe)), std::istreambuf_iterator<char>());
-  if (bytes.empty()) return "";
-  return io::Sha256Hex(bytes) + " nlopt " + std::to_string(nlopt::version_major()) + "." +
-         std::to_string(nlopt::version_minor()) + "." + std::to_string(nlopt::version_bugfix());
-}
-
 std::string HexDouble(double x) {
   char buf[40];
   std::snprintf(buf, sizeof buf, "%a", x);
@@ -39,6 +27,19 @@ std::string HexDouble(double x) {
 }
 
 }  // namespace
+
+const std::string& ProgramIdentity() {
+  static const std::string identity = [] {
+    std::ifstream exe("/proc/self/exe", std::ios::binary);
+    if (!exe) return std::string();
+    const std::string bytes((std::istreambuf_iterator<char>(exe)),
+                            std::istreambuf_iterator<char>());
+    if (bytes.empty()) return std::string();
+    return io::Sha256Hex(bytes) + " nlopt " + std::to_string(nlopt::version_major()) + "." +
+           std::to_string(nlopt::version_minor()) + "." + std::to_string(nlopt::version_bugfix());
+  }();
+  return identity;
+}
 
 std::string PrepCacheFolderFromEnvironment() {
   if (const char* dir = std::getenv("SCW_CACHE_DIR")) {

@@ -25,6 +25,10 @@ namespace scw::tuning {
 
 using CachedArrays = std::vector<std::vector<double>>;
 
+/// The running program's identity: the SHA-256 of its executable (/proc/self/exe) and the NLopt
+/// version; "" when the executable cannot be read. Computed once per process.
+const std::string& ProgramIdentity();
+
 class PrepCache {
  public:
   /// The process's cache, configured from the environment on first use.

@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "params/io/stability_lint.h"
 #include "params/io/write.h"
 #include "params/io/yaml_doc.h"
 
@@ -166,9 +167,11 @@ TEST(SpaceTest, BaseOutsideARangeIsRefusedNamingTheKey) {
     EXPECT_NE(what.find("ESC.beta_threshold_deactivate"), std::string::npos) << what;
     EXPECT_NE(what.find("widen the range to [0.3, 2.02]"), std::string::npos) << what;
   }
-  // A base inside every range is accepted unchanged by kRefuse.
+  // A base inside every range is accepted unchanged by kRefuse (0.017 = 0.977 × 0.0174, the
+  // smallest β breakpoint: the shipped β schedule extrapolates to 0 below 90 m/s, so the ratio
+  // refers to the smallest breakpoint).
   base = StabilityParams{};
-  base.ESC.beta_threshold_deactivate = 0.0174;
+  base.ESC.beta_threshold_deactivate = 0.017;
   const auto space = ParameterSpace::Default().WithBase(base, BaseOutsideSpace::kRefuse);
   EXPECT_EQ(space.ToYaml(), ParameterSpace::Default().ToYaml());
 }
@@ -296,8 +299,29 @@ TEST(SpaceTest, LogScaleAndTransforms) {
   const auto p = s.Decode({0.5, 1.0, 0.0}, StabilityParams{}, nullptr);
   EXPECT_EQ(p.ESC.kp_psi_dot, 10.0);
   EXPECT_EQ(p.ESC.threshold_velocities[1], 80.0);
-  // 0.5 × 0.0174 = 0.0087, rounded to the resolution 0.001 rad.
-  EXPECT_EQ(p.ESC.beta_threshold_deactivate, 0.009);
+  // The ratio refers to the smallest activation threshold the car interpolates up to 90 m/s:
+  // with the breakpoints at 25 and 80 m/s that is 0.0142 at 90 m/s; 0.5 × 0.0142 = 0.0071 is
+  // rounded to the resolution 0.001 rad, to 0.008 because 0.007 would leave the range [0.5, 1].
+  EXPECT_EQ(p.ESC.beta_threshold_deactivate, 0.008);
+}
+
+TEST(SpaceTest, RatiosOfAScheduleReferToTheSmallestValueTheCarInterpolates) {
+  const StabilityParams shipped;
+  // ψ̇ error: 0.0401 at 25 m/s, 0.0349 at 50 m/s, extended linearly to 0.02658 at 90 m/s.
+  EXPECT_NEAR(params::ScheduledMinimum(shipped, "ESC.psi_dot_error_threshold_activate"), 0.02658,
+              1e-12);
+  // β reaches 0 before 90 m/s: no positive minimum, the ratio falls back to the smallest element.
+  EXPECT_TRUE(std::isnan(params::ScheduledMinimum(shipped, "ESC.beta_threshold_activate")));
+  EXPECT_TRUE(std::isnan(params::ScheduledMinimum(shipped, "ESC.kp_psi_dot")));
+  // The deactivation threshold at the top of its ratio range stays below the activation
+  // threshold at every speed: no inverted hysteresis, which the smallest breakpoint allowed.
+  const ParameterSpace s(
+      "t", {{"ESC.psi_dot_error_threshold_deactivate", -1, 0.3, 0.98, params::Scale::kLinear,
+             Transform::kRatio, "ESC.psi_dot_error_threshold_activate", -1}});
+  const auto p = s.Decode({1.0}, shipped, nullptr);
+  EXPECT_LT(p.ESC.psi_dot_error_threshold_deactivate, 0.02658);
+  for (const auto& w : params::LintStability(p))
+    EXPECT_NE(w.path, "ESC.psi_dot_error_threshold_deactivate") << w.message;
 }
 
 TEST(SpaceTest, BadSpacesAreRejectedWithPathAndRule) {

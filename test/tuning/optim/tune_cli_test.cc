@@ -66,7 +66,7 @@ TEST_F(TuneCliTest, OneEvaluationExportsTheBaseSetWithProvenanceAndPassesTheChec
   const std::string run = Path("run");
   ASSERT_EQ(RunScw("tune --scenarios " + set_ + " --base " + shipped_ +
                        " --max-evals 1 --threads 1 --progress never --max-time 0 --no-sensitivity "
-                       "--search-plant-step 0 --out " +
+                       "--no-freeze --search-plant-step 0 --out " +
                        run,
                    Path("tune.out")),
             0)
@@ -124,6 +124,43 @@ TEST_F(TuneCliTest, OneEvaluationExportsTheBaseSetWithProvenanceAndPassesTheChec
   EXPECT_EQ(cost("search_plant_step_check"), "\"not run\"") << manifest;
 }
 
+// Resume is safe: a --resume with another seed is refused with exit 2 before anything is written
+// (the log and its identity file stay byte for byte), one with the same options replays the log.
+TEST_F(TuneCliTest, ADivergingResumeExitsTwoAndLeavesTheLogByteIdentical) {
+  const std::string space = Path("space.yaml");
+  std::ofstream(space) << "name: two\n"
+                          "parameters:\n"
+                          "  - {key: countersteer_system.steering_factor, lo: 0.3, hi: 1.5}\n"
+                          "  - {key: SlipControl.TC.rear.slip_threshold_hold_reduce, lo: 3.0, "
+                          "hi: 20.0}\n";
+  const std::string run = Path("run");
+  const std::string base = "tune --scenarios " + set_ + " --space " + space +
+                           " --threads 1 --progress never --no-sensitivity --out-dir " + run;
+  const std::string common = base + " --max-evals 3";
+  ASSERT_EQ(RunScw(common, Path("first.out")), 0) << Slurp(Path("first.out"));
+  const std::string log = run + "/evaluations.csv";
+  const std::string logged = Slurp(log), identity = Slurp(run + "/evaluations.identity.yaml");
+  ASSERT_FALSE(identity.empty());
+  EXPECT_EQ(RunScw(common + " --seed 2 --resume " + log, Path("seed.out")), 2)
+      << Slurp(Path("seed.out"));
+  EXPECT_NE(Slurp(Path("seed.out")).find("seed: the log was written with 1, this run has 2"),
+            std::string::npos)
+      << Slurp(Path("seed.out"));
+  EXPECT_EQ(RunScw(base + " --max-evals 4 --resume " + log, Path("evals.out")), 2)
+      << Slurp(Path("evals.out"));
+  EXPECT_EQ(Slurp(log), logged);
+  EXPECT_EQ(Slurp(run + "/evaluations.identity.yaml"), identity);
+  // The same options: every row replayed, nothing rewritten.
+  ASSERT_EQ(RunScw(common + " --resume " + log, Path("same.out")), 0) << Slurp(Path("same.out"));
+  EXPECT_NE(Slurp(Path("same.out")).find("(3 replayed)"), std::string::npos)
+      << Slurp(Path("same.out"));
+  EXPECT_EQ(Slurp(log), logged);
+  // The console is short: verdicts and totals, no tables.
+  EXPECT_NE(Slurp(Path("first.out")).find("training (1 scenario): cost "), std::string::npos)
+      << Slurp(Path("first.out"));
+  EXPECT_EQ(Slurp(Path("first.out")).find("| "), std::string::npos) << Slurp(Path("first.out"));
+}
+
 TEST_F(TuneCliTest, RefuseNamesTheKeyOutsideTheSpaceAndSpaceShowWarns) {
   const std::string run = Path("refused");
   EXPECT_EQ(RunScw("tune --scenarios " + set_ + " --base " + shipped_ +
@@ -132,7 +169,7 @@ TEST_F(TuneCliTest, RefuseNamesTheKeyOutsideTheSpaceAndSpaceShowWarns) {
             2);
   const std::string out = Slurp(Path("refuse.out"));
   EXPECT_NE(out.find("ESC.beta_threshold_deactivate: the base value 0.035 is 2.011 × "
-                     "min(ESC.beta_threshold_activate), outside the ratio range [0.3, 1]"),
+                     "min(ESC.beta_threshold_activate), outside the ratio range [0.3, 0.98]"),
             std::string::npos)
       << out;
   EXPECT_FALSE(fs::exists(run)) << "a refused run must not leave a run folder";

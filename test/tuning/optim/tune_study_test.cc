@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <atomic>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -64,7 +65,9 @@ class TuneStudyTest : public ::testing::Test {
   /// its own test below).
   TuneStudy Study(const std::string& log, int max_evals, bool sensitivity,
                   const std::atomic<bool>* stop = nullptr, double search_plant_step = 0.0,
-                  const PlantStepTolerances& tolerances = {}) const {
+                  const PlantStepTolerances& tolerances = {},
+                  const std::function<void(TuneStudyOptions&)>& tweak = {},
+                  const std::string& set_text = kSet) const {
     TuneStudyOptions o;
     o.max_evals = max_evals;
     o.search_plant_step = search_plant_step;
@@ -77,8 +80,9 @@ class TuneStudyTest : public ::testing::Test {
     o.tool_version = "test";
     o.git_revision = "none";
     o.date_utc = [] { return std::string("2026-01-01T00:00:00Z"); };
-    return TuneStudy(StabilityParams{}, TwoDimensions(), ScenarioSet::FromYamlText(kSet, "tiny"),
-                     o);
+    if (tweak) tweak(o);
+    return TuneStudy(StabilityParams{}, TwoDimensions(),
+                     ScenarioSet::FromYamlText(set_text, "tiny"), o);
   }
 
   fs::path dir_;
@@ -105,7 +109,7 @@ class Recorder : public TuneObserver {
 
   std::vector<std::string> events;
   std::vector<int> totals;  ///< per OnPhaseBegin
-  std::pair<int, int> last_jobs[4] = {};
+  std::pair<int, int> last_jobs[5] = {};
   std::vector<int> evaluations;  ///< Progress::evals of every OnEvaluation
   TuneReport at_compare;
   int stop_after = 0;  ///< raise `stop` after this evaluation (0: never)
@@ -123,42 +127,50 @@ TEST_F(TuneStudyTest, BestIsNoWorseThanTheBaseAndTheObserverSeesEveryPhase) {
   const TuneResult& opt = r.optimisation;
 
   // The best is no worse than the base (evaluation 0), and the comparison reproduces both costs:
-  // the base set's and the tuned set's runs are the optimisation's own.
+  // the base set's and the exported set's runs are the optimisation's own (nothing reverted).
   EXPECT_EQ(opt.stop_reason, "max_evals");
   EXPECT_LE(opt.best_cost, opt.start_cost);
   ASSERT_EQ(r.training.size(), 2u);
   EXPECT_EQ(r.training[0].total, opt.start_cost);
-  EXPECT_EQ(r.training[1].total, opt.best_cost);
+  EXPECT_TRUE(r.frozen.empty()) << r.frozen.front();
+  if (r.reverted.empty()) {
+    EXPECT_EQ(r.training[1].total, opt.best_cost);
+  }
   EXPECT_EQ(r.held_out.size(), 2u);
   EXPECT_EQ(r.provenance.training_before, opt.start_cost);
+  EXPECT_FALSE(r.convergence.empty());
+  EXPECT_TRUE(r.new_findings.empty());
 
   // Every evaluation counted, reported and logged (a header and one row each).
   EXPECT_EQ(opt.evals, 8);
   EXPECT_EQ(opt.replayed, 0);
   EXPECT_EQ(rec.evaluations, (std::vector<int>{1, 2, 3, 4, 5, 6, 7, 8}));
   EXPECT_EQ(Rows(ReadOrEmpty((dir_ / "evaluations.csv").string())), 1 + opt.evals);
+  EXPECT_FALSE(ReadOrEmpty((dir_ / "evaluations.identity.yaml").string()).empty());
 
   // The phases in order; each job count ends at its total.
-  EXPECT_EQ(rec.events, (std::vector<std::string>{"begin prepare", "end prepare", "begin optimise",
-                                                  "end optimise", "begin compare", "end compare",
-                                                  "begin sensitivity", "end sensitivity"}));
-  ASSERT_EQ(rec.totals.size(), 4u);
-  EXPECT_EQ(rec.totals[0], 2);              // training scenarios prepared
-  EXPECT_EQ(rec.totals[1], 8);              // the budget
-  EXPECT_EQ(rec.totals[2], 2 * 2 + 3 * 1);  // 2 sets on training; held-out: prepare + 2 sets
-  EXPECT_EQ(rec.totals[3], r.sensitivity.sets * 2);
-  for (int phase : {0, 2, 3}) {
+  EXPECT_EQ(rec.events,
+            (std::vector<std::string>{"begin prepare", "end prepare", "begin screen", "end screen",
+                                      "begin optimise", "end optimise", "begin sensitivity",
+                                      "end sensitivity", "begin compare", "end compare"}));
+  ASSERT_EQ(rec.totals.size(), 5u);
+  EXPECT_EQ(rec.totals[0], 2);                       // training scenarios prepared
+  EXPECT_EQ(rec.totals[1], r.screening.sets * 2);    // the range screen
+  EXPECT_EQ(rec.totals[2], 8);                       // the budget
+  EXPECT_EQ(rec.totals[3], r.sensitivity.sets * 2);  // the sensitivity
+  EXPECT_EQ(rec.totals[4], 2 * 2 + 3 * 1);  // 2 sets on training; held-out: prepare + 2 sets
+  for (int phase : {0, 1, 3, 4}) {
     EXPECT_EQ(rec.last_jobs[phase].first, rec.last_jobs[phase].second) << phase;
     EXPECT_GT(rec.last_jobs[phase].first, 0) << phase;
   }
 
-  // At the end of the comparison the outputs are complete, the sensitivity still to come.
-  EXPECT_EQ(rec.at_compare.sensitivity_state, SensitivityState::kPending);
+  // At the end of the comparison the outputs are complete, the sensitivity in them.
+  EXPECT_EQ(rec.at_compare.sensitivity_state, SensitivityState::kDone);
   EXPECT_EQ(rec.at_compare.tuned_file, r.tuned_file);
   EXPECT_EQ(rec.at_compare.comparison_csv, r.comparison_csv);
   EXPECT_EQ(r.sensitivity_state, SensitivityState::kDone);
-  EXPECT_EQ(r.comparison_markdown.rfind(rec.at_compare.comparison_markdown, 0), 0u);
   EXPECT_NE(r.comparison_markdown.find("Parameter sensitivity"), std::string::npos);
+  EXPECT_NE(r.comparison_markdown.find("## What the tuned file changes"), std::string::npos);
   EXPECT_EQ(r.sensitivity.dimensions.size(), 2u);
   EXPECT_FALSE(r.sensitivity_csv.empty());
 
@@ -263,9 +275,11 @@ TEST_F(TuneStudyTest, TheStopFlagEndsTheOptimisationWithTheBestSoFar) {
   EXPECT_EQ(Rows(ReadOrEmpty((dir_ / "evaluations.csv").string())), 1 + 3);
   EXPECT_LT(r.optimisation.best_eval, 3);
   EXPECT_LE(r.optimisation.best_cost, r.optimisation.start_cost);
-  // The best so far is compared and exported as usual; the sensitivity is skipped.
+  // The best so far is compared and exported as usual; the sensitivity is skipped, and the
+  // files say that nothing was checked for untested changes.
   ASSERT_EQ(r.training.size(), 2u);
   EXPECT_EQ(r.training[1].total, r.optimisation.best_cost);
+  EXPECT_NE(r.tuned_file.find("not checked for untested changes"), std::string::npos);
   EXPECT_FALSE(r.tuned_file.empty());
   EXPECT_EQ(r.sensitivity_state, SensitivityState::kSkipped);
   EXPECT_EQ(rec.events.back(), "end compare");
@@ -293,6 +307,110 @@ TEST_F(TuneStudyTest, TheBaseOutsideARangeGrowsItOrIsRefusedBeforeAnythingRuns) 
   TuneStudyOptions bad;
   bad.algorithm = "crs3";
   EXPECT_THROW(TuneStudy(StabilityParams{}, TwoDimensions(), set, bad), std::invalid_argument);
+}
+
+// Never export what was not tested: with countersteer switched off in every training scenario,
+// no run can respond to its gain, so the screen freezes it at the base value; the exported files
+// keep the base value and say why.
+TEST_F(TuneStudyTest, AKeyNoTrainingRunCanExerciseIsFrozenAndExportedAtTheBaseValue) {
+  std::string no_cs = kSet;
+  for (std::string::size_type at = 0;
+       (at = no_cs.find("laps=1", at)) != std::string::npos && at < no_cs.find("held_out"); at += 7)
+    no_cs.replace(at, 6, "laps=1, subsystems.cs=false");
+  const TuneReport r = Study("frozen.csv", 6, true, nullptr, 0.0, {}, {}, no_cs).Run();
+  ASSERT_TRUE(r.screened);
+  ASSERT_EQ(r.frozen_dims, std::vector<int>{1});
+  ASSERT_EQ(r.frozen.size(), 1u);
+  EXPECT_EQ(r.frozen[0].rfind("countersteer_system.steering_factor (", 0), 0u) << r.frozen[0];
+  EXPECT_EQ(r.tuned.countersteer_system.steering_factor,
+            StabilityParams{}.countersteer_system.steering_factor);
+  const std::string body = r.overrides_file.substr(r.overrides_file.find("/core/control"));
+  EXPECT_EQ(body.find("steering_factor"), std::string::npos) << body;
+  EXPECT_NE(r.tuned_file.find("frozen before the search"), std::string::npos);
+  EXPECT_NE(r.comparison_markdown.find("frozen before the search at the base value (1"),
+            std::string::npos);
+  // The optimiser never moved it: the log has no coordinate for it, its argument stays put.
+  const std::string log = ReadOrEmpty((dir_ / "frozen.csv").string());
+  EXPECT_EQ(log.find("u:countersteer_system.steering_factor"), std::string::npos);
+  EXPECT_NE(log.find("u:SlipControl.TC.rear.slip_threshold_hold_reduce"), std::string::npos);
+  EXPECT_NE(ReadOrEmpty((dir_ / "frozen.identity.yaml").string())
+                .find("frozen: [countersteer_system.steering_factor]"),
+            std::string::npos);
+  // Whatever the sensitivity reverted is at the base value too.
+  for (const auto& rev : r.reverted) EXPECT_NE(rev.find("("), std::string::npos);
+  EXPECT_TRUE(r.new_findings.empty());
+}
+
+// Resume: an interrupted log continued with the same settings gives the uninterrupted run's log,
+// appended to and never rewritten; a log that belongs to another run (seed, scenarios) is
+// refused before a byte is written.
+TEST_F(TuneStudyTest, ResumeIsExactAndADivergingResumeIsRefusedBeforeAnythingIsWritten) {
+  (void)Study("full.csv", 6, false).Run();
+  const std::string full = ReadOrEmpty((dir_ / "full.csv").string());
+  Recorder rec;
+  rec.stop_after = 3;
+  (void)Study("part.csv", 6, false, &rec.stop).Run(rec);
+  const std::string part = ReadOrEmpty((dir_ / "part.csv").string());
+  const std::string part_id = ReadOrEmpty((dir_ / "part.identity.yaml").string());
+  ASSERT_EQ(Rows(part), 1 + 3);
+  ASSERT_EQ(full.rfind(part, 0), 0u);
+
+  const auto resume = [this](TuneStudyOptions& o) { o.resume_log = (dir_ / "part.csv").string(); };
+  // Another seed, and another scenario set with the same names: refused, the log untouched.
+  const auto other_seed = [&](TuneStudyOptions& o) {
+    resume(o);
+    o.seed = 2;
+  };
+  EXPECT_THROW(Study("part.csv", 6, false, nullptr, 0.0, {}, other_seed).Run(), ConfigError);
+  std::string other_set = kSet;
+  other_set.replace(other_set.find("gg_scale=1.1"), 12, "gg_scale=1.2");
+  try {
+    (void)Study("part.csv", 6, false, nullptr, 0.0, {}, resume, other_set).Run();
+    ADD_FAILURE() << "a resume with other scenarios was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("scenarios_sha256"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(ReadOrEmpty((dir_ / "part.csv").string()), part);
+  EXPECT_EQ(ReadOrEmpty((dir_ / "part.identity.yaml").string()), part_id);
+
+  // The same settings: the logged rows are replayed, the rest appended; the uninterrupted log.
+  const TuneReport r = Study("part.csv", 6, false, nullptr, 0.0, {}, resume).Run();
+  EXPECT_EQ(r.optimisation.replayed, 3);
+  EXPECT_EQ(ReadOrEmpty((dir_ / "part.csv").string()), full);
+  EXPECT_EQ(ReadOrEmpty((dir_ / "part.identity.yaml").string()), part_id);
+}
+
+// Valid by construction: every point of the default space, decoded against the car's shipped
+// set, adds no `scw params check` finding the shipped set does not have (the hysteresis ratios
+// refer to the smallest activation threshold the car interpolates, not the smallest breakpoint).
+TEST(TunedSetFindings, NoPointOfTheDefaultSpaceAddsACheckFinding) {
+  const StabilityParams base;
+  const ParameterSpace space =
+      ParameterSpace::Default().WithBase(base, BaseOutsideSpace::kGrow, nullptr);
+  const auto design = LatinHypercube(400, space.size(), 7);
+  int feasible = 0;
+  for (auto u : design) {
+    Problems pr;
+    const StabilityParams p = space.Decode(u, base, &pr);
+    if (!pr.empty()) continue;
+    ++feasible;
+    const auto found = NewCheckFindings(base, p);
+    EXPECT_TRUE(found.empty()) << found.front();
+  }
+  EXPECT_GT(feasible, 300);
+  // The corners of the cube too.
+  for (double c : {0.0, 1.0}) {
+    Problems pr;
+    const StabilityParams p = space.Decode(std::vector<double>(space.size(), c), base, &pr);
+    if (pr.empty()) {
+      const auto found = NewCheckFindings(base, p);
+      EXPECT_TRUE(found.empty()) << found.front();
+    }
+  }
+  // The check itself sees an inverted hysteresis it is given.
+  StabilityParams inverted = base;
+  inverted.ESC.psi_dot_error_threshold_deactivate = 0.034;
+  EXPECT_FALSE(NewCheckFindings(base, inverted).empty());
 }
 
 }  // namespace

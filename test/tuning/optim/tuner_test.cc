@@ -136,6 +136,51 @@ TEST(TunerTest, ResumeWithDifferentSeedIsRefused) {
   EXPECT_THROW(Tune({0.5, 0.5, 0.5, 0.5}, Bowl, o), std::runtime_error);
 }
 
+// The log is append-only: a resume into the log itself that diverges (another seed) is found
+// while replaying and leaves every byte as it was; verify_resume replays without writing at all.
+TEST(TunerTest, ADivergingResumeIntoTheLogItselfLeavesItByteIdentical) {
+  TunerOptions o;
+  o.max_evals = 30;
+  o.log_path = TempPath("scw_tuner_append.csv");
+  std::atomic<bool> stop{false};
+  int calls = 0;
+  o.stop = &stop;
+  Tune(
+      {0.5, 0.5, 0.5, 0.5},
+      [&](const std::vector<double>& u) {
+        if (++calls == 12) stop = true;
+        return Bowl(u);
+      },
+      o);
+  o.stop = nullptr;
+  const std::string logged = params::ReadTextFile(o.log_path);
+  o.resume_path = o.log_path;
+  o.seed = 2;
+  EXPECT_THROW(Tune({0.5, 0.5, 0.5, 0.5}, Bowl, o), ResumeMismatch);
+  EXPECT_EQ(params::ReadTextFile(o.log_path), logged);
+  // Verifying with the right seed replays the 12 rows, calls nothing and writes nothing.
+  o.seed = 1;
+  o.verify_resume = true;
+  int verify_calls = 0;
+  const auto v = Tune(
+      {0.5, 0.5, 0.5, 0.5},
+      [&](const std::vector<double>& u) {
+        ++verify_calls;
+        return Bowl(u);
+      },
+      o);
+  EXPECT_EQ(v.stop_reason, "verified");
+  EXPECT_EQ(v.replayed, 12);
+  EXPECT_EQ(verify_calls, 0);
+  EXPECT_EQ(params::ReadTextFile(o.log_path), logged);
+  // A log cut inside its last row is refused, never repaired by rewriting.
+  io::WriteFileAtomic(TempPath("scw_tuner_torn.csv"), logged.substr(0, logged.size() - 3));
+  o.verify_resume = false;
+  o.resume_path = o.log_path = TempPath("scw_tuner_torn.csv");
+  EXPECT_THROW(Tune({0.5, 0.5, 0.5, 0.5}, Bowl, o), ResumeMismatch);
+  EXPECT_EQ(params::ReadTextFile(o.log_path), logged.substr(0, logged.size() - 3));
+}
+
 std::vector<std::vector<std::string>> LogRows(const std::string& path) {
   std::vector<std::vector<std::string>> rows;
   std::ifstream in(path);
