@@ -12,6 +12,7 @@
 #include "params/schema/friction_patch_params.h"
 #include "params/schema/longitudinal_params.h"
 #include "params/schema/mpc_params.h"
+#include "params/schema/plant_variation_params.h"
 #include "params/schema/tire_params.h"
 
 namespace scw::params {
@@ -156,6 +157,7 @@ struct ScenarioParams {
   int laps = 3;
   AbortParams abort{};
   SubsystemSwitches subsystems{};
+  PlantVariationParams plant{};  ///< the simulated car's variation (plant_variation_params.h)
   int seed = 1;
   bool sensor_noise = false;
   double log_rate = 100.0;
@@ -222,6 +224,7 @@ struct ScenarioParams {
         {.key = "laps", .unit = "-", .lo = 1, .hi = 100, .doc = "Laps after the flying start."});
     v.Nested("abort", s.abort, true);
     v.Nested("subsystems", s.subsystems, true);
+    v.Nested("plant", s.plant, true);
     v.Field(s.seed, {.key = "seed",
                      .unit = "-",
                      .lo = 0,

@@ -56,15 +56,21 @@ struct BrakeParams {
                     "EAV24: 0.116 s, so that the whole actuator (this delay, the lag and the "
                     "rate limit below) reaches 63 % of an 80 bar step after 150 ms: the paper's "
                     "'about 150 ms' brake response of the real car (Pitschi et al.), read as "
-                    "the total response (`scw vehicle balance` prints it). Sensitivity: 0.006 s "
-                    "gives a 40 ms response."});
+                    "the total response (`scw vehicle balance` prints it). The split: the one "
+                    "public characterisation of a Dallara autonomous car's brake-by-wire (IAC "
+                    "AV-21R/AV-24 simulator specs: 0.04 s pure delay, 5 Hz, 1800 bar/s) gives the "
+                    "hydraulic lag and rate kept below; the rest of the 150 ms is dead time "
+                    "(docs/plant-calibration.md). Plausible range at the same 150 ms: 0.04-0.116 "
+                    "s (scenario key plant.brake_dead_time recomputes the lag). Sensitivity: "
+                    "0.006 s gives a 40 ms response."});
     v.Field(s.time_constant,
             {.key = "time_constant",
              .unit = "s",
              .lo = 0.0,
              .hi = 1.0,
              .doc = "First-order lag of the pressure build-up after the delay. 0.032 s = 5 Hz "
-                    "bandwidth (spec §9, AV-21 simulator)."});
+                    "bandwidth, the IAC's AV-21R brake-by-wire spec (autonomalabs AWSIM "
+                    "RacingSim/VehicleDynamics; spec §4.3, §9)."});
     v.Field(s.rate_limit,
             {.key = "rate_limit",
              .unit = "bar/s",

@@ -16,6 +16,7 @@
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
 #include "tuning/sim/plant_envelope.h"
+#include "tuning/sim/plant_variation.h"
 #include "tuning/sim/scenario.h"
 
 namespace scw::cli {
@@ -28,6 +29,7 @@ struct VehicleOptions {
   std::vector<double> speeds = {10, 20, 30, 40, 50, 60, 70, 80};
   bool csv = false;
   std::string out;
+  double brake_dead_time = -1.0;  ///< balance: also show this split (< 0: not asked)
 };
 
 params::VehicleParams LoadVehicle(const std::string& path) {
@@ -76,6 +78,18 @@ int Gg(const VehicleOptions& o, const std::string& cmd) {
 int Balance(const VehicleOptions& o, const std::string& cmd) {
   const params::VehicleParams p = LoadVehicle(o.vehicle);
   CheckSpeeds(o.speeds, cmd);
+  // The same total brake response with another dead time (the scenario key
+  // plant.brake_dead_time), checked before anything is printed.
+  params::BrakeParams split = p.brakes;
+  if (o.brake_dead_time >= 0.0) {
+    try {
+      split = tuning::BrakesWithDeadTime(p.brakes, p.simulation.time_step, o.brake_dead_time);
+    } catch (const ConfigError& e) {
+      std::vector<Problem> problems;
+      for (const Problem& pr : e.problems()) problems.push_back({"--brake-dead-time", pr.message});
+      throw ConfigError(cmd, std::move(problems));
+    }
+  }
   const plant::QuasiSteadyModel qs(p);
   const auto& tf = p.tires.front;
   const auto& tr = p.tires.rear;
@@ -102,10 +116,20 @@ int Balance(const VehicleOptions& o, const std::string& cmd) {
   std::cout << line;
   std::snprintf(line, sizeof line,
                 "brake actuator: 63 %% of an 80 bar step after %.0f ms (dead time %.0f ms, lag "
-                "%.0f ms, rate limit %.0f bar/s)\n\n",
+                "%.0f ms, rate limit %.0f bar/s)\n",
                 1e3 * plant::BrakeStepResponseTime(p.brakes, p.simulation.time_step),
                 1e3 * p.brakes.delay, 1e3 * p.brakes.time_constant, p.brakes.rate_limit);
-  std::cout << line
+  std::cout << line;
+  if (o.brake_dead_time >= 0.0) {
+    std::snprintf(line, sizeof line,
+                  "  with dead time %.1f ms: lag %.1f ms keeps 63 %% at %.0f ms (feasible dead "
+                  "times 0-%.0f ms)\n",
+                  1e3 * split.delay, 1e3 * split.time_constant,
+                  1e3 * plant::BrakeStepResponseTime(split, p.simulation.time_step),
+                  1e3 * tuning::FeasibleBrakeDeadTimes(p.brakes, p.simulation.time_step).max);
+    std::cout << line;
+  }
+  std::cout << "\n"
             << "  speed [m/s]   understeer gradient [mrad/(m/s^2)]   lateral   drive   brake "
                "[m/s^2]\n";
   for (double v : o.speeds) {
@@ -220,6 +244,10 @@ void AddVehicle(CLI::App& app) {
       ->delimiter(',')
       ->expected(1, -1);
   bal->add_flag("--csv", o->csv, "CSV output");
+  NumberIn(bal->add_option("--brake-dead-time", o->brake_dead_time,
+                           "Also print the brake lag that keeps the total response with this "
+                           "dead time [s] (the scenario key plant.brake_dead_time)"),
+           0.0, 1.0);
   bal->callback([o] { SetExitCode(Balance(*o, "scw vehicle balance")); });
 
   auto* env = cmd->add_subcommand(

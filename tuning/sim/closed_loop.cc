@@ -143,7 +143,7 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
   controller::StabilityOptions sopt;
   sopt.release_compat = sc.spec.subsystems.release_compat;
   const controller::StabilityController ctl(stab, sopt);
-  const plant::Vehicle car(sc.vehicle);
+  const plant::Vehicle car(sc.plant_vehicle);
   const auto motion = MakeMotionController(sc);
   const controller::motion::MotionController& pp = *motion;
   const controller::motion::LongitudinalController lon(sc.spec.motion.longitudinal,
@@ -164,8 +164,8 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
   const long log_every = std::max(1L, std::lround(1.0 / (sc.spec.log_rate * ts)));
   const double timeout = ab.timeout_factor * sc.spec.laps * std::max(sc.ideal_lap_time, 1.0);
   const PerWheel<double> brake_gain = {
-      sc.vehicle.brakes.torque_gain_front, sc.vehicle.brakes.torque_gain_front,
-      sc.vehicle.brakes.torque_gain_rear, sc.vehicle.brakes.torque_gain_rear};
+      sc.plant_vehicle.brakes.torque_gain_front, sc.plant_vehicle.brakes.torque_gain_front,
+      sc.plant_vehicle.brakes.torque_gain_rear, sc.plant_vehicle.brakes.torque_gain_rear};
 
   // The observers of the run (tuning/sim/run_observers.h, tuning/sim/trace_schema.h).
   LapCounter laps(track.length());
@@ -182,7 +182,7 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
   const auto start = sc.path->Sample(0.0);
   plant::State st = car.MakeState({start.x, start.y, start.psi, start.v});
   plant::SensorNoiseState noise(static_cast<std::uint64_t>(sc.spec.seed));
-  plant::SensorNoiseState* const noise_state = sc.vehicle.sensors.noise ? &noise : nullptr;
+  plant::SensorNoiseState* const noise_state = sc.plant_vehicle.sensors.noise ? &noise : nullptr;
   auto motion_state = pp.MakeState();
   controller::motion::MotionOutput mo;
   RequestPath requests(lon);

@@ -17,6 +17,7 @@
 #include "plant/track/yas_north.h"
 #include "tuning/sim/events.h"
 #include "tuning/sim/plant_envelope.h"
+#include "tuning/sim/plant_variation.h"
 #include "tuning/sim/prep_cache.h"
 #include "tuning/sim/track_csv.h"
 #include "tuning/sim/trajectory/racing_line.h"
@@ -351,12 +352,24 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
   sc.tracking.vehicle.max_angle = sc.vehicle.steering.max_angle;
   sc.longitudinal_model = LongitudinalModelFor(sc.vehicle);
 
+  // The simulated car (the scenario's plant section, docs/plant-calibration.md): after
+  // everything the car's software is built from, before the plant step (the brake lag that keeps
+  // the total response is found at the vehicle's own step, so it is the same at any plant_step).
+  try {
+    sc.plant_vehicle = ApplyPlantVariation(sc.vehicle, spec.plant);
+  } catch (const ConfigError& e) {
+    throw ConfigError(where, e.problems());
+  }
+  params::ValidateOrThrow(sc.plant_vehicle, where + " (vehicle with the scenario's plant section)");
+
   // The scenario's own plant step (docs/plant-step.md). Applied last: the racing line, the g-g-v
   // table and everything planned from them do not depend on it, so the memos above are shared
   // with the same scenario at the vehicle's step.
   if (spec.plant_step > 0.0) {
     sc.vehicle.simulation.time_step = spec.plant_step;
+    sc.plant_vehicle.simulation.time_step = spec.plant_step;
     params::ValidateOrThrow(sc.vehicle, where + " (vehicle with the scenario's plant_step)");
+    params::ValidateOrThrow(sc.plant_vehicle, where + " (vehicle with the scenario's plant_step)");
     const double ts = sc.stability.tS;
     const double ratio = ts / spec.plant_step;
     if (!(std::abs(ratio - std::round(ratio)) <= 1e-9 * ratio))

@@ -3,7 +3,8 @@
 // Resolution (once per scenario; the tuner then runs many stability parameter sets on it):
 //   track     built-in Yas Marina North, a piecewise .yaml definition or a .csv centre line
 //   vehicle   built-in EAV24-class car or a params/vehicles/*.yaml file; the scenario's grip
-//             factors multiply the vehicle's
+//             factors multiply the vehicle's; the scenario's `plant` section (actuator model,
+//             brake dead time, ...) changes only the simulated car (plant_vehicle)
 //   reference minimum-curvature racing line (or centre line, or a given raceline file) with the
 //             forward–backward velocity profile from the plant's own steady-state g-g-v limits
 //             (scw vehicle gg) times the acceleration scaling GG
@@ -42,10 +43,14 @@ struct ResolvedScenario {
   std::string source;  ///< scenario file or "built-in"
   std::shared_ptr<const plant::Track> track;
   std::shared_ptr<const controller::motion::Path> path;  ///< reference line with speed profile
-  double ideal_lap_time = 0.0;        ///< [s] of the reference (limits × limit_fraction × GG)
-  double limit_lap_time = 0.0;        ///< [s] on the same line at the plant's full g-g-v limits
-  params::VehicleParams vehicle;      ///< grip factors applied
-  params::StabilityParams stability;  ///< base set, vehicle keys injected
+  double ideal_lap_time = 0.0;    ///< [s] of the reference (limits × limit_fraction × GG)
+  double limit_lap_time = 0.0;    ///< [s] on the same line at the plant's full g-g-v limits
+  params::VehicleParams vehicle;  ///< grip factors applied: the car the software knows
+  /// The simulated car: `vehicle` with the scenario's `plant` section applied
+  /// (tuning/sim/plant_variation.h); the planner, the motion controllers and the stability node's
+  /// vehicle constants keep `vehicle`. Equal to `vehicle` when the section is at its defaults.
+  params::VehicleParams plant_vehicle;
+  params::StabilityParams stability;        ///< base set, vehicle keys injected
   std::set<std::string> stability_present;  ///< keys the stability file set
   params::TrackingParams tracking;
   controller::motion::LongitudinalModel longitudinal_model;

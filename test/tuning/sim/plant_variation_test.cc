@@ -1,0 +1,256 @@
+// The scenario's plant section (tuning/sim/plant_variation.h): identity at the defaults, the
+// brake dead time at a fixed total response, the paper's simulator's actuators, the rear tyre's
+// fall-off, the yaw inertia, and the section as scenario keys (files, --set, Monte-Carlo draws,
+// resolution: only the simulated car changes).
+#include "tuning/sim/plant_variation.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <set>
+#include <string>
+
+#include "params/io/write.h"
+#include "plant/actuator/actuators.h"
+#include "plant/tire/magic_formula.h"
+#include "tuning/sim/scenario.h"
+#include "tuning/sim/scenario_set.h"
+
+namespace scw::tuning {
+namespace {
+
+std::string ErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "<no error>";
+}
+
+bool Contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+TEST(PlantVariationTest, DefaultsAreTheVehicleBitForBit) {
+  const params::VehicleParams v;
+  const params::VehicleParams out = ApplyPlantVariation(v, params::PlantVariationParams{});
+  EXPECT_EQ(params::ToPlainYaml(out), params::ToPlainYaml(v));  // shortest round-trip text
+  // Explicit values that mean "as the vehicle file" are the identity too.
+  params::PlantVariationParams same;
+  same.actuators = "vehicle";
+  same.brake_dead_time = -0.5;
+  same.steering_delay = -1.0;
+  EXPECT_EQ(params::ToPlainYaml(ApplyPlantVariation(v, same)), params::ToPlainYaml(v));
+}
+
+TEST(PlantVariationTest, DeadTimeKeepsTheTotalResponseWithinOneStep) {
+  const params::VehicleParams v;
+  const double h = v.simulation.time_step;
+  const double total = plant::BrakeStepResponseTime(v.brakes, h);
+  EXPECT_NEAR(total, 0.150, 1e-9);  // the EAV24's 150 ms (paper: "about 150 ms")
+  const DeadTimeRange range = FeasibleBrakeDeadTimes(v.brakes, h);
+  EXPECT_NEAR(range.max, 0.121, 1e-9);  // 150 ms - 29 steps of 1.8 bar to reach 50.6 bar
+  double last_lag = 2.0;
+  for (double d : {0.0, 0.03, 0.06, 0.09, 0.116, 0.121}) {
+    params::PlantVariationParams p;
+    p.brake_dead_time = d;
+    const params::VehicleParams out = ApplyPlantVariation(v, p);
+    EXPECT_EQ(out.brakes.delay, d);
+    EXPECT_NEAR(plant::BrakeStepResponseTime(out.brakes, h), total, 0.5 * h) << d;
+    EXPECT_LT(out.brakes.time_constant, last_lag) << "a longer dead time leaves a shorter lag";
+    last_lag = out.brakes.time_constant;
+    // Everything else is the vehicle's.
+    params::VehicleParams back = out;
+    back.brakes.delay = v.brakes.delay;
+    back.brakes.time_constant = v.brakes.time_constant;
+    EXPECT_EQ(params::ToPlainYaml(back), params::ToPlainYaml(v));
+  }
+  // The vehicle's own dead time is the vehicle file bit for bit (a sweep over dead times that
+  // includes it reproduces the baseline run).
+  params::PlantVariationParams own;
+  own.brake_dead_time = v.brakes.delay;
+  EXPECT_EQ(params::ToPlainYaml(ApplyPlantVariation(v, own)), params::ToPlainYaml(v));
+  // A 30 ms dead time needs about a 120 ms lag (the measured alternative split).
+  own.brake_dead_time = 0.03;
+  EXPECT_NEAR(ApplyPlantVariation(v, own).brakes.time_constant, 0.12, 0.005);
+}
+
+TEST(PlantVariationTest, InfeasibleDeadTimeNamesTheKeyAndTheRange) {
+  params::PlantVariationParams p;
+  p.brake_dead_time = 0.13;
+  const std::string e = ErrorOf([&] { ApplyPlantVariation(params::VehicleParams{}, p); });
+  EXPECT_TRUE(Contains(e, "plant.brake_dead_time: 0.13 s is outside the feasible range 0-0.121 s"))
+      << e;
+  EXPECT_TRUE(Contains(e, "total response (63 % of an 80 bar step) is 0.15 s")) << e;
+  // The paper's simulator's brakes respond within two steps: no dead time fits.
+  p.actuators = "paper_sim";
+  p.brake_dead_time = 0.01;
+  EXPECT_TRUE(Contains(ErrorOf([&] { ApplyPlantVariation(params::VehicleParams{}, p); }),
+                       "plant.brake_dead_time: 0.01 s is outside the feasible range 0-0 s"));
+}
+
+TEST(PlantVariationTest, PaperSimAppliesTheDocumentedValues) {
+  const params::VehicleParams v;
+  params::PlantVariationParams p;
+  p.actuators = "paper_sim";
+  const params::VehicleParams out = ApplyPlantVariation(v, p);
+  EXPECT_EQ(out.brakes.delay, 0.0);
+  EXPECT_EQ(out.brakes.time_constant, 0.0);
+  EXPECT_EQ(out.brakes.rate_limit, 100000.0);
+  EXPECT_EQ(out.brakes.torque_gain_front, v.brakes.torque_gain_front);
+  EXPECT_EQ(out.brakes.max_pressure, v.brakes.max_pressure);
+  EXPECT_EQ(out.steering.delay, 0.06);
+  EXPECT_EQ(out.steering.time_constant, 0.06);
+  EXPECT_EQ(out.steering.rate_limit, 0.5);
+  EXPECT_EQ(out.steering.max_angle, v.steering.max_angle);
+  // No brake-pressure dynamics: an 80 bar step is there within the 100 bar-per-step rate.
+  EXPECT_LE(plant::BrakeStepResponseTime(out.brakes, v.simulation.time_step),
+            v.simulation.time_step + 1e-12);
+  EXPECT_TRUE(params::Validate(out).empty());
+  // The steering delay overrides either model's.
+  p.steering_delay = 0.03;
+  EXPECT_EQ(ApplyPlantVariation(v, p).steering.delay, 0.03);
+  p.actuators = "vehicle";
+  p.steering_delay = 0.0;
+  EXPECT_EQ(ApplyPlantVariation(v, p).steering.delay, 0.0);
+}
+
+TEST(PlantVariationTest, YawInertiaScales) {
+  params::PlantVariationParams p;
+  p.yaw_inertia_scale = 1.2;
+  const params::VehicleParams v;
+  EXPECT_EQ(ApplyPlantVariation(v, p).chassis.yaw_inertia, v.chassis.yaw_inertia * 1.2);
+  p.yaw_inertia_scale = 0.8;
+  EXPECT_EQ(ApplyPlantVariation(v, p).chassis.yaw_inertia, v.chassis.yaw_inertia * 0.8);
+}
+
+// Lateral force of the rear tyre at nominal load and slip angle a [rad].
+double RearFy(const params::Mf52Params& t, double a) {
+  return plant::TireForces({t.fnomin, 0.0, a, 1.0, 1.0}, t).fy;
+}
+
+double PeakFy(const params::Mf52Params& t) {
+  double peak = 0.0;
+  for (int i = 1; i <= 600; ++i) peak = std::max(peak, RearFy(t, 0.001 * i));
+  return peak;
+}
+
+TEST(PlantVariationTest, RearTyreFalloffScalesTheLossBeyondThePeak) {
+  const params::Mf52Params rear = params::VehicleParams{}.tires.rear;
+  const double sliding = std::sin(rear.pcy1 * M_PI / 2.0);  // 0.588
+  EXPECT_EQ(params::ToPlainYaml(WithFalloff(rear, 1.0)), params::ToPlainYaml(rear));
+  for (double s : {0.0, 0.5, 1.5, 2.0}) {
+    const params::Mf52Params t = WithFalloff(rear, s);
+    EXPECT_NEAR(std::sin(t.pcy1 * M_PI / 2.0), 1.0 - s * (1.0 - sliding), 1e-12) << s;
+    EXPECT_GE(t.pcy1, 1.0);
+    EXPECT_LT(t.pcy1, 2.0);
+    // Peak friction and cornering stiffness stay; the front tyre is not touched.
+    EXPECT_EQ(plant::PeakFriction(t.fnomin, 1, 1, t).mu_y,
+              plant::PeakFriction(t.fnomin, 1, 1, rear).mu_y);
+    EXPECT_EQ(plant::CorneringStiffness(t.fnomin, t), plant::CorneringStiffness(t.fnomin, rear));
+    EXPECT_NE(t.pcx1, rear.pcx1);  // the longitudinal curve too
+  }
+  // At large slip the force falls with the fall-off, and the peak itself stays within 1 %.
+  const double peak = PeakFy(rear);
+  double last = 1e9;
+  for (double s : {0.0, 0.5, 1.0, 1.5, 2.0}) {
+    const params::Mf52Params t = WithFalloff(rear, s);
+    const double fy = RearFy(t, 0.35);  // 20 deg
+    EXPECT_LT(fy, last) << s;
+    last = fy;
+    EXPECT_NEAR(PeakFy(t) / peak, 1.0, s == 0.0 ? 0.02 : 0.01) << s;
+  }
+  // Beyond 1 / (1 - sin(C pi/2)) = 2.43 the sliding force would be negative.
+  const std::string e = ErrorOf([&] { WithFalloff(rear, 2.5); });
+  EXPECT_TRUE(Contains(e,
+                       "plant.rear_tire_falloff: 2.5 is outside the feasible range "
+                       "0 <= falloff < 2.32"))
+      << e;  // PCX1 1.6144 is the tighter one
+  params::Mf52Params no_peak = rear;
+  no_peak.pcy1 = 0.9;
+  EXPECT_TRUE(Contains(ErrorOf([&] { WithFalloff(no_peak, 0.5); }), "only 1 is accepted"));
+  EXPECT_NO_THROW(WithFalloff(no_peak, 1.0));
+}
+
+TEST(PlantVariationTest, SectionIsAScenarioKeyPrintedOnlyWhenSet) {
+  const params::ScenarioParams def = DefaultScenario();
+  EXPECT_FALSE(Contains(params::ToPlainYaml(def), "plant:"));
+  const params::ScenarioParams set = DefaultScenario(
+      {"plant.actuators=paper_sim", "plant.brake_dead_time=0.06", "plant.yaw_inertia_scale=1.1"});
+  EXPECT_EQ(set.plant.actuators, "paper_sim");
+  EXPECT_EQ(set.plant.brake_dead_time, 0.06);
+  const std::string text = params::ToPlainYaml(set);
+  EXPECT_TRUE(Contains(text,
+                       "plant:\n  actuators: \"paper_sim\"\n  brake_dead_time: 0.06\n"
+                       "  yaw_inertia_scale: 1.1\n"))
+      << text;
+  EXPECT_TRUE(Contains(ErrorOf([] { DefaultScenario({"plant.actuators=ocd"}); }),
+                       "plant.actuators: 'ocd' is not one of vehicle|paper_sim"));
+  EXPECT_TRUE(Contains(ErrorOf([] { DefaultScenario({"plant.yaw_inertia_scale=2"}); }),
+                       "plant.yaw_inertia_scale: 2 is above the upper bound 1.5"));
+}
+
+TEST(PlantVariationTest, MonteCarloBlocksDrawThePlantKeys) {
+  const ScenarioSet s = ScenarioSet::FromYamlText(
+      "training:\n"
+      "  - monte_carlo:\n"
+      "      name: robust\n"
+      "      count: 8\n"
+      "      seed: 3\n"
+      "      vary:\n"
+      "        plant.brake_dead_time: {uniform: [0.03, 0.116], step: 0.001}\n"
+      "        plant.steering_delay: {uniform: [0.02, 0.06], step: 0.005}\n"
+      "        plant.rear_tire_falloff: {uniform: [0.5, 1.5]}\n"
+      "        plant.yaw_inertia_scale: {uniform: [0.8, 1.2]}\n"
+      "      grid:\n"
+      "        plant.actuators: [vehicle, paper_sim]\n"
+      "held_out:\n  - {name: clean, set: [laps=1]}\n",
+      "robust.yaml");
+  ASSERT_EQ(s.training.size(), 16u);
+  std::set<std::string> actuators;
+  std::set<double> dead_times;
+  for (const auto& e : s.training) {
+    const params::ScenarioParams spec = LoadEntry(e, "");
+    actuators.insert(spec.plant.actuators);
+    dead_times.insert(spec.plant.brake_dead_time);
+    EXPECT_GE(spec.plant.brake_dead_time, 0.03);
+    EXPECT_LE(spec.plant.brake_dead_time, 0.116);
+    EXPECT_GE(spec.plant.steering_delay, 0.02);
+    EXPECT_LE(spec.plant.steering_delay, 0.06);
+    EXPECT_GE(spec.plant.rear_tire_falloff, 0.5);
+    EXPECT_LE(spec.plant.rear_tire_falloff, 1.5);
+    EXPECT_GE(spec.plant.yaw_inertia_scale, 0.8);
+    EXPECT_LE(spec.plant.yaw_inertia_scale, 1.2);
+  }
+  EXPECT_EQ(actuators, (std::set<std::string>{"vehicle", "paper_sim"}));
+  EXPECT_GT(dead_times.size(), 4u);
+}
+
+TEST(PlantVariationTest, ResolveChangesOnlyTheSimulatedCar) {
+  const ResolvedScenario base = Resolve(DefaultScenario({"laps=1"}));
+  EXPECT_EQ(params::ToPlainYaml(base.plant_vehicle), params::ToPlainYaml(base.vehicle));
+  const ResolvedScenario sc = Resolve(DefaultScenario(
+      {"laps=1", "plant.yaw_inertia_scale=1.2", "plant.brake_dead_time=0.03", "plant_step=0.002"}));
+  // The car's software knows the vehicle file: planner, vehicle constants, controller models.
+  EXPECT_EQ(sc.vehicle.chassis.yaw_inertia, base.vehicle.chassis.yaw_inertia);
+  EXPECT_EQ(sc.stability.vehicle.inertia.yaw, base.stability.vehicle.inertia.yaw);
+  EXPECT_EQ(sc.ideal_lap_time, base.ideal_lap_time);
+  // The plant is the varied car, at the scenario's plant step, with the lag found at the
+  // vehicle's own step.
+  EXPECT_EQ(sc.plant_vehicle.chassis.yaw_inertia, 1.2 * base.vehicle.chassis.yaw_inertia);
+  EXPECT_EQ(sc.plant_vehicle.simulation.time_step, 0.002);
+  EXPECT_EQ(sc.plant_vehicle.brakes.delay, 0.03);
+  params::PlantVariationParams p;
+  p.brake_dead_time = 0.03;
+  EXPECT_EQ(sc.plant_vehicle.brakes.time_constant,
+            ApplyPlantVariation(base.vehicle, p).brakes.time_constant);
+  // A bad value names the scenario and the key.
+  const std::string e = ErrorOf([] { Resolve(DefaultScenario({"plant.brake_dead_time=0.2"})); });
+  EXPECT_TRUE(Contains(e, "scenario default: plant.brake_dead_time: 0.2 s is outside")) << e;
+}
+
+}  // namespace
+}  // namespace scw::tuning
