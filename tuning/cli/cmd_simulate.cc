@@ -8,6 +8,7 @@
 
 #include "params/io/csv.h"
 #include "params/io/load.h"
+#include "params/io/test_fault.h"
 #include "params/io/write.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/progress.h"
@@ -64,6 +65,15 @@ int RunSimulate(const SimulateOptions& o) {
     ro.on_controller_input = [&](const controller::StabilityInput& in) { log_row = in; };
     ro.on_controller_output = [&](const controller::StabilityOutput& out) {
       log->Write(log_row, out);
+    };
+  }
+  {
+    // Tests interrupt the run here, at a defined step (output_targets_test).
+    auto inner = std::move(ro.on_controller_input);
+    long steps = 0;
+    ro.on_controller_input = [inner, steps](const controller::StabilityInput& in) mutable {
+      if (inner) inner(in);
+      io::TestFaultPoint("simulate-step", ++steps);
     };
   }
   if (progress.enabled()) {
