@@ -167,7 +167,17 @@ const YamlNode* FindNode(const YamlNode* map, const std::string& path) {
 
 std::string SuggestKey(const std::string& unknown, const std::vector<std::string>& known) {
   const std::vector<std::string_view> candidates(known.begin(), known.end());
-  return ClosestWord(unknown, candidates, std::max<std::size_t>(3, unknown.size() / 5) + 1);
+  std::string best =
+      ClosestWord(unknown, candidates, std::max<std::size_t>(3, unknown.size() / 5) + 1);
+  if (!best.empty()) return best;
+  // A key without its unit suffix or last part (`abort.max_sideslip` for
+  // `abort.max_sideslip_deg`): the shortest known key that extends it at a word boundary.
+  for (const auto& k : known)
+    if (k.size() > unknown.size() && k.compare(0, unknown.size(), unknown) == 0 &&
+        (k[unknown.size()] == '_' || k[unknown.size()] == '.') &&
+        (best.empty() || k.size() < best.size()))
+      best = k;
+  return best;
 }
 
 }  // namespace scw::params::detail
