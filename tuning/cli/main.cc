@@ -180,8 +180,10 @@ int RunCommand(int argc, char** argv) {
   std::function<void(CLI::App*)> add_exit_codes = [&](CLI::App* a) {
     for (CLI::App* sub : a->get_subcommands({})) {
       if (dynamic_cast<CLI::Option_group*>(sub) != nullptr) continue;  // printed with its command
+      // A command without a footer of its own has inherited the program's (the exit codes).
       const std::string own = sub->get_footer();
-      sub->footer(own.empty() ? std::string(kExitCodesHelp) : own + "\n\n" + kExitCodesHelp);
+      if (own.find(kExitCodesHelp) == std::string::npos)
+        sub->footer(own.empty() ? std::string(kExitCodesHelp) : own + "\n\n" + kExitCodesHelp);
       add_exit_codes(sub);
     }
   };
