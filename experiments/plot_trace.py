@@ -3,8 +3,11 @@
 figure (Fig. "first lap at GG = 1.4"), over the distance driven (or time):
 
   speed (actual, and the target speed of the reference dashed), lateral error, heading error,
-  sideslip β, longitudinal wheel slip, brake pressure (requested dashed, applied solid) and the
-  interventions of all four subsystems (ESC, CS, ABS, TC);
+  sideslip β, yaw rate against ESC's yaw-rate reference, ESC's yaw-moment demand, steering
+  (requested dashed, the stability controller's output solid: countersteer is the difference),
+  throttle (requested dashed, output solid: TC's cut is the difference), longitudinal wheel slip,
+  brake pressure (requested dashed, applied solid) and the interventions of all four subsystems
+  (ESC, CS, ABS, TC);
 
 with lap boundaries, grey bands where a scenario event (a throttle or steering fault, a rear-grip
 loss, a gust: the trace's `events` column) was active and, where the run aborted, the abort point
@@ -16,10 +19,11 @@ Several traces (overlaid, e.g. the four configurations of study 2): one colour p
 slip panel shows the wheel with the largest |slip| at each instant and the pressure panel the sum
 over the four wheels; one row per trace in the intervention panel with a lane per subsystem.
 
-How a run ended is not in the trace: it comes from the run summary (scw simulate --summary
-S.yaml), given with --summary or found beside the trace as <trace>.yaml, <trace>_summary.yaml or
-<trace>.summary.yaml. Without one the figure says the end is unknown. The parameter set is not
-recorded either: name it with --params (e.g. --params "tuned (stability_tuned.yaml)").
+The title comes from the trace itself: scw simulate --trace T.csv writes T.csv.meta.yaml beside
+it (scenario, overrides, parameter files, and how the run ended). Without it (a trace of an older
+scw, or of scw sweep --trace-dir), the run summary (scw simulate --summary S.yaml) is used, given
+with --summary or found beside the trace as <trace>.yaml, <trace>_summary.yaml or
+<trace>.summary.yaml; --params names the parameter set instead of the recorded file.
 
     python3 experiments/plot_trace.py TRACE.csv [TRACE2.csv ...] -o FIG.png
         [--summary S.yaml ...] [--params NAME] [--labels a,b,...] [--x distance|time]
@@ -62,7 +66,7 @@ REASONS = {
 }
 
 
-FIG_H = 15.5  # figure height [in]
+FIG_H = 22.0  # figure height [in]
 
 
 class TraceError(ValueError):
@@ -136,9 +140,17 @@ def load_summary(path):
     return out
 
 
+def parameter_set(summary):
+    """The stability parameter set a run used, from the trace's meta file: the file's name, or
+    the built-in set."""
+    value = summary.get("stability", "")
+    return value if value.startswith("built-in") else os.path.basename(value)
+
+
 def find_summary(trace):
     stem = os.path.splitext(trace)[0]
-    for cand in (stem + ".yaml", stem + "_summary.yaml", stem + ".summary.yaml"):
+    for cand in (trace + ".meta.yaml", stem + ".yaml", stem + "_summary.yaml",
+                 stem + ".summary.yaml"):
         if os.path.isfile(cand):
             return cand
     return None
@@ -229,7 +241,8 @@ def plot(paths, out, labels=None, x="distance", lap=None, title=None, summaries=
                   for p, s in zip(paths, summaries)]
     ends = [end_text(s) for s in summaries]
 
-    panels = [("speed", 1.0), ("lateral", 0.8), ("heading", 0.8), ("beta", 1.0), ("slip", 1.0),
+    panels = [("speed", 1.0), ("lateral", 0.7), ("heading", 0.7), ("beta", 1.0), ("yaw", 1.0),
+              ("moment", 0.8), ("steer", 1.0), ("throttle", 0.8), ("slip", 1.0),
               ("brake", 1.0), ("int", 0.2 + (0.35 if multi else 0.16) * (len(traces) if multi else
                                                                           len(INTERVENTIONS)))]
     fig, axes = plt.subplots(len(panels), 1, figsize=(10, FIG_H), sharex=True,
@@ -249,6 +262,28 @@ def plot(paths, out, labels=None, x="distance", lap=None, title=None, summaries=
         ax["lateral"].plot(xs, cols["lateral_error_m"], color=color, lw=1.0)
         ax["heading"].plot(xs, cols["heading_error_deg"], color=color, lw=1.0)
         ax["beta"].plot(xs, cols["beta_deg"], color=color, lw=1.0)
+        deg = 180.0 / math.pi
+        if "yaw_rate_radps" in cols:
+            ax["yaw"].plot(xs, cols["yaw_rate_radps"] * deg, color=color, lw=1.0,
+                           label=None if multi else "actual")
+        if "yaw_rate_ref_radps" in cols:
+            ax["yaw"].plot(xs, cols["yaw_rate_ref_radps"] * deg,
+                           color=color if multi else "tab:purple", lw=0.9, ls="--",
+                           label=None if multi else "ESC reference")
+        if "yaw_moment_Nm" in cols:
+            ax["moment"].plot(xs, cols["yaw_moment_Nm"] / 1000.0,
+                              color=color if multi else "tab:red", lw=1.0)
+        # Requested dashed, the stability controller's output solid (one trace: the output in
+        # the colour of the subsystem that changes it: countersteer, TC).
+        for name, req, cmd, scale, c in (("steer", "steer_req_rad", "steer_out_rad", deg,
+                                          "tab:blue"),
+                                         ("throttle", "throttle_req", "throttle_out", 100.0,
+                                          "tab:green")):
+            if req in cols and cmd in cols:
+                ax[name].plot(xs, cols[req] * scale, color=color if multi else "0.35", lw=0.9,
+                              ls="--", label=None if multi else "requested")
+                ax[name].plot(xs, cols[cmd] * scale, color=color if multi else c, lw=1.0,
+                              label=None if multi else "output")
 
         slip = wheel_cols(cols, "slip_{}_pct")
         req, app = wheel_cols(cols, "p_req_{}_bar"), wheel_cols(cols, "p_out_{}_bar")
@@ -319,13 +354,15 @@ def plot(paths, out, labels=None, x="distance", lap=None, title=None, summaries=
 
     units = [("speed", "speed [m/s]"), ("lateral", "lateral error [m]"),
              ("heading", "heading error [deg]"), ("beta", "sideslip β [deg]"),
+             ("yaw", "yaw rate [deg/s]"), ("moment", "ESC yaw moment\n[kN·m]"),
+             ("steer", "steering (tyre)\n[deg]"), ("throttle", "throttle [%]"),
              ("slip", "longitudinal slip [%]" + ("\n(largest |slip| of\nthe four wheels)"
                                                 if multi else "")),
              ("brake", "brake pressure [bar]" + ("\n(sum of the four\nwheels)" if multi else ""))]
     for name, ylabel in units:
         ax[name].set_ylabel(ylabel, fontsize=9)
         ax[name].grid(True, alpha=0.3)
-    for name in ("slip", "brake"):
+    for name in ("yaw", "moment", "steer", "throttle", "slip", "brake"):
         if not ax[name].lines:
             ax[name].text(0.5, 0.5, "not in this trace", ha="center", va="center",
                           transform=ax[name].transAxes, color="0.4")
@@ -345,7 +382,10 @@ def plot(paths, out, labels=None, x="distance", lap=None, title=None, summaries=
     if title is None:
         scen = sorted({s["scenario"] for s in summaries if s and "scenario" in s})
         what = ("scenario " + ", ".join(scen)) if scen else "scenario: not recorded (--summary)"
-        title = f"{what} — parameters: {params or 'not given (--params)'}"
+        if not params:
+            recorded = sorted({parameter_set(s) for s in summaries if s and "stability" in s})
+            params = ", ".join(recorded) if recorded else None
+        title = f"{what} — parameters: {params or 'not recorded (--params)'}"
         if not multi:
             title += "\n" + ends[0][1]
         if lap is not None:
@@ -369,6 +409,9 @@ def plot(paths, out, labels=None, x="distance", lap=None, title=None, summaries=
         ax["brake"].legend(handles=style, fontsize=8, loc="upper right", ncol=2)
     else:
         ax["speed"].legend(fontsize=8, loc="lower left", ncol=2, framealpha=0.9)
+        for name in ("yaw", "steer", "throttle"):
+            if ax[name].lines:
+                ax[name].legend(fontsize=8, loc="lower left", ncol=2, framealpha=0.9)
         ax["slip"].legend(fontsize=8, loc="lower left", ncol=4, framealpha=0.9)
         ax["brake"].legend(handles=[Line2D([], [], color=c, lw=1.0, label=nm)
                                     for _, nm, c in WHEELS] + style,
@@ -382,7 +425,8 @@ def plot(paths, out, labels=None, x="distance", lap=None, title=None, summaries=
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     fig.savefig(out, dpi=110, metadata={"Software": None})
     plt.close(fig)
-    return out
+    drawn = [name for name, _ in panels if name == "int" or ax[name].lines]
+    return out, title, drawn
 
 
 def main(argv=None):
@@ -410,11 +454,14 @@ def main(argv=None):
             p.error(f"no such file: {t}" if not os.path.exists(t) else f"not a regular file: {t}")
     out = args.out or os.path.splitext(args.traces[0])[0] + ".png"
     try:
-        plot(args.traces, out, labels, args.x, args.lap, args.title, args.summary, args.params)
+        _, title, drawn = plot(args.traces, out, labels, args.x, args.lap, args.title,
+                               args.summary, args.params)
     except TraceError as e:
         print(f"plot_trace.py: error: {e}", file=sys.stderr)
         return 2
     print(f"wrote {out}")
+    print("title: " + title.replace("\n", " | "))
+    print("panels: " + ", ".join(drawn))
     return 0
 
 

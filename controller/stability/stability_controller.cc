@@ -33,7 +33,8 @@ bool Finite(double x) { return std::isfinite(x); }
 
 bool OutputFinite(const StabilityOutput& o) {
   return Finite(o.steering) && AllFinite(o.brake_bar) && Finite(o.throttle) &&
-         Finite(o.yaw_moment) && AllFinite(o.slip_pct) && AllFinite(o.slip_angle);
+         Finite(o.yaw_moment) && Finite(o.yaw_rate_ref) && AllFinite(o.slip_pct) &&
+         AllFinite(o.slip_angle);
 }
 
 }  // namespace
@@ -177,6 +178,7 @@ StabilityOutput StabilityController::Step(const Input& in, State* s) const noexc
   out.abs_state = sc.abs_phase;
   out.tc_state = sc.tc_phase;
   out.yaw_moment = esc.yaw_moment;
+  out.yaw_rate_ref = esc.reference.yaw_rate;
   out.slip_pct = slips.slip_pct;
   out.slip_angle = slips.slip_angle;
   out.v_ref = slips.v_ref;

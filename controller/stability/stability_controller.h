@@ -95,6 +95,7 @@ struct StabilityOutput {
   PerWheel<SlipPhase> abs_state{};   ///< 0 inactive, 1 reduce, 2 hold, 3 increase
   PerWheel<SlipPhase> tc_state{};
   double yaw_moment = 0.0;        ///< ESC demand M [N·m], > 0 turns left
+  double yaw_rate_ref = 0.0;      ///< ESC's yaw-rate reference ψ̇_ref [rad/s] (0 in pass-through)
   PerWheel<double> slip_pct{};    ///< λ [%]
   PerWheel<double> slip_angle{};  ///< α [rad] (with low-speed fade)
   // Diagnostics.

@@ -126,6 +126,16 @@ std::string ResolveFinalSymlinks(const std::string& path, ProcLink* proc) {
 
 constexpr std::size_t kBufferSize = std::size_t{1} << 18;
 
+/// Whether an existing regular file must not be replaced: the rename needs write permission on
+/// the folder only, so the file's own permission is checked here, as `cp` and the shell's `>`
+/// would (for the effective user, ACLs included). For root, which the kernel lets write anything,
+/// a file with no write bit at all (e.g. 0444) counts as write-protected too: such a file is
+/// protected on purpose (docs/robustness.md).
+bool WriteProtected(const std::string& file, const struct stat& st) {
+  if (::geteuid() == 0) return (st.st_mode & 0222) == 0;
+  return ::faccessat(AT_FDCWD, file.c_str(), W_OK, AT_EACCESS) != 0 && errno == EACCES;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -143,6 +153,12 @@ AtomicWriter::AtomicWriter(std::string path) : path_(std::move(path)), target_(p
 
   struct stat st {};
   const bool exists = ::stat(path_.c_str(), &st) == 0;
+  if (exists && S_ISDIR(st.st_mode))
+    throw std::runtime_error("cannot write " + path_ + ": it is a folder; give a file name (e.g. " +
+                             (path_.back() == '/' ? path_ : path_ + "/") + "NAME)");
+  if (path_.back() == '/')
+    throw std::runtime_error("cannot write " + path_ +
+                             ": a file name cannot end in '/' (and no such folder exists)");
   if (exists && !S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode)) {
     if (!S_ISCHR(st.st_mode) && !S_ISFIFO(st.st_mode))
       throw std::runtime_error("cannot write " + path_ + ": it is " +
@@ -176,6 +192,15 @@ AtomicWriter::AtomicWriter(std::string path) : path_(std::move(path)), target_(p
 
   static std::atomic<unsigned> counter{0};
   const bool keep_mode = exists && S_ISREG(st.st_mode);
+  if (keep_mode && WriteProtected(target_, st)) {
+    char mode[8];
+    std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(st.st_mode & 07777));
+    throw std::runtime_error("cannot write " + path_ + ": " +
+                             (target_ != path_ ? "its target " + target_ + " " : std::string()) +
+                             "is write-protected (mode " + mode +
+                             "); the file was not changed. Make it writable (chmod u+w) or remove "
+                             "it first, or write elsewhere");
+  }
   int error = 0;
   // A name left by a hard-killed run whose pid is reused: try the next one (O_EXCL never opens an
   // existing file or a planted link).

@@ -18,8 +18,12 @@
 //     (/dev/stdout, /dev/fd/N) writes through that descriptor, so `-o /dev/stdout >> log`
 //     appends like `-o - >> log`. A failed direct write may have written part of the text.
 //   * a block device or a socket: refused (std::runtime_error naming the path).
-//   * a folder: the temporary file is written and the rename fails at Commit() with a message
-//     naming the path; the folder is untouched.
+//   * a folder, or a path ending in '/': refused at once (std::runtime_error naming the path);
+//     the folder is untouched.
+//   * an existing regular file that is write-protected: refused at once, the file unchanged. The
+//     rename needs write permission on the folder only, so the writer checks the file itself, as
+//     `cp` does: for the effective user (faccessat, ACLs included), and for root, which may write
+//     anything, a file without any write bit (e.g. 0444).
 //
 // Interruption: while a temporary file exists its name is in a process-wide registry (fixed size,
 // no allocation). RemoveTemporaryFiles() unlinks every registered name and is async-signal-safe;
@@ -39,7 +43,7 @@ class AtomicWriter {
  public:
   /// How the target is written (see the file comment).
   enum class Mode {
-    kReplace,  ///< temporary file + rename (regular file, new file, followed symlink, folder)
+    kReplace,  ///< temporary file + rename (regular file, new file, followed symlink)
     kDirect,   ///< opened and written in place (character device, FIFO, /proc magic link)
     kStdout,   ///< `-`: standard output (file descriptor 1, not closed)
   };

@@ -1,10 +1,14 @@
 #include "params/io/csv.h"
 
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <stdexcept>
+#include <system_error>
 #include <utility>
 
 #include "params/io/text.h"
@@ -243,8 +247,18 @@ const std::vector<double>* CsvTable::Column(const std::string& name) const {
 
 CsvTable ReadCsvTable(const std::string& path, const std::vector<std::string>& required,
                       const std::vector<std::string>& optional) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw ConfigError(path, "", "is a directory, not a file");
+  errno = 0;
   std::ifstream in(path);
-  if (!in) throw ConfigError(path, "", "cannot open the file for reading");
+  if (!in) {
+    const int error = errno;
+    throw ConfigError(
+        path, "",
+        "cannot open the file for reading" +
+            (error != 0 ? " (" + std::string(std::strerror(error)) + ")" : std::string()));
+  }
   std::string line;
   int line_no = 0;
   std::vector<std::string> header;

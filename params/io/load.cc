@@ -167,7 +167,18 @@ const YamlNode* FindNode(const YamlNode* map, const std::string& path) {
 
 std::string SuggestKey(const std::string& unknown, const std::vector<std::string>& known) {
   const std::vector<std::string_view> candidates(known.begin(), known.end());
-  return ClosestWord(unknown, candidates, std::max<std::size_t>(3, unknown.size() / 5) + 1);
+  std::string best =
+      ClosestWord(unknown, candidates, std::max<std::size_t>(3, unknown.size() / 5) + 1);
+  if (!best.empty()) return best;
+  // A key without its unit suffix (`abort.max_sideslip` for `abort.max_sideslip_deg`): the
+  // known key that is the unknown one plus `_` and one word.
+  for (const auto& k : known)
+    if (k.size() > unknown.size() + 1 && k.compare(0, unknown.size(), unknown) == 0 &&
+        k[unknown.size()] == '_' &&
+        k.find_first_of("._", unknown.size() + 1) == std::string::npos &&
+        (best.empty() || k.size() < best.size()))
+      best = k;
+  return best;
 }
 
 }  // namespace scw::params::detail

@@ -413,6 +413,9 @@ P LoadFromText(const std::string& text, const std::string& file, const LoadOptio
   Problems problems;
   const YamlNode root = ParseYaml(text, file);
   const FlatDoc doc = Flatten(root, opt.layout, opt.node_key, &problems);
+  // No parameter map at all (an empty file, a list, no node section): that one problem, not
+  // also every required key as missing.
+  if (doc.map == nullptr && !problems.empty()) throw ConfigError(file, problems.items());
 
   P p{};
   detail::LoadContext ctx{opt, problems, rep};

@@ -3,10 +3,15 @@
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 namespace scw::params {
 
@@ -81,7 +86,9 @@ namespace {
 
 class TreeBuilder : public YAML::EventHandler {
  public:
-  explicit TreeBuilder(std::string file) : file_(std::move(file)) {}
+  /// `text`: the source (to tell `key:` from a bare `key`); may be empty.
+  explicit TreeBuilder(std::string file, std::string_view text = {})
+      : file_(std::move(file)), text_(text) {}
 
   void OnDocumentStart(const YAML::Mark&) override {}
   void OnDocumentEnd() override {}
@@ -106,6 +113,8 @@ class TreeBuilder : public YAML::EventHandler {
     n.text = value;
     n.quoted = (tag == "!");
     n.line = mark.line + 1;
+    scalar_line_ = mark.line;
+    scalar_column_ = mark.column;
     Add(std::move(n));
   }
   void OnSequenceStart(const YAML::Mark& mark, const std::string&, YAML::anchor_t anchor,
@@ -170,6 +179,7 @@ class TreeBuilder : public YAML::EventHandler {
       if (n.kind != YamlNode::Kind::kScalar)
         throw ConfigError(file_, "",
                           "line " + std::to_string(n.line) + ": map keys must be plain scalars");
+      if (!top.node.flow && !n.quoted) CheckColonAfterKey(n);
       top.pending_key = n.text;
       top.has_key = true;
     } else {
@@ -178,7 +188,34 @@ class TreeBuilder : public YAML::EventHandler {
     }
   }
 
+  /// A plain key of a block map must be followed by ':'. yaml-cpp reads a bare word at the end
+  /// of a map (a file cut off mid-key) as a key without a value; rcl's libyaml refuses it, and so
+  /// do we, as the syntax error it is, rather than as an unknown key and missing keys.
+  void CheckColonAfterKey(const YamlNode& key) const {
+    if (text_.empty() || scalar_line_ < 0 || scalar_column_ < 0) return;
+    // By line and column (yaml-cpp's character offset need not be a byte offset).
+    std::size_t pos = 0;
+    for (int l = 0; l < scalar_line_; ++l) {
+      pos = text_.find('\n', pos);
+      if (pos == std::string_view::npos) return;
+      ++pos;
+    }
+    pos += static_cast<std::size_t>(scalar_column_);
+    if (pos + key.text.size() > text_.size() || text_.compare(pos, key.text.size(), key.text) != 0)
+      return;  // a multi-line or escaped key: its source differs from its text; not checked
+    std::size_t i = pos + key.text.size();
+    while (i < text_.size() && (text_[i] == ' ' || text_[i] == '\t')) ++i;
+    if (i < text_.size() && text_[i] == ':') return;
+    throw ConfigError(file_, "",
+                      "line " + std::to_string(key.line) + ": YAML syntax error: '" + key.text +
+                          "' is not followed by ':' (a key without its value: is the file cut "
+                          "off or the line incomplete?)");
+  }
+
   std::string file_;
+  std::string_view text_;
+  int scalar_line_ = -1;  ///< 0-based position of the last scalar
+  int scalar_column_ = -1;
   std::vector<Frame> stack_;
   YamlNode root_;
   bool has_root_ = false;
@@ -203,8 +240,14 @@ std::string NormalizeNode(std::string name) {
 }  // namespace
 
 YamlNode ParseYaml(const std::string& text, const std::string& file) {
+  const auto nul = text.find('\0');
+  if (nul != std::string::npos)
+    throw ConfigError(file, "",
+                      "line " +
+                          std::to_string(1 + std::count(text.begin(), text.begin() + nul, '\n')) +
+                          ": a NUL byte: this is a binary file, not YAML text");
   std::istringstream in(text);
-  TreeBuilder builder(file);
+  TreeBuilder builder(file, text);
   try {
     YAML::Parser parser(in);
     if (!parser.HandleNextDocument(builder)) {
@@ -214,7 +257,18 @@ YamlNode ParseYaml(const std::string& text, const std::string& file) {
     if (parser.HandleNextDocument(extra) && extra.has_root())
       throw ConfigError(file, "", "more than one YAML document ('---'); a params file holds one");
   } catch (const YAML::Exception& e) {
-    std::string msg = e.msg;
+    // Characters the terminal would not show (a binary file) as \xNN.
+    std::string msg;
+    for (const char c : e.msg) {
+      const auto u = static_cast<unsigned char>(c);
+      if (u >= 0x20 && u < 0x7f) {
+        msg += c;
+      } else {
+        char hex[8];
+        std::snprintf(hex, sizeof hex, "\\x%02X", static_cast<unsigned>(u));
+        msg += hex;
+      }
+    }
     if (!e.mark.is_null())
       msg = "line " + std::to_string(e.mark.line + 1) + ", column " +
             std::to_string(e.mark.column + 1) + ": YAML syntax error: " + msg;
@@ -226,8 +280,18 @@ YamlNode ParseYaml(const std::string& text, const std::string& file) {
 }
 
 std::string ReadTextFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw ConfigError(path, "", "is a directory, not a file");
+  errno = 0;
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw ConfigError(path, "", "cannot open the file for reading");
+  if (!in) {
+    const int error = errno;
+    throw ConfigError(
+        path, "",
+        "cannot open the file for reading" +
+            (error != 0 ? " (" + std::string(std::strerror(error)) + ")" : std::string()));
+  }
   std::ostringstream s;
   s << in.rdbuf();
   if (in.bad()) throw ConfigError(path, "", "error while reading the file");

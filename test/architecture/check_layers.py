@@ -36,7 +36,7 @@ RULES = [
 ]
 # scw::io (plain files) sits in params/io beside the YAML code: these files may not use YAML.
 IO_FILES = ('params/io/atomic_file', 'params/io/csv', 'params/io/text', 'params/io/sha256',
-            'params/io/suggest')
+            'params/io/suggest', 'params/io/test_fault')
 IO_RULES = [YAML, (r'"params/io/(load|write|yaml_doc|docs|ros2_check|stability_lint)\.h"', 'scw::io is below scw::params')]
 # Calls that open files, forbidden in the models whatever the include.
 OPEN_CALL = re.compile(r'\b(fopen|freopen|std::ifstream|std::ofstream|std::fstream|::open\s*\()')

@@ -15,7 +15,7 @@ if [ -z "$py" ]; then
   echo "skipped: no python3 with numpy and matplotlib (apt-get install python3-matplotlib)"; exit 77
 fi
 mkdir -p "$dir" || exit 1
-rm -f "$dir"/*.csv "$dir"/*.yaml "$dir"/*.png "$dir"/*.txt
+rm -f "$dir"/*.csv "$dir"/*.yaml "$dir"/*.png "$dir"/*.txt "$dir"/*.keep
 fail() { echo "FAIL: $*"; exit 1; }
 
 # Rear traction grip 0.7 on a plan for nominal grip: the car spins within the first lap (exit 1).
@@ -29,6 +29,18 @@ grep -q '^status: completed' "$dir/run.yaml" && echo "note: the run did not abor
 "$py" "$script" "$dir/run.csv" -o "$dir/run.png" --params "shipped set" >"$dir/out.txt" 2>&1 ||
   { cat "$dir/out.txt"; fail "render"; }
 [ -s "$dir/run.png" ] || fail "no PNG written"
+# Without --summary and --params: the title from the trace's meta file (run.csv.meta.yaml, written
+# by scw simulate --trace), and the panels of issue 27 (yaw rate against ESC's reference, yaw
+# moment, steering and throttle requested against output).
+[ -s "$dir/run.csv.meta.yaml" ] || fail "scw simulate wrote no run.csv.meta.yaml"
+mv "$dir/run.yaml" "$dir/run.summary.keep"
+"$py" "$script" "$dir/run.csv" -o "$dir/meta.png" >"$dir/out.txt" 2>&1 ||
+  { cat "$dir/out.txt"; fail "render from the meta file"; }
+mv "$dir/run.summary.keep" "$dir/run.yaml"
+grep -q '^title: scenario default — parameters: built-in (the car.s shipped set) | abort: ' \
+  "$dir/out.txt" || { cat "$dir/out.txt"; fail "the title is not taken from the meta file"; }
+grep -q '^panels: speed, lateral, heading, beta, yaw, moment, steer, throttle, slip, brake, int$' \
+  "$dir/out.txt" || { cat "$dir/out.txt"; fail "a panel is missing"; }
 # Several traces (overlay mode) and a lap of one, over time.
 "$py" "$script" "$dir/run.csv" "$dir/run.csv" --labels "a,b" --summary "$dir/run.yaml" \
   --summary "$dir/run.yaml" -o "$dir/two.png" >"$dir/out.txt" 2>&1 || { cat "$dir/out.txt"; fail "overlay"; }

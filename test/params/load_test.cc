@@ -250,6 +250,14 @@ std::string ReferenceSuggestion(const std::string& unknown, const std::vector<st
       best = k;
     }
   }
+  if (!best.empty()) return best;
+  // Else a key that is `unknown` plus "_word" (a unit suffix left off), the shortest such.
+  for (const auto& k : known) {
+    const std::string rest = k.rfind(unknown + "_", 0) == 0 ? k.substr(unknown.size() + 1) : "";
+    if (!rest.empty() && rest.find_first_of("._") == std::string::npos &&
+        (best.empty() || k.size() < best.size()))
+      best = k;
+  }
   return best;
 }
 

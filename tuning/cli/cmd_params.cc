@@ -86,6 +86,10 @@ int Export(const ParamsOptions& o) {
   const P p = LoadCar<P>(o.file, "", /*lenient=*/false, &rep);
   const std::string node = o.node.empty() ? DefaultNode(o.kind) : o.node;
   std::string text;
+  if (!o.overrides_only && !o.base.empty())
+    throw ConfigError("scw params export", "--base",
+                      "is used only with --overrides-only (without it the whole file is "
+                      "exported and BASE would be ignored); add --overrides-only or drop --base");
   if (o.overrides_only) {
     if (o.base.empty()) throw ConfigError("", "--base", "--overrides-only needs --base BASE");
     const P base = LoadCar<P>(o.base, "", /*lenient=*/true, nullptr);
@@ -153,8 +157,15 @@ int Check(const ParamsOptions& o) {
 
 template <class P>
 int Diff(const ParamsOptions& o) {
-  const P a = LoadCar<P>(o.file, "", true, nullptr);
-  const P b = LoadCar<P>(o.file_b, "", true, nullptr);
+  // Both files as the car's node reads them (a duplicate: the last value; an unknown key:
+  // ignored), with a note per such problem, so that "0 key(s) differ" never hides a key that the
+  // node ignores or a value given twice. Invalid files (types, bounds, missing keys): exit 2.
+  LoadReport rep_a, rep_b;
+  const P a = LoadCar<P>(o.file, "", true, &rep_a);
+  const P b = LoadCar<P>(o.file_b, "", true, &rep_b);
+  PrintNotes(o.file, rep_a);
+  PrintNotes(o.file_b, rep_b);
+  const std::size_t notes = rep_a.notes.size() + rep_b.notes.size();
   std::vector<std::tuple<std::string, std::string, std::string>> va, vb;
   params::ForEachField(a, [&](const std::string& path, const auto& v, const params::Meta& m) {
     va.emplace_back(path, params::detail::RenderValue(v), std::string(m.unit));
@@ -169,7 +180,12 @@ int Diff(const ParamsOptions& o) {
     std::cout << std::get<0>(va[i]) << ": " << std::get<1>(va[i]) << " -> " << std::get<1>(vb[i])
               << " [" << std::get<2>(va[i]) << "]\n";
   }
-  std::cerr << changed << " key(s) differ\n";
+  std::cerr << changed << " key(s) differ";
+  if (notes > 0)
+    std::cerr << "; " << notes
+              << " note(s) above: keys the car's node ignores (unknown) or reads only once "
+                 "(given twice) are not compared as written";
+  std::cerr << '\n';
   constexpr int kExitDiffer = 1;  // as diff(1): 0 same, 1 different, 2 trouble
   return changed == 0 ? kExitOk : kExitDiffer;
 }

@@ -5,11 +5,16 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
+#include "params/io/atomic_file.h"
 #include "params/io/csv.h"
 #include "params/io/load.h"
+#include "params/io/sha256.h"
+#include "params/io/test_fault.h"
 #include "params/io/write.h"
 #include "tuning/cli/command.h"
+#include "tuning/cli/options.h"
 #include "tuning/cli/progress.h"
 #include "tuning/sim/closed_loop.h"
 #include "tuning/sim/replay/controller_log.h"
@@ -35,8 +40,68 @@ std::string RealTimeFactor(double simulated_s, double wall_s) {
   return buf;
 }
 
+constexpr const char* kTraceMetaSuffix = ".meta.yaml";
+
+/// `TRACE.meta.yaml`: what the trace alone does not say (plot titles, provenance): the scenario,
+/// its overrides, the parameter files, the program that wrote it and how the run ended. Beside the
+/// trace, so the trace itself stays one CSV table.
+std::string TraceMeta(const SimulateOptions& o, const params::ScenarioParams& spec,
+                      const std::string& summary_yaml) {
+  namespace fs = std::filesystem;
+  auto quoted = [](const std::string& text) {
+    std::string q = "\"";
+    for (const char c : text) {
+      if (c == '"' || c == '\\') q += '\\';
+      q += c;
+    }
+    return q + "\"";
+  };
+  auto file_or = [&](const std::string& path, const char* none) {
+    return path.empty() ? std::string(none) : quoted(fs::absolute(path).string());
+  };
+  std::string text = "# scw simulate: what the trace " + fs::path(o.trace).filename().string() +
+                     " records (experiments/plot_trace.py reads it)\n";
+  text += "scenario: " + quoted(spec.name) + "\n";
+  text += "scenario_file: " + file_or(o.scenario, "built-in") + "\n";
+  text += "overrides: [";
+  for (std::size_t i = 0; i < o.overrides.size(); ++i)
+    text += (i ? ", " : "") + quoted(o.overrides[i]);
+  text += "]\n";
+  text += "stability: " + file_or(spec.stability, "built-in (the car's shipped set)") + "\n";
+  if (!spec.stability.empty()) {
+    std::string sha;
+    try {
+      sha = io::Sha256Hex(params::ReadTextFile(spec.stability));
+    } catch (const std::exception&) {
+    }
+    if (!sha.empty()) text += "stability_sha256: " + sha + "\n";
+  }
+  text +=
+      "vehicle: " + (spec.vehicle.empty() ? std::string("built-in") : quoted(spec.vehicle)) + "\n";
+  text += "track: " + (spec.track.empty() ? std::string("built-in") : quoted(spec.track)) + "\n";
+  text += "motion_controller: " + quoted(spec.motion.controller) + "\n";
+  text += "gg_scale: " + params::FormatNumber(spec.gg_scale) + "\n";
+  text += "laps: " + std::to_string(spec.laps) + "\n";
+  text += std::string("scw: \"") + SCW_VERSION + " (git revision " + SCW_GIT_REVISION + ")\"\n";
+  text += "# how the run ended (as --summary)\n";
+  std::istringstream lines(summary_yaml);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("scenario:", 0) != 0) text += line + "\n";
+  return text;
+}
+
 int RunSimulate(const SimulateOptions& o) {
   namespace fs = std::filesystem;
+  RefuseRepeatedKeys("scw simulate", "--set", o.overrides);
+  RefuseSharedOutputs(
+      "scw simulate",
+      {{"--trace", o.trace},
+       {"--trace (its " + std::string(kTraceMetaSuffix) + ")",
+        o.trace.empty() ? std::string() : o.trace + std::string(kTraceMetaSuffix)},
+       {"--summary", o.summary},
+       {"--controller-log", o.controller_log},
+       {"--controller-log (its .setup.yaml)",
+        o.controller_log.empty() ? std::string() : tuning::SetupPathFor(o.controller_log)}});
   params::ScenarioParams spec = o.scenario.empty() ? tuning::DefaultScenario(o.overrides)
                                                    : tuning::LoadScenario(o.scenario, o.overrides);
   const std::string base =
@@ -66,6 +131,15 @@ int RunSimulate(const SimulateOptions& o) {
       log->Write(log_row, out);
     };
   }
+  {
+    // Tests interrupt the run here, at a defined step (output_targets_test).
+    auto inner = std::move(ro.on_controller_input);
+    long steps = 0;
+    ro.on_controller_input = [inner, steps](const controller::StabilityInput& in) mutable {
+      if (inner) inner(in);
+      io::TestFaultPoint("simulate-step", ++steps);
+    };
+  }
   if (progress.enabled()) {
     // By simulated time; the laps at the reference pace are the expected total.
     auto inner = std::move(ro.on_controller_input);
@@ -85,7 +159,12 @@ int RunSimulate(const SimulateOptions& o) {
   const tuning::RunMetrics m = tuning::RunClosedLoop(sc, sc.stability, ro);
   const auto t2 = std::chrono::steady_clock::now();
   progress.Finish();
-  if (trace) trace->Commit();
+  if (trace) {
+    trace->Commit();
+    if (o.trace != "-")
+      io::WriteFileAtomic(o.trace + std::string(kTraceMetaSuffix),
+                          TraceMeta(o, spec, tuning::RunSummaryYaml(spec.name, m)));
+  }
   if (log && tuning::CommitWithSetup(*log, tuning::ClosedLoopSetup(sc, sc.stability)).empty())
     std::cerr << "note: no setup file for a controller log written to " << o.controller_log
               << " (scw replay needs --vehicle FILE to reproduce the run's vehicle constants)\n";
@@ -116,7 +195,9 @@ void AddSimulate(CLI::App& app) {
       ->take_all();
   cmd->add_option("--stability", o->stability,
                   "Stability params file (car's ROS 2 layout); overrides the scenario's");
-  cmd->add_option("--trace", o->trace, "Write the trace CSV (one column per signal)");
+  cmd->add_option("--trace", o->trace,
+                  "Write the trace CSV (one column per signal, docs/scenarios.md), and next to it "
+                  "TRACE.meta.yaml: the scenario, overrides and parameter files of the run");
   cmd->add_option("--summary", o->summary, "Write the run summary (YAML)");
   cmd->add_option("--controller-log", o->controller_log,
                   "Write the stability controller's inputs in the replay log format, and next to "

@@ -30,6 +30,7 @@ int RunSweepCommand(const SweepOptions& o) {
     for (const auto& name : tuning::MotionControllerNames()) std::cout << name << '\n';
     return kExitOk;
   }
+  RefuseRepeatedKeys("scw sweep", "--set", o.overrides);
   tuning::SweepArguments a;
   a.scenario = o.scenario;
   a.overrides = o.overrides;

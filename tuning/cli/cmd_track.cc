@@ -65,12 +65,16 @@ int Info(const TrackOptions& o) {
             << (t.total_turning() > 0 ? "anticlockwise" : "clockwise") << ", " << t.size()
             << " nodes at " << std::setprecision(3) << t.step() << " m\n"
             << "width:   " << std::setprecision(1) << wmin << " - " << wmax << " m\n";
-  std::cout << "corners (R < 250 m):\n   #  dir    s_from   s_to  min R [m]  at s [m]\n";
+  // A corner covers its nodes and the node spacing after the last one, so a corner of one node
+  // (a short kink below 250 m radius) is one spacing long, not zero.
+  std::cout << "corners (R < 250 m; from the first to past the last node below that radius):\n"
+               "   #  dir    from [m]   to [m]  length [m]  min R [m]  apex at [m]\n";
   for (const plant::Corner& c : plant::FindCorners(t))
-    std::cout << std::setw(4) << c.number << "  " << (c.left ? "left " : "right") << std::setw(9)
-              << std::setprecision(0) << c.s_from << std::setw(7) << c.s_to << std::setw(11)
-              << std::setprecision(1) << c.min_radius << std::setw(10) << std::setprecision(0)
-              << c.s_apex << '\n';
+    std::cout << std::setw(4) << c.number << "  " << (c.left ? "left " : "right") << std::setw(11)
+              << std::setprecision(0) << c.s_from << std::setw(9) << c.s_to + t.step()
+              << std::setw(12) << std::setprecision(1) << c.s_to + t.step() - c.s_from
+              << std::setw(11) << c.min_radius << std::setw(13) << std::setprecision(0) << c.s_apex
+              << '\n';
   return kExitOk;
 }
 
@@ -136,13 +140,12 @@ void AddTrack(CLI::App& app) {
       "Minimum-curvature racing line and forward-backward g-g-v velocity profile; writes a CSV "
       "(s_m,x_m,y_m,psi_rad,kappa_radpm,v_mps,ax_mps2,ay_mps2,t_s) and prints the ideal lap time");
   line->add_option("--track", o->track, track_help);
-  // The scenario key's name (gg_scale in scenario files, --set and --vary); --gg-scale is the
-  // old spelling.
-  NumberIn(line->add_option("--gg_scale", o->gg_scale,
+  // Kebab case like every other option; --gg_scale (the scenario key's spelling) still works.
+  NumberIn(line->add_option("--gg-scale", o->gg_scale,
                             "Acceleration scaling GG (multiplies every limit; the scenario key "
                             "gg_scale)"),
            0.05, 5.0);
-  NumberIn(AddHiddenAlias(line, "--gg-scale", o->gg_scale), 0.05, 5.0);
+  NumberIn(AddHiddenAlias(line, "--gg_scale", o->gg_scale), 0.05, 5.0);
   line->add_option("--ggv", o->ggv,
                    "g-g-v table CSV: v_mps,ay_max_mps2,ax_drive_max_mps2,ax_brake_max_mps2 "
                    "(default: a representative AV-21/EAV table)");

@@ -19,6 +19,7 @@
 #include "params/io/atomic_file.h"
 #include "params/io/load.h"
 #include "params/io/sha256.h"
+#include "params/io/test_fault.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/console.h"
 #include "tuning/cli/options.h"
@@ -253,6 +254,7 @@ class TuneRun : public tuning::TuneObserver {
   }
 
   void OnEvaluation(const tuning::Progress& p) override {
+    io::TestFaultPoint("tune-eval", p.evals);  // tests interrupt here (tune_interrupt_test)
     if (!progress_->enabled()) return;
     const double eta = p.evals > 0 ? p.elapsed_s / p.evals * (p.max_evals - p.evals) : -1.0;
     const bool limited = o_.max_time > 0.0 && eta > o_.max_time - p.elapsed_s;

@@ -1,4 +1,5 @@
 // scw vehicle gg|init|validate — vehicle parameter sets of the plant (params/vehicles/*.yaml).
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -132,14 +133,31 @@ int Balance(const VehicleOptions& o, const std::string& cmd) {
   std::cout << "\n"
             << "  speed [m/s]   understeer gradient [mrad/(m/s^2)]   lateral   drive   brake "
                "[m/s^2]\n";
+  bool beyond_top_speed = false;
   for (double v : o.speeds) {
-    std::snprintf(line, sizeof line, "  %10.1f   %33.2f   %7.2f   %5.2f   %5.2f\n", v,
-                  1e3 * qs.UndersteerGradient(v), qs.MaxLateral(v), qs.MaxDrive(v, 0.0),
-                  qs.MaxBrake(v, 0.0));
+    const double k = qs.UndersteerGradient(v);
+    char gradient[40];
+    if (std::isnan(k)) {
+      beyond_top_speed = true;
+      std::snprintf(gradient, sizeof gradient, "%33s", "n/a (*)");
+    } else {
+      std::snprintf(gradient, sizeof gradient, "%33.2f", 1e3 * k);
+    }
+    std::snprintf(line, sizeof line, "  %10.1f   %s   %7.2f   %5.2f   %5.2f\n", v, gradient,
+                  qs.MaxLateral(v), qs.MaxDrive(v, 0.0), qs.MaxBrake(v, 0.0));
     std::cout << line;
   }
   std::cout << "\n  understeer gradient: d(steer)/d(a_y) - l/v^2 at small a_y (> 0 understeers);\n"
-               "  limits: quasi-steady double track with the car's brake bias and differential\n";
+               "  limits: quasi-steady double track with the car's brake bias and differential\n"
+               "  (plant/vehicle/quasi_steady.h). scw vehicle gg simulates the plant itself "
+               "(ideal\n"
+               "  actuators, no drag or rolling resistance, a slow steering ramp: "
+               "plant/vehicle/ggv.h),\n"
+               "  so the two lateral limits differ, most at high speed.\n";
+  if (beyond_top_speed)
+    std::cout << "  (*) the drive cannot hold this speed against the drag (above the top speed): "
+                 "no steady\n"
+                 "      state to take the gradient from (nan in --csv).\n";
   return kExitOk;
 }
 

@@ -20,6 +20,12 @@ inline constexpr int kExitBadInput = 2;
 /// Stopped by Ctrl-C (128 + SIGINT, as a shell reports it) after writing what was done so far.
 inline constexpr int kExitInterrupted = 130;
 
+/// The exit codes, as every --help lists them (the footer of `scw --help` and of each command).
+inline constexpr const char* kExitCodesHelp =
+    "Exit codes: 0 success, 1 a run failed (simulation aborted, optimisation error, a file\n"
+    "could not be written; params diff: the files differ), 2 bad input (unreadable or invalid\n"
+    "file, bad arguments), 130 interrupted (Ctrl-C; scw tune writes the best set so far first).";
+
 /// Adds one sub-command (with its options and callback) to the top-level app.
 using AddCommandFn = void (*)(CLI::App& app);
 

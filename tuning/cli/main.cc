@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <string>
 #include <utility>
@@ -168,13 +169,25 @@ int RunCommand(int argc, char** argv) {
                                         (mpi::BuiltIn() ? "built in (" + mpi::LibraryVersion() + ")"
                                                         : std::string("not built in")));
   app.require_subcommand(1, 1);
-  app.footer(
-      "Exit codes: 0 success, 1 a run failed (simulation aborted, optimisation error, a file\n"
-      "could not be written), 2 bad input (unreadable or invalid file, bad arguments).");
+  app.footer(kExitCodesHelp);
+  // Every option shows its default in --help (subcommands copy these option defaults).
+  app.option_defaults()->always_capture_default();
   auto commands = Registry();
   std::stable_sort(commands.begin(), commands.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
   for (const auto& [order, add] : commands) add(app);
+  // The exit codes in every command's --help too, after what the command says itself.
+  std::function<void(CLI::App*)> add_exit_codes = [&](CLI::App* a) {
+    for (CLI::App* sub : a->get_subcommands({})) {
+      if (dynamic_cast<CLI::Option_group*>(sub) != nullptr) continue;  // printed with its command
+      // A command without a footer of its own has inherited the program's (the exit codes).
+      const std::string own = sub->get_footer();
+      if (own.find(kExitCodesHelp) == std::string::npos)
+        sub->footer(own.empty() ? std::string(kExitCodesHelp) : own + "\n\n" + kExitCodesHelp);
+      add_exit_codes(sub);
+    }
+  };
+  add_exit_codes(&app);
 
   // Command words first: an unknown one gets a suggestion, a bare group lists its commands.
   const CommandWalk walk = Walk(&app, argc, argv);

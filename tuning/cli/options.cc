@@ -4,10 +4,13 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
+#include <system_error>
 
 #include "params/io/suggest.h"
 #include "params/io/write.h"
+#include "params/schema/field.h"
 
 namespace scw::cli {
 namespace {
@@ -145,6 +148,52 @@ std::string DidYouMean(const std::string& word, const std::vector<std::string>& 
     if (n == 1) return only;
   }
   return "";
+}
+
+void RefuseRepeatedKeys(const std::string& command, const std::string& option,
+                        const std::vector<std::string>& items) {
+  std::vector<Problem> problems;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const std::string key = items[i].substr(0, items[i].find('='));
+    for (std::size_t j = 0; j < i; ++j)
+      if (items[j].substr(0, items[j].find('=')) == key) {
+        problems.push_back({option, key + " is given twice (" + items[j] + ", " + items[i] +
+                                        "); set each key once"});
+        break;
+      }
+  }
+  if (!problems.empty()) throw ConfigError(command, problems);
+}
+
+void RefuseSharedOutputs(const std::string& command,
+                         const std::vector<std::pair<std::string, std::string>>& outputs) {
+  namespace fs = std::filesystem;
+  std::vector<std::pair<std::string, fs::path>> seen;  // option, resolved path
+  std::vector<Problem> problems;
+  for (const auto& [option, path] : outputs) {
+    if (path.empty() || path == "-") continue;
+    // Follow symlinks (also dangling ones: the output will be written through them) to the
+    // final target, then normalise the folders on the way.
+    std::error_code ec;
+    fs::path resolved = fs::absolute(path, ec);
+    for (int hops = 0; hops < 40 && fs::is_symlink(resolved, ec); ++hops) {
+      const fs::path to = fs::read_symlink(resolved, ec);
+      if (ec) break;
+      resolved = to.is_absolute() ? to : resolved.parent_path() / to;
+    }
+    const fs::path canonical = fs::weakly_canonical(resolved, ec);
+    resolved = ec ? resolved.lexically_normal() : canonical;
+    for (const auto& [other, where] : seen)
+      if (where == resolved) {
+        problems.push_back(
+            {option, "writes the same file as " + other + " (" + path +
+                         (resolved.string() != path ? " = " + resolved.string() : std::string()) +
+                         "); give each output its own path"});
+        break;
+      }
+    seen.emplace_back(option, resolved);
+  }
+  if (!problems.empty()) throw ConfigError(command, problems);
 }
 
 }  // namespace scw::cli

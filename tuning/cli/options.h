@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace scw::cli {
@@ -34,6 +35,18 @@ template <class T>
 CLI::Option* AddHiddenAlias(CLI::App* cmd, const std::string& name, T& value) {
   return cmd->add_option(name, value, "(old spelling)")->group("");
 }
+
+/// Refuses (scw::ConfigError, exit 2) `key=value` items of one option that set a key twice, as a
+/// key given twice in a file is refused: "scw simulate: --set: laps is given twice (laps=2,
+/// laps=3); set each key once". `command` e.g. "scw simulate", `option` e.g. "--set".
+void RefuseRepeatedKeys(const std::string& command, const std::string& option,
+                        const std::vector<std::string>& items);
+
+/// Refuses (scw::ConfigError, exit 2) outputs of one command that name the same file, after
+/// following symbolic links (one output would silently replace the other): `outputs` are (option,
+/// path) pairs; empty paths and `-` (standard output) are skipped.
+void RefuseSharedOutputs(const std::string& command,
+                         const std::vector<std::pair<std::string, std::string>>& outputs);
 
 /// Writes the bad-input block: "error: invalid input" and the problem lines (each already
 /// `<source>: <key>: <rule>`), then the hint (if any) on its own line.

@@ -34,7 +34,7 @@ double VerticalLoad(const TickRecord& r, std::size_t i) { return r.plant.fz[i]; 
 // The lambdas return exactly the expressions the trace always wrote (same operands, same order),
 // so traces stay byte-identical.
 // clang-format off
-const std::array<TraceColumn, 49> kTraceColumns = {
+const std::array<TraceColumn, 50> kTraceColumns = {
     Scalar("t_s", "s", [](const TickRecord& r, std::size_t) { return r.t; }, "controller time of the tick"),
     Count("lap", [](const TickRecord& r) { return r.lap; }, "laps completed (0 on the first lap)"),
     Scalar("s_m", "m", [](const TickRecord& r, std::size_t) { return r.s; }, "arc length of the CoG projected on the track, in [0, L)"),
@@ -84,6 +84,7 @@ const std::array<TraceColumn, 49> kTraceColumns = {
     Wheel("fz_rl_N", "N", &VerticalLoad, kRL, "plant's vertical load"),
     Wheel("fz_rr_N", "N", &VerticalLoad, kRR, "plant's vertical load"),
     Count("events", [](const TickRecord& r) { return static_cast<int>(r.event_mask); }, "bit mask of the active events: 1 throttle, 2 steer, 4 rear grip, 8 gust"),
+    Scalar("yaw_rate_ref_radps", "rad/s", [](const TickRecord& r, std::size_t) { return r.output.yaw_rate_ref; }, "ESC's yaw-rate reference (what yaw_rate_radps is steered towards), > 0 left"),
 };
 // clang-format on
 

@@ -130,9 +130,9 @@ TEST_F(CliTest, NumbersThatAreNotNumbersOrAreNegativeSeedsAreBadInput) {
   EXPECT_EQ(r.code, 2) << r.all();
   EXPECT_NE(r.err.find("scw sweep: --threads: 'abc' is not a number"), std::string::npos) << r.err;
 
-  r = Scw("track line --gg_scale x -o " + Path("line.csv"));
+  r = Scw("track line --gg-scale x -o " + Path("line.csv"));
   EXPECT_EQ(r.code, 2) << r.all();
-  EXPECT_NE(r.err.find("--gg_scale: 'x' is not a number"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--gg-scale: 'x' is not a number"), std::string::npos) << r.err;
 }
 
 TEST_F(CliTest, MissingFilesAndFoldersAreNamedWithoutFilesystemErrorText) {
@@ -262,7 +262,7 @@ TEST_F(CliTest, ProgressAlwaysShowsTheLineNeverHidesItAndResultsStayTheSame) {
 }
 
 TEST_F(CliTest, OldOutputSpellingsAreHiddenAliases) {
-  // track line: --gg_scale (the scenario key's name) and the old --gg-scale.
+  // track line: --gg-scale (kebab case, issue 27) and the scenario key's spelling --gg_scale.
   Result r = Scw("track line --gg_scale 1.2 -o " + Path("new.csv"));
   EXPECT_EQ(r.code, 0) << r.all();
   r = Scw("track line --gg-scale 1.2 --output " + Path("old.csv"));
@@ -280,8 +280,8 @@ TEST_F(CliTest, OldOutputSpellingsAreHiddenAliases) {
   EXPECT_NE(evaluate.out.find("-o,--output"), std::string::npos) << evaluate.out;
   EXPECT_EQ(evaluate.out.find("--csv"), std::string::npos) << evaluate.out;
   const Result line = Scw("track line --help");
-  EXPECT_NE(line.out.find("--gg_scale"), std::string::npos) << line.out;
-  EXPECT_EQ(line.out.find("--gg-scale"), std::string::npos) << line.out;
+  EXPECT_NE(line.out.find("--gg-scale"), std::string::npos) << line.out;
+  EXPECT_EQ(line.out.find("--gg_scale"), std::string::npos) << line.out;
 }
 
 TEST_F(CliTest, EvaluateLabelsMustNameEverySetOnce) {

@@ -75,6 +75,8 @@ TEST(TraceSchemaTest, HeaderKeepsItsNamesAndOrder) {
   for (const auto& [prefix, unit] : per_wheel)
     for (const char* w : kWheelNames) expected.push_back(prefix + std::string(w) + unit);
   expected.push_back("events");
+  expected.push_back(
+      "yaw_rate_ref_radps");  // issue 27: appended, so older columns keep their place
   EXPECT_EQ(TraceHeader(), expected);
 }
 

@@ -23,6 +23,7 @@
 #include <mpi.h>
 #endif
 
+#include "params/io/test_fault.h"
 #include "tuning/sim/parallel/wire.h"
 
 namespace scw::tuning::mpi {
@@ -342,6 +343,9 @@ bool ServeBatch(TaskSlot* slot, std::int64_t batch, std::string_view payload) {
         if (type == kNone) none = true;
         if (type == kJob) {
           const int index = static_cast<int>(r.Int());
+          // Tests let a worker die here, at a defined job (mpi_test.sh killed_worker).
+          static std::atomic<long> jobs_received{0};
+          io::TestFaultPoint("worker-job", ++jobs_received);
           {
             const std::lock_guard<std::mutex> lock(mutex);
             todo.push_back(index);

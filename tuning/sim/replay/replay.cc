@@ -68,14 +68,14 @@ constexpr std::array<OutputColumnDef, 27> kOutputDefs = {{
     {"tc_state_rl", "0..3", "TC phase", &TcState<kRL>},
     {"tc_state_rr", "0..3", "TC phase", &TcState<kRR>},
     {"yaw_moment_Nm", "N*m", "ESC yaw-moment demand, > 0 turns left (0 when inactive)", [](const StabilityOutput& o) noexcept { return o.yaw_moment; }},
-    {"slip_fl_pct", "%", "longitudinal slip as the controller estimates it (< 0 braking), with the low-speed fade", &SlipOut<kFL>},
-    {"slip_fr_pct", "%", "longitudinal slip", &SlipOut<kFR>},
-    {"slip_rl_pct", "%", "longitudinal slip", &SlipOut<kRL>},
-    {"slip_rr_pct", "%", "longitudinal slip", &SlipOut<kRR>},
-    {"alpha_fl_rad", "rad", "tyre slip angle as the controller estimates it (> 0 gives a leftward force), with the low-speed fade", &AlphaOut<kFL>},
-    {"alpha_fr_rad", "rad", "tyre slip angle", &AlphaOut<kFR>},
-    {"alpha_rl_rad", "rad", "tyre slip angle", &AlphaOut<kRL>},
-    {"alpha_rr_rad", "rad", "tyre slip angle", &AlphaOut<kRR>},
+    {"slip_est_fl_pct", "%", "longitudinal slip as the controller estimates it (< 0 braking), with the low-speed fade", &SlipOut<kFL>},
+    {"slip_est_fr_pct", "%", "longitudinal slip", &SlipOut<kFR>},
+    {"slip_est_rl_pct", "%", "longitudinal slip", &SlipOut<kRL>},
+    {"slip_est_rr_pct", "%", "longitudinal slip", &SlipOut<kRR>},
+    {"alpha_est_fl_rad", "rad", "tyre slip angle as the controller estimates it (> 0 gives a leftward force), with the low-speed fade", &AlphaOut<kFL>},
+    {"alpha_est_fr_rad", "rad", "tyre slip angle", &AlphaOut<kFR>},
+    {"alpha_est_rl_rad", "rad", "tyre slip angle", &AlphaOut<kRL>},
+    {"alpha_est_rr_rad", "rad", "tyre slip angle", &AlphaOut<kRR>},
 }};
 // clang-format on
 

@@ -15,7 +15,8 @@
 // alpha_*_rad are the plant's, the replay's the controller's estimates): t_s; steer_out_rad;
 // p_out_fl_bar..rr; throttle_out [0..1]; esc_active, cs_active, slip_control_active (0/1);
 // abs_state_fl..rr, tc_state_fl..rr (0 inactive, 1 reduce, 2 hold, 3 increase); yaw_moment_Nm;
-// slip_fl_pct..rr; alpha_fl_rad..rr.
+// slip_est_fl_pct..rr; alpha_est_fl_rad..rr (the controller's estimates; the trace's
+// slip_fl_pct and alpha_fl_rad are the plant's true values).
 //
 // Interventions: a subsystem intervenes while its flag is set (ESC: esc_active, countersteer:
 // cs_active, ABS: any wheel's ABS phase ≠ inactive, TC: any wheel's TC phase ≠ inactive). An

@@ -9,12 +9,14 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "test/tuning/sim/replay/log_stories.h"
+#include "tuning/sim/closed_loop.h"
 
 namespace scw::tuning {
 namespace {
@@ -317,6 +319,33 @@ TEST(ReplayCommand, SummaryCompareOutputAndExitCodes) {
   // Output folder missing: the run failed (1).
   EXPECT_EQ(
       RunScw("replay " + log + " --params " + Shipped() + " -o /nonexistent-dir/out.csv", txt), 1);
+}
+
+}  // namespace
+}  // namespace scw::tuning
+
+namespace scw::tuning {
+namespace {
+
+// Issue 27 item 18: a replay output and a simulate trace share a column name only for the same
+// quantity. The controller's slip and slip-angle estimates are `slip_est_*` / `alpha_est_*`; the
+// trace's `slip_*_pct` / `alpha_*_rad` are the plant's true values.
+TEST(ReplayColumns, EstimatesAreNamedApartFromThePlantsTrueValues) {
+  std::set<std::string> replay, trace;
+  for (const auto& c : kOutputColumns) replay.insert(std::string(c.name));
+  for (const auto& name : TraceHeader()) trace.insert(name);
+  for (const char* w : {"fl", "fr", "rl", "rr"}) {
+    EXPECT_TRUE(replay.count(std::string("slip_est_") + w + "_pct")) << w;
+    EXPECT_TRUE(replay.count(std::string("alpha_est_") + w + "_rad")) << w;
+    EXPECT_TRUE(trace.count(std::string("slip_") + w + "_pct")) << w;
+  }
+  // Every name the two files share means the same signal: the controller's outputs.
+  for (const auto& name : replay) {
+    if (!trace.count(name)) continue;
+    EXPECT_TRUE(name.find("_out") != std::string::npos || name == "t_s" || name == "esc_active" ||
+                name == "cs_active" || name == "yaw_moment_Nm")
+        << name << " is in both files";
+  }
 }
 
 }  // namespace
