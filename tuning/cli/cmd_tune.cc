@@ -141,7 +141,7 @@ params::StabilityParams LoadBase(const std::string& path, std::set<std::string>*
 }
 
 tuning::ScenarioSet LoadSet(const std::string& path) {
-  return path.empty() ? tuning::ScenarioSet::Default() : tuning::ScenarioSet::FromFile(path);
+  return tuning::ScenarioSet::FromNameOrFile(path);
 }
 
 std::string UtcNow() {
@@ -552,7 +552,10 @@ void AddTune(CLI::App& app) {
       "Tune the stability parameters on the scenario set (no arguments: the built-in "
       "space and scenarios, about two minutes on 2 cores) and export the car's params files");
   cmd->add_option("--space", o->space, "Search space file (params/spaces/*.yaml)");
-  cmd->add_option("--scenarios", o->scenarios, "Scenario set file (params/scenarios/*.yaml)");
+  cmd->add_option("--scenarios", o->scenarios,
+                  "Scenario set: a built-in name (default; robust: Monte-Carlo draws of the "
+                  "situations and of the plant values we do not know) or a file "
+                  "(params/scenarios/*.yaml)");
   cmd->add_option("--base", o->base, "Starting stability params file (car's ROS 2 layout)");
   cmd->add_option("--base-outside", o->base_outside,
                   "A base value outside a space range: grow the range to include it (default), "
@@ -631,7 +634,9 @@ void AddTune(CLI::App& app) {
                  "Names of the sets in the table, one per PARAMS file in order (comma-separated; "
                  "default: the file names)")
       ->delimiter(',');
-  ev->add_option("--scenarios", e->scenarios, "Scenario set file (default: built-in)");
+  ev->add_option("--scenarios", e->scenarios,
+                 "Scenario set: a built-in name (default, robust) or a file (default: the "
+                 "built-in default set)");
   WholeNumberIn(ev->add_option("--threads", e->threads, kThreadsHelp), 0, 1024);
   ev->add_option("-o,--output", e->csv, "Also write the table as CSV");
   AddHiddenAlias(ev, "--csv", e->csv);

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@ struct VehicleOptions {
   double brake_bias_front = 0.58;
   std::vector<double> speeds = {10, 20, 30, 40, 50, 60, 70, 80};
   bool csv = false;
+  std::string csv_file;  ///< gg, balance, envelope: -o FILE (the CSV table into a file)
   std::string out;
   double brake_dead_time = -1.0;  ///< balance: also show this split (< 0: not asked)
 };
@@ -49,14 +51,15 @@ int Gg(const VehicleOptions& o, const std::string& cmd) {
   const params::VehicleParams p = LoadVehicle(o.vehicle);
   CheckSpeeds(o.speeds, cmd);
   const auto table = plant::ComputeGgv(p, o.speeds);
-  if (o.csv) {
-    std::cout
-        << "speed_mps,lateral_max_mps2,braking_max_mps2,traction_max_mps2,lateral_lock_limited\n";
+  if (o.csv || !o.csv_file.empty()) {
+    std::ostringstream buffer;
+    std::ostream& csv = o.csv_file.empty() ? std::cout : buffer;
+    csv << "speed_mps,lateral_max_mps2,braking_max_mps2,traction_max_mps2,lateral_lock_limited\n";
     for (const auto& g : table)
-      std::cout << params::FormatDouble(g.speed) << ',' << params::FormatDouble(g.lateral_max)
-                << ',' << params::FormatDouble(g.braking_max) << ','
-                << params::FormatDouble(g.traction_max) << ',' << (g.lateral_lock_limited ? 1 : 0)
-                << '\n';
+      csv << params::FormatDouble(g.speed) << ',' << params::FormatDouble(g.lateral_max) << ','
+          << params::FormatDouble(g.braking_max) << ',' << params::FormatDouble(g.traction_max)
+          << ',' << (g.lateral_lock_limited ? 1 : 0) << '\n';
+    if (!o.csv_file.empty()) io::WriteFileAtomic(o.csv_file, buffer.str());
     return kExitOk;
   }
   std::cout << "steady-state g-g-v limits of the plant '" << p.name << "'"
@@ -96,15 +99,17 @@ int Balance(const VehicleOptions& o, const std::string& cmd) {
   const auto& tr = p.tires.rear;
   const auto mf = plant::PeakFriction(tf.fnomin, 1.0, 1.0, tf);
   const auto mr = plant::PeakFriction(tr.fnomin, 1.0, 1.0, tr);
-  if (o.csv) {
-    std::cout << "speed_mps,understeer_gradient_mrad_per_mps2,lateral_max_mps2,drive_max_mps2,"
-                 "brake_max_mps2\n";
+  if (o.csv || !o.csv_file.empty()) {
+    std::ostringstream buffer;
+    std::ostream& csv = o.csv_file.empty() ? std::cout : buffer;
+    csv << "speed_mps,understeer_gradient_mrad_per_mps2,lateral_max_mps2,drive_max_mps2,"
+           "brake_max_mps2\n";
     for (double v : o.speeds)
-      std::cout << params::FormatDouble(v) << ','
-                << params::FormatDouble(1e3 * qs.UndersteerGradient(v)) << ','
-                << params::FormatDouble(qs.MaxLateral(v)) << ','
-                << params::FormatDouble(qs.MaxDrive(v, 0.0)) << ','
-                << params::FormatDouble(qs.MaxBrake(v, 0.0)) << '\n';
+      csv << params::FormatDouble(v) << ',' << params::FormatDouble(1e3 * qs.UndersteerGradient(v))
+          << ',' << params::FormatDouble(qs.MaxLateral(v)) << ','
+          << params::FormatDouble(qs.MaxDrive(v, 0.0)) << ','
+          << params::FormatDouble(qs.MaxBrake(v, 0.0)) << '\n';
+    if (!o.csv_file.empty()) io::WriteFileAtomic(o.csv_file, buffer.str());
     return kExitOk;
   }
   char line[200];
@@ -165,22 +170,23 @@ int Envelope(const VehicleOptions& o) {
   const params::VehicleParams p = LoadVehicle(o.vehicle);
   const auto rows = tuning::SampleEnvelope(p, o.brake_bias_front, o.speeds);
   const auto fit = tuning::FitEnvelope(rows);
-  if (o.csv) {
-    std::cout
-        << "speed_mps,ay_max_mps2,level,drive_mps2,brake_mps2,drive_fit_mps2,brake_fit_mps2\n";
+  if (o.csv || !o.csv_file.empty()) {
+    std::ostringstream buffer;
+    std::ostream& csv = o.csv_file.empty() ? std::cout : buffer;
+    csv << "speed_mps,ay_max_mps2,level,drive_mps2,brake_mps2,drive_fit_mps2,brake_fit_mps2\n";
     for (std::size_t i = 0; i < rows.size(); ++i)
       for (std::size_t j = 0; j < tuning::kEnvelopeLevels.size(); ++j) {
         const double ay = tuning::kEnvelopeLevels[j] * rows[i].ay_max;
         const double v = rows[i].speed;
-        std::cout << params::FormatDouble(v) << ',' << params::FormatDouble(rows[i].ay_max) << ','
-                  << params::FormatDouble(tuning::kEnvelopeLevels[j]) << ','
-                  << params::FormatDouble(rows[i].drive[j]) << ','
-                  << params::FormatDouble(rows[i].brake[j]) << ','
-                  << params::FormatDouble(fit.AxDriveMax(v) * fit.DriveFactor(ay, fit.AyMax(v), v))
-                  << ','
-                  << params::FormatDouble(fit.AxBrakeMax(v) * fit.BrakeFactor(ay, fit.AyMax(v), v))
-                  << '\n';
+        csv << params::FormatDouble(v) << ',' << params::FormatDouble(rows[i].ay_max) << ','
+            << params::FormatDouble(tuning::kEnvelopeLevels[j]) << ','
+            << params::FormatDouble(rows[i].drive[j]) << ','
+            << params::FormatDouble(rows[i].brake[j]) << ','
+            << params::FormatDouble(fit.AxDriveMax(v) * fit.DriveFactor(ay, fit.AyMax(v), v)) << ','
+            << params::FormatDouble(fit.AxBrakeMax(v) * fit.BrakeFactor(ay, fit.AyMax(v), v))
+            << '\n';
       }
+    if (!o.csv_file.empty()) io::WriteFileAtomic(o.csv_file, buffer.str());
     return kExitOk;
   }
   std::cout << "combined g-g-v envelope of the plant '" << p.name << "'"
@@ -248,6 +254,8 @@ void AddVehicle(CLI::App& app) {
       ->check(FiniteNumber())
       ->delimiter(',')
       ->expected(1, -1);
+  gg->add_option("-o,--output", o->csv_file,
+                 "Write the CSV table to this file (atomically) instead of printing it");
   gg->add_flag("--csv", o->csv, "CSV output (speed_mps, lateral/braking/traction in m/s^2)");
   gg->callback([o] { SetExitCode(Gg(*o, "scw vehicle gg")); });
 
@@ -261,6 +269,8 @@ void AddVehicle(CLI::App& app) {
       ->check(FiniteNumber())
       ->delimiter(',')
       ->expected(1, -1);
+  bal->add_option("-o,--output", o->csv_file,
+                  "Write the CSV table to this file (atomically) instead of printing it");
   bal->add_flag("--csv", o->csv, "CSV output");
   NumberIn(bal->add_option("--brake-dead-time", o->brake_dead_time,
                            "Also print the brake lag that keeps the total response with this "
@@ -281,6 +291,8 @@ void AddVehicle(CLI::App& app) {
   NumberIn(env->add_option("--brake-bias", o->brake_bias_front, "Front share of the braking force"),
            0.0, 1.0)
       ->capture_default_str();
+  env->add_option("-o,--output", o->csv_file,
+                  "Write the CSV table to this file (atomically) instead of printing it");
   env->add_flag("--csv", o->csv, "CSV output");
   env->callback([o] { SetExitCode(Envelope(*o)); });
 

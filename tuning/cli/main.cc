@@ -128,6 +128,44 @@ std::vector<std::string> ArgumentProblems(const CLI::ParseError& e, const Comman
   return {cmd + ": " + what};
 }
 
+/// Every option value on the command line that its option's checks refuse, as problem lines
+/// ("scw tune: --seed: -1 is negative: ..."), so that a command line with several bad values is
+/// reported whole, not one value per attempt (CLI11 stops at the first).
+std::vector<std::string> ValueProblems(const CommandWalk& w, int argc, char** argv) {
+  std::vector<std::string> out;
+  CLI::App* cmd = w.path.back();
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg.size() < 2 || arg[0] != '-' || arg == "--") continue;
+    const auto eq = arg.find('=');
+    const std::string name = arg.substr(0, eq);
+    CLI::Option* opt = cmd->get_option_no_throw(name);
+    if (opt == nullptr || opt->get_items_expected_max() == 0) continue;  // unknown, or a flag
+    std::string value;
+    if (eq != std::string::npos)
+      value = arg.substr(eq + 1);
+    else if (i + 1 < argc)
+      value = argv[++i];
+    else
+      continue;
+    for (int k = 0;; ++k) {
+      CLI::Validator* v = nullptr;
+      try {
+        v = opt->get_validator(k);
+      } catch (const CLI::OptionNotFound&) {
+        break;
+      }
+      std::string text = value;
+      const std::string problem = (*v)(text);
+      if (!problem.empty()) {
+        out.push_back(CommandName(w) + ": " + name + ": " + problem);
+        break;
+      }
+    }
+  }
+  return out;
+}
+
 /// "cannot create directories /x/y: Permission denied" from libstdc++'s
 /// "filesystem error: cannot create directories: Permission denied [/x/y]".
 std::string FilesystemMessage(const std::filesystem::filesystem_error& e) {
@@ -210,8 +248,13 @@ int RunCommand(int argc, char** argv) {
   } catch (const CLI::Success& e) {
     return app.exit(e);  // --help, --version
   } catch (const CLI::ParseError& e) {
-    PrintBadInput(std::cerr, ArgumentProblems(e, walk),
-                  "run '" + CommandName(walk) + " --help' for the options");
+    std::vector<std::string> problems = ArgumentProblems(e, walk);
+    // A refused value: report every refused value of the command line at once.
+    if (dynamic_cast<const CLI::ValidationError*>(&e) != nullptr) {
+      std::vector<std::string> values = ValueProblems(walk, argc, argv);
+      if (!values.empty()) problems = std::move(values);
+    }
+    PrintBadInput(std::cerr, problems, "run '" + CommandName(walk) + " --help' for the options");
     return kExitBadInput;
   } catch (const scw::ConfigError& e) {
     std::cerr << "error: invalid input\n" << e.what() << '\n';

@@ -276,6 +276,25 @@ std::string Outcome(const RunMetrics& m) {
 std::string Scenarios(int n) { return Count(n, "scenario"); }
 }  // namespace
 
+CostDistribution Distribution(const SetChange& c, bool after) {
+  CostDistribution d;
+  std::vector<double> costs;
+  for (const auto& s : c.scenarios) {
+    costs.push_back(after ? s.cost_after : s.cost_before);
+    d.aborts += (after ? s.after : s.before).aborted();
+  }
+  if (costs.empty()) return d;
+  std::sort(costs.begin(), costs.end());
+  double sum = 0.0;
+  for (double x : costs) sum += x;
+  d.mean = sum / static_cast<double>(costs.size());
+  // Nearest rank: the smallest cost that at least 90 % of the scenarios do not exceed.
+  const auto rank = static_cast<std::size_t>(std::ceil(0.9 * static_cast<double>(costs.size())));
+  d.p90 = costs[std::max<std::size_t>(rank, 1) - 1];
+  d.worst = costs.back();
+  return d;
+}
+
 std::string SetChangeMarkdown(const std::string& group, const SetChange& c) {
   std::string out = "**" + group + " verdict: ";
   switch (c.verdict) {
@@ -319,6 +338,17 @@ std::string SetChangeMarkdown(const std::string& group, const SetChange& c) {
   out += "\nTotal cost " + FormatFixed(c.total_before, 3) + " -> " + FormatFixed(c.total_after, 3) +
          ": " + Delta(c.total_before, c.total_after) + ", " + CostChangeName(c.total_change) +
          " (noise threshold " + FormatFixed(c.total_threshold, 3) + ").\n\n";
+  // The distribution over the scenarios (unweighted scenario costs): what a set does in its bad
+  // cases, which a total can hide (a robust set is judged by its worst draws).
+  out +=
+      "| set | mean cost | 90th percentile | worst | aborts |\n| --- | --- | --- | --- | --- |\n";
+  for (const bool after : {false, true}) {
+    const CostDistribution d = Distribution(c, after);
+    out += std::string("| ") + (after ? "tuned" : "baseline") + " | " + FormatFixed(d.mean, 3) +
+           " | " + FormatFixed(d.p90, 3) + " | " + FormatFixed(d.worst, 3) + " | " +
+           std::to_string(d.aborts) + " of " + std::to_string(c.scenarios.size()) + " |\n";
+  }
+  out += "\n";
 
   bool weighted = false;
   for (const auto& s : c.scenarios) weighted = weighted || s.weight != 1.0;

@@ -84,8 +84,19 @@ SetChange CompareSets(const std::vector<std::string>& names, const std::vector<d
 SetChange CompareSets(const BatchEvaluator& ev, const SetEvaluation& baseline,
                       const SetEvaluation& tuned);
 
+/// The distribution of the unweighted scenario costs of one side of a comparison.
+struct CostDistribution {
+  double mean = 0.0;
+  double p90 = 0.0;  ///< nearest rank: the smallest cost ≥ that of 90 % of the scenarios
+  double worst = 0.0;
+  int aborts = 0;
+};
+/// The baseline's (`after` false) or the tuned set's distribution.
+CostDistribution Distribution(const SetChange& c, bool after);
+
 /// The verdict as Markdown for comparison.md: one bold line with the overall verdict and the
-/// total's change against its noise threshold, a table of the change per scenario class, a table
+/// total's change against its noise threshold, the cost distribution of both sets (mean, 90th
+/// percentile, worst, aborts), a table of the change per scenario class, a table
 /// per scenario (outcome, cost change, verdict) and the threshold rule. `group` names the
 /// scenarios, e.g. "Held-out".
 std::string SetChangeMarkdown(const std::string& group, const SetChange& c);

@@ -250,6 +250,39 @@ StabilityParams ParameterSpace::Decode(const std::vector<double>& u, const Stabi
     };
     const double ref = reference(fields, p);
 
+    // Pinned: the base value, or where a moved reference leaves it outside the range, the value
+    // nearest to it that keeps the entry's relation.
+    if (e.pinned) {
+      const auto copy_base = [&] {
+        if (e.transform == Transform::kScaleArray)
+          *f.array = *bf.array;
+        else if (f.array)
+          (*f.array)[static_cast<std::size_t>(e.index)] =
+              (*bf.array)[static_cast<std::size_t>(e.index)];
+        else
+          *f.scalar = *bf.scalar;
+      };
+      if (!relative) {
+        copy_base();
+        continue;
+      }
+      double* slot = f.array ? &(*f.array)[static_cast<std::size_t>(e.index)] : f.scalar;
+      const double b = f.array ? (*bf.array)[static_cast<std::size_t>(e.index)] : *bf.scalar;
+      double x_b = e.transform == Transform::kOffset ? b - ref : (ref != 0 ? b / ref : NAN);
+      if (!std::isfinite(x_b) || (x_b >= e.lo && x_b <= e.hi)) {
+        copy_base();
+        continue;
+      }
+      const double x = std::clamp(x_b, e.lo, e.hi);
+      const double raw = e.transform == Transform::kOffset ? ref + x : ref * x;
+      *slot = Quantize(raw, b, f.meta.resolution, [&](double v) {
+        if (!InSchema(v, f.meta)) return false;
+        const double a = e.transform == Transform::kOffset ? v - ref : v / ref;
+        return a >= e.lo && a <= e.hi;
+      });
+      continue;
+    }
+
     // At the base's own coordinate with the reference unchanged: the base value, bit for bit.
     const double xb = ArgumentOf(e, base_fields, base_copy);
     if (std::isfinite(xb) && xb >= e.lo && xb <= e.hi && ui == ToU(e, xb) &&
@@ -299,6 +332,13 @@ StabilityParams ParameterSpace::Decode(const std::vector<double>& u, const Stabi
   }
   if (problems) *problems = params::Validate(p);
   return p;
+}
+
+ParameterSpace ParameterSpace::WithPinned(const std::vector<int>& dims) const {
+  ParameterSpace out = *this;
+  for (int i : dims)
+    if (i >= 0 && i < size()) out.entries_[static_cast<std::size_t>(i)].pinned = true;
+  return out;
 }
 
 std::vector<double> ParameterSpace::Arguments(const std::vector<double>& u) const {

@@ -85,6 +85,10 @@ struct SpaceEntry {
   Transform transform = Transform::kDirect;
   std::string of;  ///< reference key (offset, ratio)
   int of_index = -1;
+  /// Pinned (ParameterSpace::WithPinned): Decode ignores u and keeps the key at its base value —
+  /// for a relative entry whose reference moved, the base value itself while the argument that
+  /// gives it lies in [lo, hi], else the nearest value that keeps the ordering or hysteresis.
+  bool pinned = false;
   std::string Label() const;  ///< e.g. "ESC.kp_psi_dot", "ESC.threshold_velocities[0]"
 };
 
@@ -178,6 +182,9 @@ class ParameterSpace {
   /// line per grown entry), or this space unchanged when nothing lies outside. Throws ConfigError
   /// naming the key(s) for kRefuse with a mismatch, and always for a base value no range can
   /// represent (a log-scaled argument ≤ 0, a ratio of a zero reference).
+  /// This space with the entries `dims` (indices) pinned at the base value (SpaceEntry::pinned):
+  /// what `scw tune` freezes before the search and reverts after it.
+  ParameterSpace WithPinned(const std::vector<int>& dims) const;
   ParameterSpace WithBase(const params::StabilityParams& base, BaseOutsideSpace policy,
                           std::vector<std::string>* notes = nullptr) const;
   /// YAML text of this space (round-trips through FromYamlText).

@@ -260,32 +260,43 @@ void CheckLogIdentity(const std::string& log, const std::string& mine) {
   }
 }
 
-/// Reverts every dimension that the sensitivity found not exercised, and that the search moved,
-/// to the base point: report->exported_u, report->reverted. A revert that would make the set
+/// Pins every dimension that the sensitivity found not exercised, and whose key the search moved,
+/// at its base value (report->pinned_dims, report->reverted). A revert that would make the set
 /// invalid is left out (and said so).
 void Revert(const TuneStudy& study, TuneReport* report) {
   const auto& dims = report->sensitivity.dimensions;
-  const std::vector<double>& u0 = study.start_point();
-  std::vector<double> u = report->exported_u;
-  const params::StabilityParams best = study.space().Decode(u, study.base(), nullptr);
-  const std::set<std::string> moved = params::DifferingKeys(best, study.base());
+  const std::vector<double>& u = report->exported_u;
+  params::StabilityParams current =
+      study.space().WithPinned(report->pinned_dims).Decode(u, study.base(), nullptr);
   for (std::size_t i = 0; i < dims.size(); ++i) {
-    if (dims[i].exercised || u[i] == u0[i]) continue;
-    std::vector<double> trial = u;
-    trial[i] = u0[i];
+    const int dim = static_cast<int>(i);
+    if (dims[i].exercised ||
+        std::count(report->pinned_dims.begin(), report->pinned_dims.end(), dim))
+      continue;
+    std::vector<int> trial = report->pinned_dims;
+    trial.push_back(dim);
     Problems pr;
-    const params::StabilityParams p = study.space().Decode(trial, study.base(), &pr);
-    const bool changes_value = moved.count(study.space().entries()[i].key) > 0;
+    const params::StabilityParams p = study.space().WithPinned(trial).Decode(u, study.base(), &pr);
     if (!pr.empty()) {
       report->reverted.push_back(dims[i].label + " (NOT reverted: the base value would break " +
                                  pr.items()[0].path + ")");
       continue;
     }
-    u = trial;
-    if (changes_value || params::DifferingKeys(p, best).size() > 0)
-      report->reverted.push_back(dims[i].label + " (" + dims[i].reason + ")");
+    if (params::DifferingKeys(p, current).empty()) continue;  // the search left it at the base
+    report->pinned_dims = std::move(trial);
+    current = p;
+    report->reverted.push_back(dims[i].label + " (" + dims[i].reason + ")");
   }
-  report->exported_u = u;
+}
+
+/// A pinned key that a moved reference forced off its base value to keep its ordering or
+/// hysteresis: " — moved to V with its reference R to keep their relation", else "".
+std::string KeptRelation(const SpaceEntry& e, const params::StabilityParams& base,
+                         const params::StabilityParams& tuned) {
+  if (e.of.empty()) return "";
+  const std::set<std::string> diff = params::DifferingKeys(tuned, base);
+  if (!diff.count(e.key)) return "";
+  return " — moved with its reference " + e.of + " to keep their relation";
 }
 
 /// The best point decoded, and the base and tuned sets compared on the training and held-out
@@ -297,9 +308,16 @@ void Compare(const TuneStudy& study, const BatchEvaluator& training, TuneObserve
   const params::StabilityParams& base = study.base();
   const TuneResult& r = report->optimisation;
   Problems pr;
-  report->tuned = study.space().Decode(report->exported_u, base, &pr);
+  const ParameterSpace exported = study.space().WithPinned(report->pinned_dims);
+  report->tuned = exported.Decode(report->exported_u, base, &pr);
   if (!pr.empty())
     throw std::runtime_error("internal error: the exported point decodes to an invalid set");
+  // Pinned keys that had to follow their reference say so.
+  for (auto* list : {&report->frozen, &report->reverted})
+    for (auto& item : *list)
+      for (const auto& e : exported.entries())
+        if (e.pinned && item.rfind(e.Label() + " (", 0) == 0)
+          item += KeptRelation(e, base, report->tuned);
   report->new_findings = NewCheckFindings(base, report->tuned);
   const std::set<std::string> changed = params::DifferingKeys(report->tuned, base);
   report->changed.assign(changed.begin(), changed.end());
@@ -554,7 +572,10 @@ TuneReport TuneStudy::Run(TuneObserver& observer) const {
   std::vector<double> v0;
   for (int i : free_dims) v0.push_back(u0_[static_cast<std::size_t>(i)]);
 
-  const TrainingObjective objective(space_, base_, search, set.cost);
+  // The optimiser's space: the frozen dimensions pinned at the base value.
+  report.pinned_dims = report.frozen_dims;
+  const ParameterSpace search_space = space_.WithPinned(report.frozen_dims);
+  const TrainingObjective objective(search_space, base_, search, set.cost);
   TunerOptions to;
   to.algorithm = options_.algorithm;
   to.max_evals = all_frozen ? 1 : options_.max_evals;
@@ -623,10 +644,10 @@ TuneReport TuneStudy::Run(TuneObserver& observer) const {
                                  ? SensitivityState::kPending
                                  : SensitivityState::kSkipped;
   if (report.sensitivity_state == SensitivityState::kPending) {
-    const SensitivityPlan plan = PlanSensitivity(space_, opt.best_u, base_);
+    const SensitivityPlan plan = PlanSensitivity(search_space, opt.best_u, base_);
     const int n_runs = static_cast<int>(plan.sets.size() * training.scenarios().size());
     observer.OnPhaseBegin(TunePhase::kSensitivity, n_runs);
-    report.sensitivity = EvaluateSensitivity(training, space_, plan,
+    report.sensitivity = EvaluateSensitivity(training, search_space, plan,
                                              Jobs(observer, TunePhase::kSensitivity, 0, n_runs));
     report.sensitivity_csv = SensitivityCsv(report.sensitivity);
     report.sensitivity_state = SensitivityState::kDone;

@@ -159,6 +159,10 @@ struct TuneReport {
   /// point (the best point with those dimensions at the base point).
   std::vector<std::string> reverted;
   std::vector<double> exported_u;
+  /// The dimensions pinned at the base value in the exported set: the frozen and the reverted
+  /// ones (ParameterSpace::WithPinned); the exported set is space().WithPinned(pinned_dims)
+  /// decoding exported_u.
+  std::vector<int> pinned_dims;
   // compare
   /// The exported point decoded against the base, quantised to the schema resolutions: exactly
   /// what is exported and compared.

@@ -6,6 +6,7 @@
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "params/io/yaml_doc.h"
+#include "tuning/sim/robust_set_yaml.h"
 #include "tuning/sim/scenario.h"
 
 namespace scw::tuning {
@@ -46,6 +47,16 @@ Overrides WetPatch(const std::string& start, const std::string& end, const std::
 }
 
 }  // namespace
+
+ScenarioSet ScenarioSet::Robust() {
+  return FromYamlText(generated::kRobustSetYaml, "built-in robust set");
+}
+
+ScenarioSet ScenarioSet::FromNameOrFile(const std::string& name_or_path) {
+  if (name_or_path.empty() || name_or_path == "default") return Default();
+  if (name_or_path == "robust") return Robust();
+  return FromFile(name_or_path);
+}
 
 ScenarioSet ScenarioSet::Default() {
   ScenarioSet s;

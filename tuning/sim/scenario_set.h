@@ -58,6 +58,13 @@ struct ScenarioSet {
 
   /// The built-in default set (params/scenarios/default_set.yaml holds the same).
   static ScenarioSet Default();
+  /// The built-in robust set: params/scenarios/robust_set.yaml (embedded at build time):
+  /// Monte-Carlo blocks of the critical situations and clean laps that also draw the plant
+  /// values we do not know (brake dead time, steering delay, the rear tyre beyond its peak, grip,
+  /// yaw inertia) within stated ranges.
+  static ScenarioSet Robust();
+  /// A built-in set by name ("default", "robust"), else the file at `name_or_path`.
+  static ScenarioSet FromNameOrFile(const std::string& name_or_path);
   /// Throws ConfigError naming the file, the key path (`training[2].monte_carlo.count`), the rule
   /// and the line.
   static ScenarioSet FromYamlText(const std::string& text, const std::string& file);

@@ -233,5 +233,28 @@ TEST_F(NewUserTest, EveryHelpShowsExitCodesAndDefaults) {
   EXPECT_NE(Scw("evaluate --help").out.find("--threads INT"), std::string::npos);
 }
 
+// 12: the vehicle tables take -o FILE as every other output does.
+TEST_F(NewUserTest, VehicleTablesWriteTheirCsvWithDashO) {
+  const Result r = Scw("vehicle gg --speeds 30 -o " + Path("gg.csv"));
+  EXPECT_EQ(r.code, 0) << r.all();
+  EXPECT_EQ(Slurp(Path("gg.csv")).rfind("speed_mps,lateral_max_mps2,", 0), 0u)
+      << Slurp(Path("gg.csv"));
+  EXPECT_EQ(r.out.find("speed_mps"), std::string::npos) << r.out;
+}
+
+// 11: several bad values on one command line are reported together, before anything runs.
+TEST_F(NewUserTest, EveryBadValueOfACommandLineIsReportedAtOnce) {
+  const Result r = Scw("tune --seed -1 --threads -1 --max-evals 0 --out-dir " + Path("run"));
+  EXPECT_EQ(r.code, 2) << r.all();
+  EXPECT_NE(r.err.find("scw tune: --seed: -1 is negative"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("scw tune: --threads: -1 is outside [0, 1024]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("scw tune: --max-evals: 0 is outside"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(Path("run")));
+  // One bad value: one line, as before.
+  const Result one = Scw("tune --max-evals abc");
+  EXPECT_EQ(one.code, 2);
+  EXPECT_EQ(Count(one.err, "scw tune: "), 1u) << one.err;
+}
+
 }  // namespace
 }  // namespace scw

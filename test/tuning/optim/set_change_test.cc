@@ -239,5 +239,28 @@ TEST(SetChangeTest, MismatchedInputsThrow) {
   EXPECT_THROW(CompareSets(Names(2), {1.0}, two, two), std::invalid_argument);
 }
 
+// The distribution of the scenario costs: mean, 90th percentile by nearest rank, worst, aborts;
+// by hand for ten scenarios (the 9th smallest is the 90th percentile).
+TEST(SetChangeTest, DistributionGivesMeanNinetiethPercentileWorstAndAborts) {
+  std::vector<RunAndCost> before, after;
+  for (int i = 1; i <= 10; ++i) {
+    before.push_back({Completed(60.0), 60.0 + i});
+    after.push_back({i == 10 ? Aborted(RunStatus::kSideslip, 0.5) : Completed(60.0),
+                     i == 10 ? 300.0 : 60.0 + 0.5 * i});
+  }
+  const SetChange c = CompareSets(Names(10), {}, Set(before), Set(after));
+  const CostDistribution b = Distribution(c, false), t = Distribution(c, true);
+  EXPECT_DOUBLE_EQ(b.mean, 65.5);
+  EXPECT_DOUBLE_EQ(b.p90, 69.0);
+  EXPECT_DOUBLE_EQ(b.worst, 70.0);
+  EXPECT_EQ(b.aborts, 0);
+  EXPECT_DOUBLE_EQ(t.p90, 64.5);
+  EXPECT_DOUBLE_EQ(t.worst, 300.0);
+  EXPECT_EQ(t.aborts, 1);
+  EXPECT_TRUE(
+      Has(SetChangeMarkdown("Held-out", c), "| tuned | 86.250 | 64.500 | 300.000 | 1 of 10 |"))
+      << SetChangeMarkdown("Held-out", c);
+}
+
 }  // namespace
 }  // namespace scw::tuning

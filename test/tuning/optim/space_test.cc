@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -303,6 +304,44 @@ TEST(SpaceTest, LogScaleAndTransforms) {
   // with the breakpoints at 25 and 80 m/s that is 0.0142 at 90 m/s; 0.5 × 0.0142 = 0.0071 is
   // rounded to the resolution 0.001 rad, to 0.008 because 0.007 would leave the range [0.5, 1].
   EXPECT_EQ(p.ESC.beta_threshold_deactivate, 0.008);
+}
+
+// A pinned entry keeps its base value whatever u says; where its reference moved so far that the
+// base value would break the ordering, it takes the nearest value that keeps it.
+TEST(SpaceTest, APinnedEntryKeepsItsBaseValueAndItsOrdering) {
+  const StabilityParams base;
+  const double hr = base.SlipControl.ABS.rear.slip_threshold_hold_reduce;
+  const double rh = base.SlipControl.ABS.rear.slip_threshold_reduce_hold;
+  const ParameterSpace s("t", {{"SlipControl.ABS.rear.slip_threshold_hold_reduce", -1, -20.0, -4.0,
+                                params::Scale::kLinear, Transform::kDirect, "", -1},
+                               {"SlipControl.ABS.rear.slip_threshold_reduce_hold", -1, -8.0, 0.0,
+                                params::Scale::kLinear, Transform::kOffset,
+                                "SlipControl.ABS.rear.slip_threshold_hold_reduce", -1}});
+  const ParameterSpace pinned = s.WithPinned({1});
+  int feasible = 0;
+  EXPECT_FALSE(s.entries()[1].pinned);
+  EXPECT_TRUE(pinned.entries()[1].pinned);
+  for (double u0 : {0.0, 0.25, 0.5, 0.75, 1.0})
+    for (double u1 : {0.0, 0.5, 1.0}) {
+      Problems pr;
+      const StabilityParams p = pinned.Decode({u0, u1}, base, &pr);
+      if (!pr.empty()) continue;  // an ordering with keys outside this small space
+      ++feasible;
+      const double new_hr = p.SlipControl.ABS.rear.slip_threshold_hold_reduce;
+      const double got = p.SlipControl.ABS.rear.slip_threshold_reduce_hold;
+      if (rh - new_hr >= -8.0 && rh - new_hr <= 0.0)
+        EXPECT_EQ(got, rh) << u0 << " " << u1;  // the base value, bit for bit
+      else
+        EXPECT_NEAR(got, new_hr + std::clamp(rh - new_hr, -8.0, 0.0), 0.1) << u0;
+      EXPECT_LE(got - new_hr, 1e-12);  // the ordering holds
+      EXPECT_GE(got - new_hr, -8.0 - 1e-12);
+    }
+  EXPECT_GE(feasible, 5);
+  // With the reference at its base, the pinned entry is the base whatever its u.
+  EXPECT_EQ(pinned.Decode({pinned.Encode(base)[0], 0.0}, base, nullptr)
+                .SlipControl.ABS.rear.slip_threshold_reduce_hold,
+            rh);
+  (void)hr;
 }
 
 TEST(SpaceTest, RatiosOfAScheduleReferToTheSmallestValueTheCarInterpolates) {

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
 #include <string>
 #include <vector>
 
@@ -95,6 +96,32 @@ TEST(ScenarioSetTest, BlocksRoundTripThroughTheSchemaWriter) {
   const auto back = params::LoadPlainText<ScenarioSetFile>(yaml, "printed.yaml");
   EXPECT_EQ(params::ToPlainYaml(back, "", params::TextStyle::kPlainWhereSafe), yaml);
   EXPECT_EQ(ScenarioSet::FromYamlText(yaml, path).ToYaml(), ScenarioSet::FromFile(path).ToYaml());
+}
+
+// The built-in robust set is the shipped file, and it draws the plant values we do not know within
+// the ranges docs/scenarios.md states, in every scenario.
+TEST(ScenarioSetTest, TheBuiltInRobustSetIsTheFileAndDrawsThePlantWithinItsRanges) {
+  const std::string path = std::string(SCW_SOURCE_DIR) + "/params/scenarios/robust_set.yaml";
+  const ScenarioSet robust = ScenarioSet::FromNameOrFile("robust");
+  EXPECT_EQ(robust.ToYaml(), ScenarioSet::FromFile(path).ToYaml());
+  EXPECT_EQ(ScenarioSet::FromNameOrFile("default").ToYaml(), ScenarioSet::Default().ToYaml());
+  ASSERT_EQ(robust.training.size(), 128u);
+  ASSERT_EQ(robust.held_out.size(), 40u);
+  std::set<double> dead_times;
+  for (const auto* group : {&robust.training, &robust.held_out})
+    for (const auto& e : *group) {
+      const params::ScenarioParams sc = LoadEntry(e, robust.base_dir);
+      EXPECT_GE(sc.plant.brake_dead_time, 0.04) << e.name;
+      EXPECT_LE(sc.plant.brake_dead_time, 0.116) << e.name;
+      EXPECT_GE(sc.plant.steering_delay, 0.0) << e.name;
+      EXPECT_LE(sc.plant.steering_delay, 0.06) << e.name;
+      EXPECT_GE(sc.plant.rear_tire_falloff, 0.5) << e.name;
+      EXPECT_LE(sc.plant.rear_tire_falloff, 1.5) << e.name;
+      EXPECT_GE(sc.plant.yaw_inertia_scale, 0.8) << e.name;
+      EXPECT_LE(sc.plant.yaw_inertia_scale, 1.2) << e.name;
+      dead_times.insert(sc.plant.brake_dead_time);
+    }
+  EXPECT_GT(dead_times.size(), 20u);  // drawn, not one value
 }
 
 TEST(ScenarioSetTest, BadFilesNameTheKeyPathTheRuleAndTheLine) {
