@@ -127,9 +127,7 @@ void AddManeuver(CLI::App& app) {
       "Run a standard open-loop maneuver (robot inputs, the stability controller in the loop, no "
       "motion controller) and print the standard's metrics and pass/fail (docs/maneuvers.md); "
       "exit 1 when a criterion fails");
-  std::string names;
-  for (const auto& n : tuning::ManeuverNames()) names += (names.empty() ? "" : ", ") + n;
-  cmd->add_option("name", o->name, "The maneuver: " + names)
+  cmd->add_option("name", o->name, "The maneuver (docs/maneuvers.md)")
       ->required()
       ->check(CLI::IsMember(tuning::ManeuverNames()));
   cmd->add_option("--scenario", o->scenario,

@@ -327,6 +327,13 @@ TEST_F(CliTest, ManeuverOptionsOutputsAndExitCodes) {
   EXPECT_EQ(trace.rfind("t_s,lap,s_m,", 0), 0u) << trace.substr(0, 80);
   EXPECT_NE(trace.find("\n-3,0,"), std::string::npos);  // run 0 settles from t = -3 s
   EXPECT_NE(trace.find("\n-3,1,"), std::string::npos);  // run 1 in the same file
+
+  // The figure: drawn, or (no matplotlib) a note and the same exit code; no temporary file left.
+  r = Scw("maneuver power_off_in_turn --plot " + Path("p.png"));
+  EXPECT_TRUE(r.code == 0 || r.code == 1) << r.all();
+  EXPECT_TRUE(fs::exists(Path("p.png")) || r.err.find("note: no plot written") != std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(Path("p.png.result.json")));
 }
 
 }  // namespace
