@@ -595,6 +595,7 @@ def main(argv=None):
     s2 = scwexp.read_summary("study2_lateral")
     s3 = scwexp.read_summary("study3_motion")
     cmp_ = scwexp.read_summary("compare")
+    man = scwexp.read_summary("maneuvers")
     # Summaries of an older layout (before issue 14) are ignored.
     s1, s2, s3 = [s if s and "runs" in s else None for s in (s1, s2, s3)]
     for s in (s1, s2, s3):
@@ -727,6 +728,11 @@ def main(argv=None):
         out += ["## Comparison of parameter sets", "", f"Wall time {cmp_['wall_time_s']:.0f} s. "
                 f"Sets: {', '.join(cmp_['labels'])}. Table: `{cmp_['markdown']}`.", ""]
         out += figs(cmp_["figures"]) + [""]
+    if man and man.get("figures"):
+        out += ["## Standard maneuvers", "", f"{man['runs']} open-loop maneuver runs "
+                f"(experiments/maneuvers.py, SC off and on; sets: {', '.join(man['sets'])}) in "
+                f"{man['wall_s']:.0f} s. Tables: `maneuvers/maneuvers.md`.", ""]
+        out += [f"![{f}](maneuvers/{f})" for f in man["figures"]] + [""]
     path = os.path.join(scwexp.RESULTS, "report.md")
     os.makedirs(scwexp.RESULTS, exist_ok=True)
     with open(path + ".tmp", "w") as f:

@@ -159,8 +159,12 @@ std::string RenderFlowMap(const E& e) {
 }
 }  // namespace detail
 
+template <class P>
+std::set<std::string> DifferingKeys(const P& a, const P& b);
+
 /// The fields of `p` selected by `include(path, meta)`, rendered (keys prefixed with `prefix`).
-/// A present std::optional group contributes its own fields (all of them, it is complete).
+/// A present std::optional group contributes its own fields (all of them, it is complete; only
+/// the omit_default ones that hold their default are left out, as at the top level).
 template <class P>
 std::vector<EmitEntry> CollectEntries(
     const P& p, const std::function<bool(const std::string&, const Meta&)>& include,
@@ -182,8 +186,15 @@ std::vector<EmitEntry> CollectEntries(
             return value;
         }();
         if constexpr (kIsStruct<U>) {
+          // Complete, except the omit_default fields that hold their default.
+          const std::set<std::string> changed = DifferingKeys(v, U{});
+          const std::size_t cut = path.size() + 1;
           auto inner = CollectEntries(
-              v, [](const std::string&, const Meta&) { return true; }, text, path);
+              v,
+              [&](const std::string& sub, const Meta& m) {
+                return !m.omit_default || changed.count(sub.substr(cut)) > 0;
+              },
+              text, path);
           out.insert(out.end(), inner.begin(), inner.end());
         } else if constexpr (kIsList<U>) {
           EmitEntry e{path, "", "", true, {}};

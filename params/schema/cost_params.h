@@ -16,6 +16,7 @@ struct CostWeights {
   double abs_release_weight = 0.002;
   double tc_cut_weight = 0.5;
   double max_sideslip_weight = 0.5;
+  double failed_criterion_weight = 100.0;
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
@@ -82,6 +83,16 @@ struct CostWeights {
              .doc = "Cost per degree of the largest |β| above sideslip_allowed_deg, on critical "
                     "scenarios (kind: critical): how close the car came to a spin.",
              .optional = true});
+    v.Field(s.failed_criterion_weight,
+            {.key = "failed_criterion_weight",
+             .unit = "s",
+             .lo = 0.0,
+             .hi = 1e6,
+             .doc = "Cost of each failed pass/fail criterion of a maneuver scenario (kind: "
+                    "maneuver, docs/maneuvers.md), times 1 + its relative miss (capped at 1): a "
+                    "yaw-rate ratio of 45 % against the 35 % limit costs 1.29 x this.",
+             .optional = true,
+             .omit_default = true});
   }
 };
 

@@ -11,6 +11,7 @@
 #include "params/schema/field.h"
 #include "params/schema/friction_patch_params.h"
 #include "params/schema/longitudinal_params.h"
+#include "params/schema/maneuver_params.h"
 #include "params/schema/mpc_params.h"
 #include "params/schema/plant_variation_params.h"
 #include "params/schema/tire_params.h"
@@ -162,6 +163,7 @@ struct ScenarioParams {
   bool sensor_noise = false;
   double log_rate = 100.0;
   double plant_step = 0.0;
+  ManeuverParams maneuver{};  ///< used when kind = maneuver
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
@@ -172,9 +174,11 @@ struct ScenarioParams {
                     "clean = a lap that should need no intervention (lap time and the cost of "
                     "every intervention count); critical = a situation the stability control "
                     "must save (survival, sideslip above the allowed angle and distance lost "
-                    "count; interventions are free).",
+                    "count; interventions are free); maneuver = a standard open-loop test "
+                    "(section maneuver, docs/maneuvers.md: no track, no motion controller; its "
+                    "failed pass/fail criteria count).",
              .optional = true,
-             .choices = "clean|critical"});
+             .choices = "clean|critical|maneuver"});
     v.Field(s.track, {.key = "track",
                       .doc = "Track: a built-in name (yas_north = Yas Marina North, monza = "
                              "Autodromo Nazionale Monza, 5.793 km GP layout, clockwise) or a file "
@@ -252,6 +256,9 @@ struct ScenarioParams {
                     "vehicle's own step (docs/plant-step.md); everything it reports runs at the "
                     "vehicle's step.",
              .optional = true});
+    // A standard open-loop test (params/schema/maneuver_params.h); every key optional and
+    // written only when changed.
+    v.Nested("maneuver", s.maneuver, true);
   }
 };
 

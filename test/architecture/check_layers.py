@@ -32,6 +32,7 @@ RULES = [
     ('plant/', (r'"(tuning|controller|params/io)/', 'the plant knows no controller, simulation or file I/O')),
     ('params/schema/', YAML), ('params/schema/', (r'"(params/io|tuning|controller|plant)/', 'the schema is the bottom layer')),
     ('tuning/sim/', (r'"tuning/(optim|cli)/', 'simulation sits below optimisation and the CLI')),
+    ('tuning/maneuver/', (r'"tuning/(optim|cli)/', 'maneuvers sit below optimisation and the CLI')),
     ('tuning/optim/', (r'"tuning/cli/', 'the CLI sits on top')),
 ]
 # scw::io (plain files) sits in params/io beside the YAML code: these files may not use YAML.

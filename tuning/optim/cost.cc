@@ -33,6 +33,22 @@ CostBreakdown ScenarioCost(const RunMetrics& m, const params::CostWeights& w, bo
   return c;
 }
 
+CostBreakdown ScenarioCostOfKind(const RunMetrics& m, const params::CostWeights& w,
+                                 const std::string& kind) {
+  if (kind != "maneuver") return ScenarioCost(m, w, kind == "critical");
+  CostBreakdown c;
+  c.sideslip = w.sideslip_weight * m.sideslip_excess_integral;
+  c.criteria = w.failed_criterion_weight * (m.criteria_failed + m.criteria_miss);
+  if (!std::isfinite(c.sideslip) || !std::isfinite(c.criteria)) {
+    c.sideslip = c.criteria = 0.0;
+    c.abort = w.abort_base + w.abort_progress_weight;
+  } else if (m.aborted()) {
+    c.abort = w.abort_base + w.abort_progress_weight * (1.0 - m.Progress());
+  }
+  c.total = c.sideslip + c.criteria + c.abort;
+  return c;
+}
+
 double TotalCost(const std::vector<CostBreakdown>& per_scenario,
                  const std::vector<double>& weights) {
   double j = 0.0;

@@ -8,6 +8,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "tuning/maneuver/maneuver.h"
 #include "tuning/sim/closed_loop.h"
 #include "tuning/sim/parallel/mpi_backend.h"
 #include "tuning/sim/parallel/parallel_for.h"
@@ -44,12 +45,18 @@ RunOptions OptionsFor(const params::CostWeights& cost) {
 void RunJob(const ResolvedScenario& sc, const params::StabilityParams& set, const RunOptions& ro,
             RunMetrics* m, std::string* invalid) {
   try {
-    *m = RunClosedLoop(sc, set, ro);
+    if (sc.spec.kind == "maneuver") {
+      ManeuverOptions mo;
+      mo.sideslip_allowed_deg = ro.sideslip_allowed_deg;
+      *m = RunManeuver(sc, set, mo).Summary();
+    } else {
+      *m = RunClosedLoop(sc, set, ro);
+    }
   } catch (const ConfigError& e) {
     *m = RunMetrics{};
     m->status = RunStatus::kInvalidParams;
-    m->laps_planned = sc.spec.laps;
-    m->distance_planned = sc.spec.laps * sc.track->length();
+    m->laps_planned = sc.track ? sc.spec.laps : 0;
+    m->distance_planned = sc.track ? sc.spec.laps * sc.track->length() : 0.0;
     *invalid =
         e.problems().empty() ? e.what() : e.problems()[0].path + ": " + e.problems()[0].message;
   }
@@ -256,8 +263,8 @@ std::vector<SetEvaluation> BatchEvaluator::Evaluate(
     for (int k = 0; k < n_sc; ++k) {
       const std::size_t j = s * static_cast<std::size_t>(n_sc) + static_cast<std::size_t>(k);
       ev.runs.push_back(slots[j]);
-      ev.costs.push_back(ScenarioCost(
-          slots[j], cost_, scenarios_[static_cast<std::size_t>(k)].spec.kind == "critical"));
+      ev.costs.push_back(
+          ScenarioCostOfKind(slots[j], cost_, scenarios_[static_cast<std::size_t>(k)].spec.kind));
       if (ev.invalid.empty()) ev.invalid = invalid[j];
     }
     ev.total = TotalCost(ev.costs, weights_);

@@ -139,6 +139,11 @@ std::vector<std::string> TraceHeader() {
 
 RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityParams& stability,
                          const RunOptions& options) {
+  if (!sc.track)  // a maneuver (kind: maneuver) drives no track: tuning/maneuver/maneuver.h
+    throw ConfigError(sc.source, "kind",
+                      "'" + sc.spec.kind +
+                          "' has no track to lap: run it with scw maneuver or "
+                          "in a scenario set");
   const params::StabilityParams stab = PrepareStability(sc, stability);
   controller::StabilityOptions sopt;
   sopt.release_compat = sc.spec.subsystems.release_compat;

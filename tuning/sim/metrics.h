@@ -49,6 +49,11 @@ struct RunMetrics {
   /// [s] ∫ max(0, requested − applied throttle) dt while TC acts (throttle 0..1)
   double tc_throttle_cut = 0.0;
   double max_speed = 0.0;  ///< [m/s]
+  /// Maneuver runs (tuning/maneuver/maneuver.h) only: the standard's pass/fail criteria checked
+  /// and failed, and Σ over the failed ones of min(1, |value − limit| / |limit|).
+  int criteria_checked = 0;
+  int criteria_failed = 0;
+  double criteria_miss = 0.0;
 
   bool aborted() const { return status != RunStatus::kCompleted; }
   /// Mean of the completed laps [s], or NaN if none.
@@ -127,6 +132,16 @@ struct RunMetrics {
              OutputMeta{.key = "tc_throttle_cut_s",
                         .unit = "s",
                         .doc = "∫ max(0, requested − applied throttle) dt while TC acts"});
+    v.Output(m.criteria_checked, OutputMeta{.key = "criteria_checked",
+                                            .doc = "maneuver pass/fail criteria checked",
+                                            .summary = false});
+    v.Output(m.criteria_failed, OutputMeta{.key = "criteria_failed",
+                                           .doc = "maneuver pass/fail criteria failed",
+                                           .summary = false});
+    v.Output(m.criteria_miss,
+             OutputMeta{.key = "criteria_miss",
+                        .doc = "Σ over the failed criteria of min(1, relative miss)",
+                        .summary = false});
   }
 };
 

@@ -271,22 +271,103 @@ controller::motion::LongitudinalModel LongitudinalModelFor(const params::Vehicle
   return m;
 }
 
-ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& base_dir,
-                         const std::string& source) {
-  ResolvedScenario sc;
-  sc.spec = spec;
-  sc.source = source;
-  const std::string where = source == "built-in" ? "scenario " + spec.name : source;
+namespace {
 
-  // Vehicle (with the scenario's grip factors).
-  sc.vehicle =
+std::string Where(const params::ScenarioParams& spec, const std::string& source) {
+  return source == "built-in" ? "scenario " + spec.name : source;
+}
+
+/// The vehicle of a scenario with its grip factors and sensor-noise switch; `*nominal` receives
+/// the vehicle file's own values (the planner's, with plan_with_nominal_grip).
+void ResolveVehicle(const params::ScenarioParams& spec, const std::string& base_dir,
+                    const std::string& where, ResolvedScenario* sc,
+                    params::VehicleParams* nominal) {
+  sc->vehicle =
       spec.vehicle.empty()
           ? params::VehicleParams{}
           : params::LoadPlainFile<params::VehicleParams>(ResolvePath(base_dir, spec.vehicle));
-  const params::VehicleParams nominal = sc.vehicle;
-  ApplyGrip(spec.grip, &sc.vehicle.grip);
-  sc.vehicle.sensors.noise = sc.vehicle.sensors.noise || spec.sensor_noise;
-  params::ValidateOrThrow(sc.vehicle, where + " (vehicle with the scenario's grip)");
+  *nominal = sc->vehicle;
+  ApplyGrip(spec.grip, &sc->vehicle.grip);
+  sc->vehicle.sensors.noise = sc->vehicle.sensors.noise || spec.sensor_noise;
+  params::ValidateOrThrow(sc->vehicle, where + " (vehicle with the scenario's grip)");
+}
+
+/// The car's stability file (or defaults) with the vehicle handler's constants.
+void ResolveStability(const params::ScenarioParams& spec, const std::string& base_dir,
+                      const std::string& where, ResolvedScenario* sc) {
+  if (!spec.stability.empty()) {
+    params::LoadReport rep;
+    sc->stability = params::LoadRosFile<params::StabilityParams>(
+        ResolvePath(base_dir, spec.stability), params::kStabilityNodeKey, &rep);
+    sc->stability_present = rep.present;
+  }
+  InjectVehicleConstants(sc->vehicle, sc->stability_present, &sc->stability);
+  params::ValidateOrThrow(sc->stability, where + " (stability parameters)");
+}
+
+/// The scenario's own plant step (docs/plant-step.md). Applied last: the racing line, the g-g-v
+/// table and everything planned from them do not depend on it, so the memos are shared with the
+/// same scenario at the vehicle's step.
+// The simulated car (the scenario's plant section, docs/plant-calibration.md): after everything
+// the car's software is built from, before the plant step (the brake lag that keeps the total
+// response is found at the vehicle's own step, so it is the same at any plant_step).
+void ApplyPlantSection(const params::ScenarioParams& spec, const std::string& where,
+                       ResolvedScenario* sc) {
+  try {
+    sc->plant_vehicle = ApplyPlantVariation(sc->vehicle, spec.plant);
+  } catch (const ConfigError& e) {
+    throw ConfigError(where, e.problems());
+  }
+  params::ValidateOrThrow(sc->plant_vehicle,
+                          where + " (vehicle with the scenario's plant section)");
+}
+
+// The scenario's own plant step (docs/plant-step.md), for the car's software and the simulated car.
+void ApplyPlantStep(const params::ScenarioParams& spec, const std::string& where,
+                    ResolvedScenario* sc) {
+  if (spec.plant_step > 0.0) {
+    sc->vehicle.simulation.time_step = spec.plant_step;
+    sc->plant_vehicle.simulation.time_step = spec.plant_step;
+    params::ValidateOrThrow(sc->vehicle, where + " (vehicle with the scenario's plant_step)");
+    params::ValidateOrThrow(sc->plant_vehicle, where + " (vehicle with the scenario's plant_step)");
+    const double ts = sc->stability.tS;
+    const double ratio = ts / spec.plant_step;
+    if (!(std::abs(ratio - std::round(ratio)) <= 1e-9 * ratio))
+      throw ConfigError(where, "plant_step",
+                        "must divide the controller period tS = " + params::FormatDouble(ts) +
+                            " s, got " + params::FormatDouble(spec.plant_step) + " s");
+  }
+}
+
+}  // namespace
+
+ResolvedScenario ResolveCar(const params::ScenarioParams& spec, const std::string& base_dir,
+                            const std::string& source) {
+  ResolvedScenario sc;
+  sc.spec = spec;
+  sc.source = source;
+  const std::string where = Where(spec, source);
+  params::VehicleParams nominal;
+  ResolveVehicle(spec, base_dir, where, &sc, &nominal);
+  ResolveStability(spec, base_dir, where, &sc);
+  sc.longitudinal_model = LongitudinalModelFor(sc.vehicle);
+  ApplyPlantSection(spec, where, &sc);
+  ApplyPlantStep(spec, where, &sc);
+  return sc;
+}
+
+ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& base_dir,
+                         const std::string& source) {
+  // A maneuver drives no track and follows no reference (tuning/maneuver/maneuver.h).
+  if (spec.kind == "maneuver") return ResolveCar(spec, base_dir, source);
+  ResolvedScenario sc;
+  sc.spec = spec;
+  sc.source = source;
+  const std::string where = Where(spec, source);
+
+  // Vehicle (with the scenario's grip factors).
+  params::VehicleParams nominal;
+  ResolveVehicle(spec, base_dir, where, &sc, &nominal);
 
   // Track and reference line.
   std::string track_key;
@@ -335,14 +416,7 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
   });
 
   // Stability parameters: the car's file (or defaults) with the vehicle handler's constants.
-  if (!spec.stability.empty()) {
-    params::LoadReport rep;
-    sc.stability = params::LoadRosFile<params::StabilityParams>(
-        ResolvePath(base_dir, spec.stability), params::kStabilityNodeKey, &rep);
-    sc.stability_present = rep.present;
-  }
-  InjectVehicleConstants(sc.vehicle, sc.stability_present, &sc.stability);
-  params::ValidateOrThrow(sc.stability, where + " (stability parameters)");
+  ResolveStability(spec, base_dir, where, &sc);
 
   // Motion control.
   if (!spec.motion.params.empty())
@@ -352,31 +426,10 @@ ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& 
   sc.tracking.vehicle.max_angle = sc.vehicle.steering.max_angle;
   sc.longitudinal_model = LongitudinalModelFor(sc.vehicle);
 
-  // The simulated car (the scenario's plant section, docs/plant-calibration.md): after
-  // everything the car's software is built from, before the plant step (the brake lag that keeps
-  // the total response is found at the vehicle's own step, so it is the same at any plant_step).
-  try {
-    sc.plant_vehicle = ApplyPlantVariation(sc.vehicle, spec.plant);
-  } catch (const ConfigError& e) {
-    throw ConfigError(where, e.problems());
-  }
-  params::ValidateOrThrow(sc.plant_vehicle, where + " (vehicle with the scenario's plant section)");
-
-  // The scenario's own plant step (docs/plant-step.md). Applied last: the racing line, the g-g-v
-  // table and everything planned from them do not depend on it, so the memos above are shared
-  // with the same scenario at the vehicle's step.
-  if (spec.plant_step > 0.0) {
-    sc.vehicle.simulation.time_step = spec.plant_step;
-    sc.plant_vehicle.simulation.time_step = spec.plant_step;
-    params::ValidateOrThrow(sc.vehicle, where + " (vehicle with the scenario's plant_step)");
-    params::ValidateOrThrow(sc.plant_vehicle, where + " (vehicle with the scenario's plant_step)");
-    const double ts = sc.stability.tS;
-    const double ratio = ts / spec.plant_step;
-    if (!(std::abs(ratio - std::round(ratio)) <= 1e-9 * ratio))
-      throw ConfigError(where, "plant_step",
-                        "must divide the controller period tS = " + params::FormatDouble(ts) +
-                            " s, got " + params::FormatDouble(spec.plant_step) + " s");
-  }
+  // The simulated car and the scenario's own plant step, applied last (the memos above do not
+  // depend on them).
+  ApplyPlantSection(spec, where, &sc);
+  ApplyPlantStep(spec, where, &sc);
   return sc;
 }
 

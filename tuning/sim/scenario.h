@@ -66,9 +66,16 @@ params::ScenarioParams LoadScenario(const std::string& path,
 params::ScenarioParams DefaultScenario(const std::vector<std::string>& overrides = {});
 
 /// Builds everything a run needs. `base_dir` resolves relative file names ("" = current folder).
-/// Throws ConfigError on bad files.
+/// Throws ConfigError on bad files. A scenario of kind `maneuver` gets ResolveCar (no track).
 ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& base_dir = "",
                          const std::string& source = "built-in");
+
+/// The car of a scenario without a track or a reference: the vehicle (grip factors, sensor noise,
+/// plant_step), the stability base set (vehicle constants injected) and the longitudinal model,
+/// resolved exactly as Resolve does; track and path stay null. What a maneuver needs
+/// (tuning/maneuver/maneuver.h); Resolve returns this for a scenario of kind `maneuver`.
+ResolvedScenario ResolveCar(const params::ScenarioParams& spec, const std::string& base_dir = "",
+                            const std::string& source = "built-in");
 
 /// The stability set a run uses: `candidate` with the vehicle constants injected (except keys in
 /// `present`) and the scenario's subsystem switches applied (a subsystem runs if enabled in the

@@ -295,5 +295,46 @@ TEST_F(CliTest, EvaluateLabelsMustNameEverySetOnce) {
   EXPECT_NE(r.err.find("'a' is given twice"), std::string::npos) << r.err;
 }
 
+// scw maneuver: bad subsystem names and unknown maneuvers are bad input (exit 2) naming the
+// option; a run writes its trace (simulate's columns, one block per run) and its JSON; the exit
+// code says whether every criterion passed (0) or one failed (1), whatever the outcome is.
+TEST_F(CliTest, ManeuverOptionsOutputsAndExitCodes) {
+  Result r = Scw("maneuver sine_with_dwell --subsystems esc,abx");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("scw maneuver: --subsystems: unknown subsystem 'abx'"), std::string::npos)
+      << r.err;
+  r = Scw("maneuver sine_with_dwel");
+  EXPECT_EQ(r.code, 2) << r.all();
+  r = Scw("maneuver power_off_in_turn --set maneuver.speedd=30");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("maneuver.speedd: unknown key (did you mean maneuver.speed?)"),
+            std::string::npos)
+      << r.err;
+
+  r =
+      Scw("maneuver braking_in_turn --subsystems none --set \"maneuver.decelerations=[3.0, 6.0]\" "
+          "--trace " +
+          Path("t.csv") + " --json " + Path("r.json"));
+  ASSERT_TRUE(r.code == 0 || r.code == 1) << r.all();
+  const std::string json = Slurp(Path("r.json"));
+  EXPECT_NE(json.find("\"maneuver\": \"braking_in_turn\""), std::string::npos);
+  const bool failed = json.find("\"passed\": false") != std::string::npos;
+  EXPECT_EQ(r.code, failed ? 1 : 0);
+  EXPECT_NE(r.out.find("| 3.0 m/s^2 |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| 6.0 m/s^2 |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("subsystems: none"), std::string::npos) << r.out;
+  const std::string trace = Slurp(Path("t.csv"));
+  EXPECT_EQ(trace.rfind("t_s,lap,s_m,", 0), 0u) << trace.substr(0, 80);
+  EXPECT_NE(trace.find("\n-3,0,"), std::string::npos);  // run 0 settles from t = -3 s
+  EXPECT_NE(trace.find("\n-3,1,"), std::string::npos);  // run 1 in the same file
+
+  // The figure: drawn, or (no matplotlib) a note and the same exit code; no temporary file left.
+  r = Scw("maneuver power_off_in_turn --plot " + Path("p.png"));
+  EXPECT_TRUE(r.code == 0 || r.code == 1) << r.all();
+  EXPECT_TRUE(fs::exists(Path("p.png")) || r.err.find("note: no plot written") != std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(Path("p.png.result.json")));
+}
+
 }  // namespace
 }  // namespace scw

@@ -83,5 +83,28 @@ TEST(CostTest, TotalIsTheWeightedSum) {
   EXPECT_DOUBLE_EQ(TotalCost({a, b}, {}), 130.0);
 }
 
+TEST(CostTest, ManeuverCostsItsFailedCriteria) {
+  params::CostWeights w;
+  RunMetrics m;  // a maneuver: no laps
+  m.criteria_checked = 24;
+  EXPECT_DOUBLE_EQ(ScenarioCostOfKind(m, w, "maneuver").total, 0.0);  // all passed: no lap term
+  // Two failed: one by 29 % of its limit (45 % against 35 %), one by more than its limit.
+  m.criteria_failed = 2;
+  m.criteria_miss = (45.0 - 35.0) / 35.0 + 1.0;
+  m.sideslip_excess_integral = 0.5;
+  const CostBreakdown c = ScenarioCostOfKind(m, w, "maneuver");
+  EXPECT_DOUBLE_EQ(c.criteria, w.failed_criterion_weight * (2.0 + m.criteria_miss));
+  EXPECT_DOUBLE_EQ(c.sideslip, 0.5 * w.sideslip_weight);
+  EXPECT_EQ(c.lap_time, 0.0);
+  EXPECT_DOUBLE_EQ(c.total, c.criteria + c.sideslip);
+  m.status = RunStatus::kNonFinite;
+  EXPECT_DOUBLE_EQ(ScenarioCostOfKind(m, w, "maneuver").abort,
+                   w.abort_base + w.abort_progress_weight);
+  // The other kinds are ScenarioCost's.
+  const RunMetrics lap = Completed(61.0);
+  EXPECT_DOUBLE_EQ(ScenarioCostOfKind(lap, w, "clean").total, ScenarioCost(lap, w).total);
+  EXPECT_DOUBLE_EQ(ScenarioCostOfKind(lap, w, "critical").total, ScenarioCost(lap, w, true).total);
+}
+
 }  // namespace
 }  // namespace scw::tuning

@@ -152,5 +152,36 @@ TEST(ScenarioFilesTest, ShippedScenarioFilesLoadAndDefaultEqualsBuiltIn) {
       << "regenerate with: scw simulate --print-scenario > params/scenarios/default.yaml";
 }
 
+// A maneuver in a scenario set (kind: maneuver): the evaluator runs RunManeuver, its cost is the
+// failed-criteria term (tuning/optim/cost.h), and a set file writes the criteria weight only when
+// it is changed.
+TEST(EvaluatorTest, ManeuverScenarioInASet) {
+  ScenarioSet set = ScenarioSet::FromYamlText(
+      "training:\n"
+      "  - {name: swd, set: [kind=maneuver, maneuver.name=sine_with_dwell, maneuver.speed=40,\n"
+      "      \"maneuver.amplitude_factors=[5.0, 6.5]\", maneuver.extend_to_270deg=false]}\n",
+      "set.yaml");
+  EXPECT_EQ(set.ToYaml().find("failed_criterion_weight"), std::string::npos);  // at its default
+  set.cost.failed_criterion_weight = 50.0;
+  EXPECT_NE(set.ToYaml().find("failed_criterion_weight: 50.0"), std::string::npos);
+  EXPECT_EQ(ScenarioSet::Default().ToYaml().find("failed_criterion_weight"), std::string::npos);
+  const BatchEvaluator ev = BatchEvaluator::FromEntries(set.training, "", set.cost, 1);
+  ASSERT_EQ(ev.scenarios().size(), 1u);
+  EXPECT_EQ(ev.scenarios()[0].track, nullptr);  // a maneuver drives no track
+  const params::StabilityParams base;
+  const SetEvaluation e = ev.Evaluate(base);
+  const RunMetrics& m = e.runs[0];
+  EXPECT_EQ(m.criteria_checked, 2 * 3);  // two amplitudes from 5 A on: two ratios, displacement
+  EXPECT_DOUBLE_EQ(e.costs[0].criteria, 50.0 * (m.criteria_failed + m.criteria_miss));
+  EXPECT_DOUBLE_EQ(e.costs[0].lap_time, 0.0);
+  EXPECT_DOUBLE_EQ(e.total, e.costs[0].total);
+  // The same maneuver with every subsystem off is a different run (the switches apply).
+  params::StabilityParams off = base;
+  off.ESC.enabled = off.countersteer_system.enabled = false;
+  off.SlipControl.ABS.enabled = off.SlipControl.TC.enabled = false;
+  const RunMetrics m_off = ev.Evaluate(off).runs[0];
+  EXPECT_EQ(m_off.esc_count + m_off.cs_count + m_off.abs_count + m_off.tc_count, 0);
+}
+
 }  // namespace
 }  // namespace scw::tuning
