@@ -105,11 +105,12 @@ EOF
     # Rank 1 dies by SIGKILL when it receives its 10th job (a test-only fault point,
     # SCW_TEST_FAULT; docs/robustness.md): a defined point of the run, whatever the machine's
     # speed. Rank 0 then waits for that job's result, so the run cannot end first; mpirun sees
-    # the dead rank and stops rank 0 with SIGTERM.
+    # the dead rank and stops rank 0 with SIGTERM. Without the screen before the search
+    # (--no-freeze) the 10th job falls in the optimisation, after evaluations are logged.
     rm -rf killed
     status=0
     SCW_TEST_FAULT=worker-job:10:KILL "$mpirun" --oversubscribe -x SCW_TEST_FAULT -np 2 "$scw" \
-      "${tune_args[@]}" --out-dir killed >killed.log 2>&1 || status=$?
+      "${tune_args[@]}" --no-freeze --out-dir killed >killed.log 2>&1 || status=$?
     [ "$status" -ne 0 ] || fail "mpirun exited with 0 although rank 1 died at its 10th job: $(cat killed.log)"
     log=killed/evaluations.csv
     [ -f "$log" ] || fail "no evaluation log after the kill: $(cat killed.log)"
@@ -120,10 +121,14 @@ EOF
     awk -F, 'NR == 1 { n = NF } NF != n { bad = 1 } END { exit bad }' "$log" ||
       fail "$log has a row with a different number of cells than its header"
     rows=$(($(wc -l <"$log") - 1))
-    "$scw" "${tune_args[@]}" --out-dir killed --resume "$log" >resumed.log 2>&1 ||
+    "$scw" "${tune_args[@]}" --no-freeze --out-dir killed --resume "$log" >resumed.log 2>&1 ||
       fail "the plain --resume failed: $(cat resumed.log)"
     grep -q "($rows replayed)" resumed.log || fail "the resume did not replay the $rows logged rows"
-    same_run ref killed
+    # The same run uninterrupted (without the screen, as above), in one process.
+    rm -rf ref_nofreeze
+    "$scw" "${tune_args[@]}" --no-freeze --out-dir ref_nofreeze >ref_nofreeze.log 2>&1 ||
+      fail "the uninterrupted run failed: $(cat ref_nofreeze.log)"
+    same_run ref_nofreeze killed
     ;;
 
   *)
