@@ -64,10 +64,9 @@ class Rig {
         ts_(stab_.tS),
         ratio_(std::max(1L, std::lround(ts_ / car_.time_step()))),
         log_every_(std::max(1L, std::lround(1.0 / (sc.spec.log_rate * ts_)))),
-        brake_gain_{sc.plant_vehicle.brakes.torque_gain_front,
-                    sc.plant_vehicle.brakes.torque_gain_front,
-                    sc.plant_vehicle.brakes.torque_gain_rear,
-                    sc.plant_vehicle.brakes.torque_gain_rear} {}
+        brake_gain_{
+            sc.plant_vehicle.brakes.torque_gain_front, sc.plant_vehicle.brakes.torque_gain_front,
+            sc.plant_vehicle.brakes.torque_gain_rear, sc.plant_vehicle.brakes.torque_gain_rear} {}
 
   const params::ManeuverParams& m() const { return m_; }
   const params::VehicleParams& vehicle() const { return sc_.vehicle; }
@@ -88,8 +87,7 @@ class Rig {
     TraceRecorder trace(options_.trace, log_every_);
     plant::State st = car_.MakeState({0.0, 0.0, 0.0, speed});
     plant::SensorNoiseState noise(static_cast<std::uint64_t>(sc_.spec.seed));
-    plant::SensorNoiseState* const noise_state =
-        sc_.plant_vehicle.sensors.noise ? &noise : nullptr;
+    plant::SensorNoiseState* const noise_state = sc_.plant_vehicle.sensors.noise ? &noise : nullptr;
     controller::StabilityController::State cs;
     const int index = run_index_++;
     double integral = -1.0;  // speed hold's integrator, initialised at the first tick
