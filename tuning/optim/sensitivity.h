@@ -90,8 +90,9 @@ enum class SensitivityMode {
   kLocal,  ///< the four local moves above (±10 %, ±1 step): what the tuned point is sensitive to
   /// Reach: the argument moved to each end of its range (points 0 and 3; points 1 and 2 are
   /// kNoOp); an end whose set breaks a schema rule is approached, halving the move (up to 8
-  /// times) until the set is valid. A dimension no training run notices at either end cannot be exercised by the scenario
-  /// set from this point on its own: `scw tune` freezes it at the base value before the search.
+  /// times) until the set is valid. A dimension no training run notices at either end cannot be
+  /// exercised by the scenario set from this point on its own: `scw tune` freezes it at the base
+  /// value before the search.
   kRange,
 };
 
