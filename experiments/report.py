@@ -577,8 +577,10 @@ every run. Everything below was fixed before any claim was evaluated
    time-out end a run as a *safety stop*, reported apart from lock and spin;
    3 perturbations per study, a claim holding in ≥ 2 of 3.
 5. Not changed: the car's stability parameters, the ESC's yaw reference (the MPCs publish their
-   planned a_y; pure pursuit the car node's feedback curvature × v², `motion.esc_target`), the
-   brake delay of the scored runs (the 40 ms brake is a sensitivity only).
+   planned a_y; pure pursuit the car node's feedback curvature × v², `motion.esc_target`).
+6. **Two actuator models, both scored** (issue 25): the vehicle file's actuators (the real car)
+   and the paper's simulator's (`plant.actuators=paper_sim`); every parameter set is run with
+   both, side by side.
 """
 
 
@@ -828,12 +830,13 @@ def method_section(cols):
            "PT1 at 0.5 rad/s; `docs/plant-calibration.md`), passed as `--set` to every sweep.",
            "- **Parameter sets**: " + "; ".join(f"`{lab}` = `{stab}`" for lab, stab in sets) +
            ". The car's shipped set is never changed."]
-    cmd_file = os.path.join(scwexp.ROOT_RESULTS, "tune_command.txt")
-    if os.path.exists(cmd_file):
-        with open(cmd_file) as f:
-            out.append("- **How the tuned set was made** (its training set holds no study "
-                       "condition: no uniform rear-grip reduction on Yas North, no GG sweep): " +
-                       f.read().strip())
+    for lab, stab in sets:
+        # a params file's provenance: <file>.command.txt beside it (how it was made)
+        path = os.path.join(scwexp.ROOT, os.path.splitext(stab or "")[0] + ".command.txt")
+        if lab != "shipped" and os.path.exists(path):
+            with open(path) as f:
+                out.append(f"- **How `{lab}` was made** (`{os.path.relpath(path, scwexp.ROOT)}`"
+                           "): " + " ".join(f.read().split()))
     out.append("")
     return out
 

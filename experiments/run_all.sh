@@ -13,7 +13,8 @@
 #
 # Environment: ACTUATORS (default "vehicle paper_sim"), STUDY3_CONTROLLERS (default
 # pure_pursuit,pmpc; add nmpc for the nonlinear MPC, ~5 min per column), SENSITIVITY=1 (also the
-# unscored sensitivity runs, shipped set and vehicle actuators only), PROCESSES (default 2).
+# unscored sensitivity runs, shipped set and vehicle actuators only), PROCESSES (default 2),
+# CLAIMS_MAP=1 (also experiments/claims_map.py, the map of what decides each claim, ~30 min).
 # Shipped + one tuned set, both actuator models: see experiments/README.md for the measured time.
 # To refresh the committed reference copy afterwards:
 #   python3 experiments/report.py --publish experiments/reference-results
@@ -54,6 +55,9 @@ for set in "${sets[@]}"; do
     echo "run_all: column ${label}__${act}: $((SECONDS - t0)) s"
   done
 done
+if [ "${CLAIMS_MAP:-0}" = 1 ]; then
+  "$py" "$here/claims_map.py" --no-report --processes "$procs"
+fi
 "$py" "$here/compare.py" --no-report "$here/../params/stability/default.yaml" "$@"
 "$py" "$here/report.py"
 echo "run_all: $((SECONDS - start)) s; report: $here/results/report.md"
