@@ -4,13 +4,13 @@ final saturation to |β| = 20°, when ESC and CS first act and what they deliver
 bound of the yaw moment that would be needed in that time.
 
 Definitions (stated in the report):
-- t20: the first time |β| ≥ 20° (or the end of the trace when the run completes or ends
-  otherwise);
+- t20: the first time |β| ≥ 20°, or the abort when the run ends otherwise (lateral error, off
+  track: the car was lost before |β| reached 20°), or the end of a completed run;
 - t_sat: the first rear saturation of the final divergence: the time from which the rear
   axle's mean |slip angle| stays at or beyond the rear tyre's peak slip angle (Magic Formula,
   nominal load) until t20;
 - ESC's brake moment arrives when, with ESC active, a wheel's applied pressure first exceeds
-  the motion controller's request by 10 bar (from 1 s before t_sat);
+  both its value when ESC switched on and the motion controller's request by 10 bar;
 - the actuator's response t_act: the brake's dead time + lag (the vehicle file's, or ~0 for
   paper_sim), the time before a brake command can build a yaw moment;
 - the bound: M_needed = Iz · Δr_max / (t20 − t_sat − t_act), with Δr_max the largest yaw-rate
@@ -73,12 +73,14 @@ def peak_slip_angle(t):
     return lo / b
 
 
-def analyse(trace_csv, iz, t_act, alpha_peak):
+def analyse(trace_csv, iz, t_act, alpha_peak, status=None):
+    """The knife-edge numbers of one traced run; status: how the run ended (an abort other
+    than sideslip ends the window at the trace's end: the car was lost before |β| = 20°)."""
     rows = scwexp.read_csv(trace_csv)
     if not rows:
         return None
     t20 = next((r["t_s"] for r in rows if abs(r["beta_deg"]) >= 20.0), None)
-    spun = t20 is not None
+    spun = t20 is not None or (status is not None and status != "completed")
     if t20 is None:
         t20 = rows[-1]["t_s"]
     upto = [r for r in rows if r["t_s"] <= t20]
@@ -102,10 +104,16 @@ def analyse(trace_csv, iz, t_act, alpha_peak):
     need = iz * dr / left if left > 0 else math.inf
     # when the brakes deliver: the first time the applied pressure of a wheel exceeds the
     # motion controller's request by 10 bar (ESC's brake intervention arriving at the wheel)
-    t_del = next((r["t_s"] for r in upto if r["t_s"] >= t_sat - 1.0 and
-                  r["esc_active"] > 0.5 and max(r[f"p_out_{w}_bar"] - r[f"p_req_{w}_bar"]
-                      for w in ("fl", "fr", "rl", "rr")) >= 10.0), None)
-    return {"spun": spun, "saturated": saturated, "t_delivered": t_del,
+    wheels = ("fl", "fr", "rl", "rr")
+    t_del = None
+    if first["esc"] is not None:
+        r0 = next(r for r in upto if r["t_s"] >= first["esc"])
+        t_del = next((r["t_s"] for r in upto if r["t_s"] >= first["esc"] and
+                      r["esc_active"] > 0.5 and
+                      max(r[f"p_out_{w}_bar"] - max(r0[f"p_out_{w}_bar"], r[f"p_req_{w}_bar"])
+                          for w in wheels) >= 10.0), None)
+    return {"spun": spun, "beta20": any(abs(r["beta_deg"]) >= 20.0 for r in rows),
+            "saturated": saturated, "t_delivered": t_del,
             "alpha_peak_deg": math.degrees(alpha_peak), "t20": t20, "t_sat": t_sat, "window_s": t20 - t_sat,
             "alpha_r_sat_deg": math.degrees(ar[i]), "alpha_r_end_deg": math.degrees(ar[-1]),
             "s_m": upto[-1]["s_m"], "v_mps": upto[-1]["vx_mps"], "dr_max": dr,
@@ -119,14 +127,15 @@ def describe(name, label, x, corners, status=None):
         return f"{label}: no trace"
     def rel(t):
         return "never" if t is None else f"{t - x['t_sat']:+.2f} s"
-    head = (f"{label}: " + (f"|β| = 20° at t = {x['t20']:.2f} s" if x["spun"] else
-                            f"no spin (|β| < 20°) until the run ends ({status or 'end of trace'})")
+    lost = f"|β| = 20° at t = {x['t20']:.2f} s" if x["beta20"] else \
+        f"{status} at t = {x['t20']:.2f} s (|β| < 20°)"
+    head = (f"{label}: " + (lost if x["spun"] else "completed, |β| < 20°")
             + f" ({scwexp.place(x['s_m'], corners)}, {x['v_mps']:.0f} m/s)")
     if x["saturated"]:
         head += (f"; the rear slip angle stays beyond its peak ({x['alpha_peak_deg']:.1f}°) from "
                  f"t_sat = {x['t_sat']:.2f} s on (up to {x['alpha_r_end_deg']:.1f}°): "
                  f"{x['window_s']:.2f} s from rear saturation to "
-                 + ("|β| = 20°" if x["spun"] else "the end of the run"))
+                 + ("the loss" if x["spun"] else "the end of the run"))
     else:
         head += f"; the rear axle is below its peak slip angle ({x['alpha_peak_deg']:.1f}°) at the end"
     parts = [f"ESC first acts {rel(x['first_esc'])} from t_sat, CS {rel(x['first_cs'])}"]
@@ -152,7 +161,7 @@ def verdict_line(res, act):
     """What prevents each configuration from catching the spin, one sentence."""
     spun = {n: x for n, x in res.items() if x and x["spun"]}
     if not spun:
-        return "No configuration spins in these runs (their aborts, if any, are not spins)."
+        return "Every configuration completes this run."
     parts = []
     for n, x in spun.items():
         if n == "none":
@@ -162,7 +171,7 @@ def verdict_line(res, act):
             why = "ESC never switched on before the spin"
         elif n in ("esc", "esc+cs") and late:
             why = (f"ESC switched on {x['first_esc'] - x['t_sat']:+.2f} s from rear saturation, "
-                   f"but its brake pressure reached no wheel before |β| = 20° (brake response "
+                   f"but its brake pressure reached no wheel before the loss (brake response "
                    f"{x['t_act'] * 1000:.0f} ms, window {x['window_s']:.2f} s)")
         elif n in ("esc", "esc+cs") and x["m_cmd_max"] < x["m_needed"]:
             why = (f"ESC's commanded moment ({x['m_cmd_max']:.0f} N·m) is below the needed "
@@ -174,7 +183,7 @@ def verdict_line(res, act):
                    "cannot give the saturated rear axle lateral force back")
         else:
             why = (f"ESC's brake moment arrived {x['t_delivered'] - x['t_sat']:+.2f} s from rear "
-                   f"saturation, {x['t20'] - x['t_delivered']:.2f} s before |β| = 20°, and its "
+                   f"saturation, {x['t20'] - x['t_delivered']:.2f} s before the loss, and its "
                    "command exceeded the bound, yet braking a wheel also takes lateral force "
                    "from it and the rear stayed beyond its peak")
         parts.append(f"{n}: {why}")

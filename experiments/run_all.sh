@@ -14,7 +14,8 @@
 # Environment: ACTUATORS (default "vehicle paper_sim"), STUDY3_CONTROLLERS (default
 # pure_pursuit,pmpc; add nmpc for the nonlinear MPC, ~5 min per column), SENSITIVITY=1 (also the
 # unscored sensitivity runs, shipped set and vehicle actuators only), PROCESSES (default 2),
-# CLAIMS_MAP=1 (also experiments/claims_map.py, the map of what decides each claim, ~30 min).
+# CLAIMS_MAP=1 (also experiments/claims_map.py, the map of what decides each claim, ~30 min),
+# STUDY_ARGS (extra options of every study, e.g. "--gg 1.0,1.05 --laps 1" for a quick check).
 # Shipped + one tuned set, both actuator models: see experiments/README.md for the measured time.
 # To refresh the committed reference copy afterwards:
 #   python3 experiments/report.py --publish experiments/reference-results
@@ -44,8 +45,9 @@ for set in "${sets[@]}"; do
   fi
   for act in $actuators; do
     dir="$cols/${label}__${act}"
+    # shellcheck disable=SC2206  # STUDY_ARGS is split into words on purpose
     common=(--no-report --results "$dir" --label "$label" --processes "$procs"
-            --set "plant.actuators=$act" "${stab[@]}")
+            --set "plant.actuators=$act" "${stab[@]}" ${STUDY_ARGS:-})
     sens=(--no-sensitivity)
     if [ "${SENSITIVITY:-0}" = 1 ] && [ "$set" = shipped ] && [ "$act" = vehicle ]; then sens=(); fi
     t0=$SECONDS

@@ -132,13 +132,13 @@ def main(argv=None):
         vc = knife_edge.vehicle_constants(scw)
         t_act = knife_edge.PAPER_SIM["brake_s"] if act == "paper_sim" else vc["brake_s"]
         corners = scwexp.track_corners(scw, sets)
-        res = {n: knife_edge.analyse(f, vc["iz"], t_act, vc["alpha_peak_rad"])
-               for n, f in xfiles.items()}
+        xr = xruns if extra_ts else trace_runs
+        res = {n: knife_edge.analyse(f, vc["iz"], t_act, vc["alpha_peak_rad"],
+                                     xr.get(n, {}).get("status")) for n, f in xfiles.items()}
         ke = {"gg": none_abort, "mu": main_pert, "t_act": t_act, "iz": vc["iz"],
               "results": res,
               "lines": [knife_edge.describe(n, lab, res.get(n), corners,
-                                         (xruns if extra_ts else trace_runs).get(n, {}).get(
-                                             "status"))
+                                         xr.get(n, {}).get("status"))
                         for n, _, lab, _ in CONFIGS] + [knife_edge.verdict_line(res, act)]}
 
     summary = {"study": STUDY, "command": " ".join(cmd), "trace_command": " ".join(tcmd),
