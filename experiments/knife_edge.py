@@ -167,7 +167,11 @@ def verdict_line(res, act):
         if n == "none":
             continue
         late = x["t_delivered"] is None or x["t_delivered"] > x["t20"] - 0.05
-        if n in ("esc", "esc+cs") and x["first_esc"] is None:
+        if n in ("esc", "esc+cs") and math.isinf(x["m_needed"]):
+            why = (f"the {x['window_s']:.2f} s from rear saturation to the loss are shorter than "
+                   f"the brake response ({x['t_act'] * 1000:.0f} ms): no brake moment can arrive "
+                   "in time")
+        elif n in ("esc", "esc+cs") and x["first_esc"] is None:
             why = "ESC never switched on before the spin"
         elif n in ("esc", "esc+cs") and late:
             why = (f"ESC switched on {x['first_esc'] - x['t_sat']:+.2f} s from rear saturation, "
