@@ -268,7 +268,7 @@ def main(argv=None):
             s1 = pack(by_cfg, names[:2])
             s2 = pack(by_cfg, names[2:])
             v = {"family": flabel, "label": lab, "claims": evaluate(s1, s2),
-                 "series": {**s1, **s2}}
+                 "series": {**s1, **s2}, "command": " ".join(cmd)}
             if tag in ("brake_steer",) and len(keys) == 2:
                 v["grid"] = (float(vals[0]), float(vals[1]))
             if tag == "brake_steer" and float(vals[0]) == 0.116 and \

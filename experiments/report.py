@@ -1088,8 +1088,14 @@ def goal_section(results, cols):
             if cm:
                 flips = [v for v in cm.get("variants", []) if v["claims"].get(k, {}).get("ok")]
                 if flips:
-                    line += (" The claims map finds it holding (main perturbation only) with: " +
-                             "; ".join(f"{v['label']}" for v in flips[:6]) + ".")
+                    v = flips[0]
+                    line += (" The claims map (one perturbation, the shipped set, everything "
+                             "else as the vehicle file) finds it holding with: " +
+                             "; ".join(f"{x['label']}" for x in flips[:8]) + ". The run that "
+                             f"shows it, {v['label']}: " + "; ".join(
+                                 f"{n} ({'yes' if o else 'no'}: {t})"
+                                 for n, o, t in v["claims"][k]["items"]) +
+                             (f" (sweep: `{rel(v['command'])}`)" if v.get("command") else ""))
                 else:
                     line += (" No variant of the claims map makes it hold either (see the map "
                              "for the margins).")
