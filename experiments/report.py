@@ -1037,8 +1037,8 @@ def main(argv=None):
                 "activations of those runs); study 2 also gives each configuration's lap against "
                 "`none` at `none`'s max stable GG.", ""]
         out.append(f"Margin 0 in {zero} of {total} series." + (
-            " The limit is a cliff everywhere: see the knife-edge account for the mechanism."
-            if total and zero == total else ""))
+            " The limit is a cliff everywhere." if total and zero == total else ""))
+        out += [""] + cliff_mechanism(cols)
         out += [""] + mt + [""]
         out += knife_edge_section(cols, root)
         out += claims_map_section(root)
@@ -1101,6 +1101,35 @@ def goal_section(results, cols):
                              "for the margins).")
         out.append(line)
     return out + [""]
+
+
+def cliff_mechanism(cols):
+    """What makes the limit a cliff, from the knife-edge numbers of each column: how long the
+    car takes from rear saturation to the loss, against the brake response, and whether ESC's
+    pressure reached a wheel in that time."""
+    parts = []
+    for c in cols:
+        s2 = c[2].get("study2_lateral")
+        ke = s2 and s2.get("knife_edge")
+        if not ke:
+            continue
+        lost = {n: x for n, x in ke["results"].items() if x and x["spun"] and x["saturated"]}
+        if not lost:
+            continue
+        w = [x["window_s"] for x in lost.values()]
+        esc = [n for n in ("esc", "esc+cs") if n in lost]
+        arr = [n for n in esc if lost[n]["t_delivered"] is not None and
+               lost[n]["t_delivered"] < lost[n]["t20"]]
+        parts.append(f"{col_title(c)} (GG {g(ke['gg'])}): {min(w):.2f}–{max(w):.2f} s from rear "
+                     f"saturation to the loss in {len(lost)} configuration(s), brake response "
+                     f"{ke['t_act'] * 1000:.0f} ms; ESC's pressure reached a wheel before the "
+                     f"loss in {len(arr)} of {len(esc)} lost ESC runs")
+    if not parts:
+        return []
+    return ["Mechanism (knife-edge traces below): once the rear axle passes its peak slip angle "
+            "at the abort GG, the car is lost within a few tenths of a second — " +
+            "; ".join(parts) + ". A step of GG that saturates the rear at all gives no "
+            "intermediate regime in which interventions slow the car without losing it.", ""]
 
 
 def knife_edge_section(cols, root):
