@@ -1038,7 +1038,7 @@ def main(argv=None):
                 "`none` at `none`'s max stable GG.", ""]
         out.append(f"Margin 0 in {zero} of {total} series." + (
             " The limit is a cliff everywhere." if total and zero == total else ""))
-        out += [""] + cliff_mechanism(cols)
+        out += [""] + cliff_mechanism(cols, total and zero == total)
         out += [""] + mt + [""]
         out += knife_edge_section(cols, root)
         out += claims_map_section(root)
@@ -1103,7 +1103,7 @@ def goal_section(results, cols):
     return out + [""]
 
 
-def cliff_mechanism(cols):
+def cliff_mechanism(cols, everywhere):
     """What makes the limit a cliff, from the knife-edge numbers of each column: how long the
     car takes from rear saturation to the loss, against the brake response, and whether ESC's
     pressure reached a wheel in that time."""
@@ -1128,8 +1128,9 @@ def cliff_mechanism(cols):
         return []
     return ["Mechanism (knife-edge traces below): once the rear axle passes its peak slip angle "
             "at the abort GG, the car is lost within a few tenths of a second — " +
-            "; ".join(parts) + ". A step of GG that saturates the rear at all gives no "
-            "intermediate regime in which interventions slow the car without losing it.", ""]
+            "; ".join(parts) + "." + (" No series has an intermediate regime in which "
+                                     "interventions slow the car without losing it."
+                                     if everywhere else ""), ""]
 
 
 def knife_edge_section(cols, root):
