@@ -25,6 +25,7 @@ per claim over brake × steering dead time), claims_map_one_at_a_time.png, summa
 report.py).
 
     python3 experiments/claims_map.py [--processes 2] [--laps 3] [--stability FILE] [--quick]
+        [--families a,b] [--reuse]
 """
 
 import argparse
@@ -221,6 +222,12 @@ def main(argv=None):
     scwexp.add_common_args(p, laps=3)
     p.add_argument("--quick", action="store_true",
                    help="only brake dead time 0 and 116 ms (a test of the script)")
+    p.add_argument("--families", help="comma-separated subset of the families (default all: "
+                   + ",".join(f[0] for f in FAMILIES) + ")")
+    p.add_argument("--reuse", action="store_true",
+                   help="read a sweep's table from a previous run instead of running it when "
+                        "its recorded command is the same (an interrupted map goes on where it "
+                        "stopped)")
     args = p.parse_args(argv)
     scwexp.apply_common_args(args)
     scw = scwexp.find_scw()
@@ -231,18 +238,23 @@ def main(argv=None):
     base_sets = [f"laps={args.laps}", "motion.controller=pmpc"] + args.set
     variants, commands = [], []
     base = None
-    for tag, flabel, vary in (QUICK if args.quick else FAMILIES):
+    fams = QUICK if args.quick else FAMILIES
+    if args.families:
+        want = args.families.split(",")
+        bad = [w for w in want if w not in [f[0] for f in FAMILIES]]
+        if bad:
+            sys.exit(f"error: --families: unknown {', '.join(bad)}")
+        fams = [f for f in FAMILIES if f[0] in want]
+    for tag, flabel, vary in fams:
         sets = list(base_sets)
         if vary is None:
             veh = no_brake_dynamics_vehicle(scw, os.path.join(out, "vehicle_no_brake_dyn.yaml"))
             vary = [f"vehicle={veh}"]
         keys = [v.split("=", 1)[0] for v in vary]
         csv_path = os.path.join(out, f"sweep_{tag}.csv")
-        if os.path.exists(csv_path):
-            os.remove(csv_path)
         cmd = scwexp.mpc_sweep_cmd(scw, args, sets, [f"gg_scale={args.gg}"] + vary, configs,
                                    csv_path, processes=args.processes)
-        scwexp.run(cmd, log=os.path.join(out, f"scw_{tag}.log"))
+        scwexp.reuse_or_run(cmd, csv_path, os.path.join(out, f"scw_{tag}.log"), args.reuse)
         rows = scwexp.read_csv(csv_path)
         commands.append(" ".join(cmd))
         # bisect the first aborts: one series per (config, variant); the variant's keys are
@@ -255,7 +267,8 @@ def main(argv=None):
             sub += [dict(r, config=f"{c}#{i}") for c, rs in by_cfg.items() for r in rs]
         if scwexp.REFINE_LEVELS > 0:
             sub, rc = scwexp.refine_first_aborts(scw, args, sets, cfgs, sub, None, csv_path,
-                                                 os.path.join(out, f"scw_{tag}.log"))
+                                                 os.path.join(out, f"scw_{tag}.log"),
+                                                 reuse=args.reuse)
             commands += rc
         allrows = []
         for r in sub:

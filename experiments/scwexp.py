@@ -315,12 +315,14 @@ def cut_at_first_abort(rows):
 
 
 def refine_first_aborts(scw, args, sets, configs, rows, pert, out_csv, log, mpc=True,
-                        levels=None):
+                        levels=None, reuse=False):
     """Resolves each series' first abort finer (issue 25 part 6): `levels` rounds of bisection
     between the last completed GG and the first abort, all series of a round in one `scw sweep`
     (one named configuration per bisected run: the series' overrides plus gg_scale and the
     perturbation). Returns the merged rows, each series cut at its (new) first abort; bisected
-    rows carry refined=1 and the sweep's config name replaced by the series' own."""
+    rows carry refined=1 and the sweep's config name replaced by the series' own. reuse: read
+    a bisection sweep's table from a previous run with the same command instead of running it
+    (reuse_or_run)."""
     levels = REFINE_LEVELS if levels is None else levels
     pkey, pvals = pert if pert else (None, [None])
     overrides = dict(c.split(":", 1) if ":" in c else (c, "") for c in configs)
@@ -346,15 +348,13 @@ def refine_first_aborts(scw, args, sets, configs, rows, pert, out_csv, log, mpc=
                 ov.append(f"{pkey}={pv}")
             cfgs.append(f"r{i}:" + ",".join(ov))
         csv_path = f"{out_csv[:-4]}_refine{level + 1}.csv"
-        if os.path.exists(csv_path):
-            os.remove(csv_path)
         vary = [f"laps={laps}"]
         if mpc:
             cmd = mpc_sweep_cmd(scw, args, base, vary, cfgs, csv_path,
                                 processes=getattr(args, "processes", None))
         else:
             cmd = sweep_cmd(scw, args, base, vary, cfgs, csv_path)
-        run(cmd, log=f"{log[:-4]}_refine{level + 1}.log")
+        reuse_or_run(cmd, csv_path, f"{log[:-4]}_refine{level + 1}.log", reuse)
         commands.append(" ".join(cmd))
         new = read_csv(csv_path)
         for r in new:
@@ -372,6 +372,26 @@ def refine_first_aborts(scw, args, sets, configs, rows, pert, out_csv, log, mpc=
                 kept += cut_at_first_abort(sel)
         rows = kept
     return rows, commands
+
+
+def reuse_or_run(cmd, csv_path, log, reuse=False):
+    """Runs a sweep writing csv_path, and records its command beside the table
+    (csv_path + ".cmd"). With reuse, a table whose recorded command equals this one (the binary
+    path aside) is read as it is, without running: sweeps of an interrupted or earlier run with
+    the same settings are not repeated."""
+    key = "\n".join(cmd[1:])
+    side = csv_path + ".cmd"
+    if reuse and os.path.exists(csv_path) and os.path.exists(side):
+        with open(side) as f:
+            if f.read() == key:
+                print(f"reusing {os.path.relpath(csv_path, ROOT)} (same command)", flush=True)
+                return
+    for path in (csv_path, side):
+        if os.path.exists(path):
+            os.remove(path)
+    run(cmd, log=log)
+    with open(side, "w") as f:
+        f.write(key)
 
 
 def brake_40ms_vehicle(scw, path):
