@@ -112,7 +112,7 @@ def analyse(trace_csv, iz, t_act, alpha_peak, status=None):
                       r["esc_active"] > 0.5 and
                       max(r[f"p_out_{w}_bar"] - max(r0[f"p_out_{w}_bar"], r[f"p_req_{w}_bar"])
                           for w in wheels) >= 10.0), None)
-    return {"spun": spun, "beta20": any(abs(r["beta_deg"]) >= 20.0 for r in rows),
+    return {"status": status, "spun": spun, "beta20": any(abs(r["beta_deg"]) >= 20.0 for r in rows),
             "saturated": saturated, "t_delivered": t_del,
             "alpha_peak_deg": math.degrees(alpha_peak), "t20": t20, "t_sat": t_sat, "window_s": t20 - t_sat,
             "alpha_r_sat_deg": math.degrees(ar[i]), "alpha_r_end_deg": math.degrees(ar[-1]),
@@ -146,7 +146,7 @@ def describe(name, label, x, corners, status=None):
     if name in ("cs", "esc+cs"):
         parts.append(f"countersteer up to {x['steer_corr_max_deg']:.1f}° at the road wheels")
     need = x["m_needed"]
-    if x["spun"]:
+    if x["spun"] and x["saturated"]:
         if math.isinf(need):
             parts.append(f"needed: impossible by braking — the window is shorter than the brake "
                          f"response ({x['t_act'] * 1000:.0f} ms)")
@@ -167,7 +167,11 @@ def verdict_line(res, act):
         if n == "none":
             continue
         late = x["t_delivered"] is None or x["t_delivered"] > x["t20"] - 0.05
-        if n in ("esc", "esc+cs") and math.isinf(x["m_needed"]):
+        if not x["saturated"]:
+            why = (f"not a spin: {x['status'] or 'the loss'} with the rear axle below its peak "
+                   "slip angle (the car left its line; ESC and CS act on yaw, not on path "
+                   "error)")
+        elif n in ("esc", "esc+cs") and math.isinf(x["m_needed"]):
             why = (f"the {x['window_s']:.2f} s from rear saturation to the loss are shorter than "
                    f"the brake response ({x['t_act'] * 1000:.0f} ms): no brake moment can arrive "
                    "in time")

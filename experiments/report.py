@@ -1147,11 +1147,15 @@ def knife_edge_section(cols, root):
     if out:
         out = ["## The mechanism at the knife edge (study 2)", "",
                "At the first GG where `none` aborts (main rear μy), the whole run of each "
-               "configuration traced (`scw sweep --trace-dir`). Rear saturation = the first "
-               "time after which the rear axle's lateral force stays at its capacity (|β| rising "
-               "from then on); the bound is the yaw moment that would stop the yaw-rate excess "
-               "within the time left before |β| = 20° after the brake actuator's response: "
-               "M ≥ Iz · Δr / (t₂₀ − t_sat − t_act).", ""] + out
+               "configuration traced (`scw sweep --trace-dir`; `experiments/knife_edge.py`). "
+               "The loss = |β| = 20°, or the run's abort when that comes first (lateral error, "
+               "off track); rear saturation t_sat = the time from which the rear axle's mean "
+               "slip angle stays beyond the rear tyre's peak slip angle (Magic Formula, nominal "
+               "load) until the loss; ESC's brake moment arrives when a wheel's applied pressure "
+               "first exceeds both its value when ESC switched on and the motion controller's "
+               "request by 10 bar; the bound is the constant yaw moment that removes the largest "
+               "yaw-rate excess Δr in the time left after the brake actuator's response: "
+               "M ≥ Iz · Δr / (t_loss − t_sat − t_act).", ""] + out
     return out
 
 
