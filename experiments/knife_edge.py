@@ -190,9 +190,12 @@ def verdict_line(res, act):
             why = (f"countersteer ({x['steer_corr_max_deg']:.1f}°) turns the front wheels but "
                    "cannot give the saturated rear axle lateral force back")
         else:
-            why = (f"ESC's brake moment arrived {x['t_delivered'] - x['t_sat']:+.2f} s from rear "
-                   f"saturation, {x['t20'] - x['t_delivered']:.2f} s before the loss, and its "
-                   "command exceeded the bound, yet braking a wheel also takes lateral force "
-                   "from it and the rear stayed beyond its peak")
+            why = (f"ESC switched on {x['first_esc'] - x['t_sat']:+.2f} s and its brake pressure "
+                   f"reached a wheel {x['t_delivered'] - x['t_sat']:+.2f} s from rear saturation "
+                   f"(brake response {x['t_act'] * 1000:.0f} ms), "
+                   f"{x['t20'] - x['t_delivered']:.2f} s before the loss; what it delivered in "
+                   "that time did not bring the rear axle back below its peak slip angle "
+                   f"(commanded up to {x['m_cmd_max']:.0f} N·m against the bound's "
+                   f"{x['m_needed']:.0f} N·m)")
         parts.append(f"{n}: {why}")
     return "What prevents the catch (" + act + "): " + "; ".join(parts) + "."

@@ -1142,8 +1142,19 @@ def knife_edge_section(cols, root):
         ke = s2 and s2.get("knife_edge")
         if not ke:
             continue
+        import knife_edge
+        xt = s2.get("trace_at_none_abort")
+        runs = xt["runs"] if xt else s2.get("trace_runs", {})
+        res = {}
+        for n, x in ke["results"].items():
+            if x is not None:
+                x = dict(x, status=x.get("status") or runs.get(n, {}).get("status"))
+            res[n] = x
+        lines = [knife_edge.describe(n, s2["configs"].get(n, n), res.get(n), CORNERS,
+                                     (res.get(n) or {}).get("status")) for n in s2["configs"]]
+        lines.append(knife_edge.verdict_line(res, ACT_SHORT.get(column_of(c)["actuators"])))
         out += [f"### {col_title(c)}: GG {g(ke['gg'])}, rear μy {ke['mu']}", ""]
-        out += [f"- {x}" for x in ke["lines"]] + [""]
+        out += [f"- {x}" for x in lines] + [""]
     if out:
         out = ["## The mechanism at the knife edge (study 2)", "",
                "At the first GG where `none` aborts (main rear μy), the whole run of each "
