@@ -828,6 +828,11 @@ def method_section(cols):
            "and with `plant.actuators=paper_sim` (*paper's simulator*: Open-Car-Dynamics' "
            "published actuation, no brake-pressure dynamics, steering 60 ms dead time + 60 ms "
            "PT1 at 0.5 rad/s; `docs/plant-calibration.md`), passed as `--set` to every sweep.",
+           "- **Time per column** (wall, and the CPU time of scw and its workers, which "
+           "depends much less on what else the machine runs): " + "; ".join(
+               f"{col_title(c)} {sum(x['wall_time_s'] for x in c[2].values() if x) / 60:.1f} "
+               f"min wall, {sum(x.get('cpu_time_s') or 0 for x in c[2].values() if x) / 60:.1f}"
+               " min CPU" for c in cols) + ".",
            "- **Parameter sets**: " + "; ".join(f"`{lab}` = `{stab}`" for lab, stab in sets) +
            ". The car's shipped set is never changed."]
     for lab, stab in sets:
