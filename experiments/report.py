@@ -64,7 +64,11 @@ def acts(r):
 
 
 def g(x):
-    return "–" if x is None else f"{x:.2f}"
+    """A GG value: two decimals, three for the bisected ones (1.025)."""
+    if x is None:
+        return "–"
+    t = f"{x:.3f}"
+    return t[:-1] if t.endswith("0") else t
 
 
 def t3(x):
@@ -573,8 +577,10 @@ every run. Everything below was fixed before any claim was evaluated
    time-out end a run as a *safety stop*, reported apart from lock and spin;
    3 perturbations per study, a claim holding in ≥ 2 of 3.
 5. Not changed: the car's stability parameters, the ESC's yaw reference (the MPCs publish their
-   planned a_y; pure pursuit the car node's feedback curvature × v², `motion.esc_target`), the
-   brake delay of the scored runs (the 40 ms brake is a sensitivity only).
+   planned a_y; pure pursuit the car node's feedback curvature × v², `motion.esc_target`).
+6. **Two actuator models, both scored** (issue 25): the vehicle file's actuators (the real car)
+   and the paper's simulator's (`plant.actuators=paper_sim`); every parameter set is run with
+   both, side by side.
 """
 
 
@@ -585,35 +591,421 @@ def update(args):
     main([])
 
 
+ACT_NAMES = {"vehicle": "real car (vehicle file's actuators)",
+             "paper_sim": "paper's simulator (`plant.actuators=paper_sim`)"}
+ACT_SHORT = {"vehicle": "real car", "paper_sim": "paper's sim"}
+STUDIES = ("study1_longitudinal", "study2_lateral", "study3_motion")
+
+
+def find_columns(root):
+    """[(name, dir, {study: summary})]: experiments/results/columns/<set>__<actuators>/ as
+    run_all.sh writes them (shipped set first, vehicle before paper_sim), else the single
+    column of studies run directly into experiments/results/."""
+    cols = []
+    cdir = os.path.join(root, "columns")
+    names = sorted(os.listdir(cdir)) if os.path.isdir(cdir) else []
+    for n in names:
+        d = os.path.join(cdir, n)
+        ss = {st: read_summary_in(d, st) for st in STUDIES}
+        if any(ss.values()):
+            cols.append((n, d, ss))
+    if not cols:
+        ss = {st: read_summary_in(root, st) for st in STUDIES}
+        if any(ss.values()):
+            cols.append(("shipped__vehicle", root, ss))
+
+    def order(c):
+        info = column_of(c)
+        return (info["set_label"] != "shipped", info["set_label"],
+                info["actuators"] != "vehicle", info["actuators"])
+    return sorted(cols, key=order)
+
+
+def read_summary_in(d, study):
+    path = os.path.join(d, study, "summary.json")
+    if not os.path.exists(path):
+        return None
+    import json
+    with open(path) as f:
+        s = json.load(f)
+    return s if "runs" in s else None  # an older layout (before issue 14) is ignored
+
+
+def column_of(col):
+    """{set_label, actuators, stability, ...} of a column (from its summaries)."""
+    name, _, ss = col
+    for s in ss.values():
+        if s and s.get("column"):
+            return s["column"]
+    label, _, act = name.partition("__")
+    return {"set_label": label, "actuators": act or "vehicle", "stability": "?"}
+
+
+def col_title(col):
+    info = column_of(col)
+    return f"{info['set_label']} set, {ACT_SHORT.get(info['actuators'], info['actuators'])}"
+
+
+def prefixed(paths, prefix):
+    return [os.path.join(prefix, p) if prefix else p for p in paths]
+
+
+# ---------------------------------------------------------------------------------------------
+# Compact numbers of a claim for the side-by-side table
+
+def claim_cell(key, s):
+    """Verdict, 'n of m' and the deciding numbers with activation counts of one claim in one
+    column (main perturbation for the numbers)."""
+    fn = {"a": claim_a, "b": claim_b, "c": claim_c, "d": claim_d}[key]
+    ok, res = evaluate(fn, s["runs"])
+    n_ok = sum(1 for o, _ in res.values() if o)
+    main_p = s["perturbation"].get("main", next(iter(s["runs"])))
+    ser = s["runs"][main_p]
+    pl = s["perturbation"]["label"]
+    txt = ""
+    if key == "a":
+        on, off = ser.get("sc_on"), ser.get("sc_off")
+        bon, boff = best_run(on), best_run(off)
+        d = done_runs(on)
+        deciding = [r for r in d if r["gg_scale"] >= abort_gg(off) - EPS]
+        txt = (f"{pl} {main_p}: max stable on/off {g(on['max_stable'])}/{g(off['max_stable'])}, "
+               f"first abort {g(on['first_abort'])} {on['first_abort_status'] or ''}/"
+               f"{g(off['first_abort'])} {off['first_abort_status'] or ''}; best lap "
+               f"{t3(bon and bon['mean_lap_time_s'])}/{t3(boff and boff['mean_lap_time_s'])} s; "
+               f"ABS/TC active in {sum(1 for r in d if (r['abs_count'] or 0) + (r['tc_count'] or 0) > 0)}"
+               f" of {len(d)} completed SC-on runs, in {sum(1 for r in deciding if (r['abs_count'] or 0) + (r['tc_count'] or 0) > 0)}"
+               f" of {len(deciding)} deciding")
+    elif key == "b":
+        na = abort_gg(ser["none"])
+        parts = []
+        for k in ("esc", "cs", "esc+cs"):
+            r = run_at(ser[k], na)
+            parts.append(f"{k} {g(ser[k]['first_abort'])}" +
+                         (f" ({acts(r)} at {g(na)})" if r else ""))
+        txt = (f"{pl} {main_p}: first abort none {g(ser['none']['first_abort'])} "
+               f"{ser['none']['first_abort_status'] or ''}; " + ", ".join(parts))
+    elif key == "c":
+        parts = []
+        for k in ("esc", "esc+cs", "none"):
+            a = ser[k]
+            b = best_run(a)
+            above = [r for r in done_runs(a) if b and r["gg_scale"] > b["gg_scale"] + EPS]
+            parts.append(f"{k}: best {g(b and b['gg_scale'])}, max stable {g(a['max_stable'])}"
+                         + (f", ESC above best {'/'.join(str(int(r['esc_count'] or 0)) for r in above)}"
+                            if above else ""))
+        txt = f"{pl} {main_p}: " + "; ".join(parts)
+    elif key == "d":
+        o, items = res[main_p]
+        txt = f"{pl} {main_p}: " + "; ".join(t for _, _, t in items[:3]) + \
+            f"; ESC/CS/ABS/TC: {items[3][2].split('activations ESC/CS/ABS/TC: ')[-1]}" \
+            if len(items) > 3 else f"{pl} {main_p}: " + items[0][2]
+    return ok, n_ok, len(res), txt
+
+
+# ---------------------------------------------------------------------------------------------
+# Part 5: the margin of every series
+
+def margin_of(a):
+    """(best GG, max stable, first abort, margin in GG, margin in steps of the axis, lap cost
+    [s], ESC activations in the completed runs above the best): the margin is the distance
+    from the best lap's GG to the last GG completed before the first abort (0: the next step
+    after the best lap aborts, a cliff)."""
+    b = best_run(a)
+    if b is None or a["max_stable"] is None:
+        return None
+    top = run_at(a, a["max_stable"])
+    above = [r for r in done_runs(a) if r["gg_scale"] > b["gg_scale"] + EPS]
+    m = a["max_stable"] - b["gg_scale"]
+    return {"best": b["gg_scale"], "stable": a["max_stable"], "abort": a["first_abort"],
+            "abort_status": a["first_abort_status"], "margin_gg": m, "margin_steps": m / STEP,
+            "cost_s": top["mean_lap_time_s"] - b["mean_lap_time_s"],
+            "esc_above": [int(r["esc_count"] or 0) for r in above],
+            "lap_best": b["mean_lap_time_s"]}
+
+
+def margin_table(cols):
+    out = ["| column | study | perturbation | configuration | best lap (GG) | max stable | first "
+           "abort | margin GG (steps of 0.05) | lap at max stable − best | ESC activations "
+           "above the best | Δ lap vs `none` at `none`'s max stable |",
+           "|---|---|---|---|---|---|---|---|---|---|---|"]
+    zero, total = 0, 0
+    for col in cols:
+        for st in STUDIES:
+            s = col[2].get(st)
+            if not s:
+                continue
+            for p, ser in s["runs"].items():
+                for n, a in ser.items():
+                    m = margin_of(a)
+                    if m is None:
+                        continue
+                    total += 1
+                    zero += m["margin_gg"] < EPS
+                    dn = "–"
+                    if st == "study2_lateral" and n != "none" and "none" in ser:
+                        ns = ser["none"]["max_stable"]
+                        r0, r1 = run_at(ser["none"], ns), run_at(a, ns)
+                        if ns is not None and r1 and r1["status"] == "completed":
+                            dn = (f"{r1['mean_lap_time_s'] - r0['mean_lap_time_s']:+.3f} s at "
+                                  f"{g(ns)} (ESC {int(r1['esc_count'] or 0)})")
+                    out.append(
+                        f"| {col_title(col)} | {st.split('_')[0]} | {p} | {n} | "
+                        f"{t3(m['lap_best'])} ({g(m['best'])}) | {g(m['stable'])} | "
+                        f"{g(m['abort'])} {m['abort_status'] or ''} | {m['margin_gg']:.3f} "
+                        f"({m['margin_steps']:.1f}) | {m['cost_s']:+.3f} s | "
+                        f"{'/'.join(map(str, m['esc_above'])) or '–'} | {dn} |")
+    return out, zero, total
+
+
+# ---------------------------------------------------------------------------------------------
+# Figures overlaying the parameter sets (one figure per study and actuator model)
+
+SET_STYLES = ["-", "--", ":", "-."]
+CONFIG_COLORS = {"sc_on": "tab:blue", "sc_off": "tab:red", "none": "tab:gray", "esc": "tab:red",
+                 "cs": "tab:blue", "esc+cs": "tab:purple", "pure_pursuit_off": "tab:blue",
+                 "pure_pursuit_sc": "tab:cyan", "pmpc_off": "tab:orange", "pmpc_sc": "tab:brown",
+                 "nmpc_off": "tab:green", "nmpc_sc": "tab:olive"}
+
+
+def overlay_figures(cols, root):
+    import studyplot
+    out = []
+    acts_ = []
+    for c in cols:
+        a = column_of(c)["actuators"]
+        if a not in acts_:
+            acts_.append(a)
+    top = {"study1_longitudinal": ([("max_slip_front_pct", "-", ", front")],
+                                   "max front slip [%]", None),
+           "study2_lateral": ([("max_abs_sideslip_deg", None, "")], "max |β| [deg]", 20.0),
+           "study3_motion": ([("max_abs_sideslip_deg", None, "")], "max |β| [deg]", 20.0)}
+    os.makedirs(os.path.join(root, "overlay"), exist_ok=True)
+    for st in STUDIES:
+        for act in acts_:
+            mine = [c for c in cols if column_of(c)["actuators"] == act and c[2].get(st)]
+            if not mine:
+                continue
+            perts = list(mine[0][2][st]["runs"])
+            panels, lines = [], []
+            for p in perts:
+                merged = {}
+                for c in mine:
+                    lab = column_of(c)["set_label"]
+                    for n, a in c[2][st]["runs"].get(p, {}).items():
+                        merged[f"{lab}:{n}"] = a
+                panels.append((f"{mine[0][2][st]['perturbation']['label']} {p}", merged))
+            for i, c in enumerate(mine):
+                lab = column_of(c)["set_label"]
+                for n, label in c[2][st]["configs"].items():
+                    lines.append((f"{lab}:{n}", f"{label} ({lab})", CONFIG_COLORS.get(n, "k"),
+                                  SET_STYLES[i % len(SET_STYLES)]))
+            path = os.path.join(root, "overlay", f"{st}_{act}.png")
+            studyplot.plot_grid(panels, lines, top[st][0], top[st][1], path,
+                                f"{st.replace('_', ' ')}, {ACT_NAMES.get(act, act)}: sets "
+                                "overlaid (" + ", ".join(
+                                    f"{column_of(c)['set_label']} {SET_STYLES[i % 4]}"
+                                    for i, c in enumerate(mine)) + ")", hline=top[st][2])
+            out.append(os.path.relpath(path, root))
+    return out
+
+
+def method_section(cols):
+    info = [column_of(c) for c in cols]
+    sets = []
+    for x in info:
+        if (x["set_label"], x.get("stability")) not in sets:
+            sets.append((x["set_label"], x.get("stability")))
+    out = ["## Method: GG axis, actuator models, parameter sets", "",
+           f"- **GG axis (issue 25 part 6), fixed before any run, the same for every "
+           f"configuration, set and actuator model:** {scwexp.GG_AXIS} (start 1.0 = 70 % of the "
+           "combined limits, step 0.05); each series stops at its first abort, which is then "
+           f"resolved by {info[0].get('refine_levels', scwexp.REFINE_LEVELS) if info else 1} "
+           "round(s) of bisection between the last completed GG and the abort (0.025). A "
+           "bisected run belongs to its series like any other; the claims' thresholds (0.05 "
+           "GG, 0.05 s, …) are those written before the numbers.",
+           "- **Actuator models**: each study is scored twice, with the vehicle file's actuators "
+           "(*real car*: brake 116 ms dead time + 32 ms lag + 1800 bar/s, steering 30 ms + 30 ms) "
+           "and with `plant.actuators=paper_sim` (*paper's simulator*: Open-Car-Dynamics' "
+           "published actuation, no brake-pressure dynamics, steering 60 ms dead time + 60 ms "
+           "PT1 at 0.5 rad/s; `docs/plant-calibration.md`), passed as `--set` to every sweep.",
+           "- **Time per column** (wall, and the CPU time of scw and its workers, which "
+           "depends much less on what else the machine runs): " + "; ".join(
+               f"{col_title(c)} {sum(x['wall_time_s'] for x in c[2].values() if x) / 60:.1f} "
+               f"min wall, {sum(x.get('cpu_time_s') or 0 for x in c[2].values() if x) / 60:.1f}"
+               " min CPU" for c in cols) + ".",
+           "- **Parameter sets**: " + "; ".join(f"`{lab}` = `{stab}`" for lab, stab in sets) +
+           ". The car's shipped set is never changed."]
+    for lab, stab in sets:
+        # a params file's provenance: <file>.command.txt beside it (how it was made)
+        path = os.path.join(scwexp.ROOT, os.path.splitext(stab or "")[0] + ".command.txt")
+        if lab != "shipped" and os.path.exists(path):
+            with open(path) as f:
+                out.append(f"- **How `{lab}` was made** (`{os.path.relpath(path, scwexp.ROOT)}`"
+                           "): " + " ".join(f.read().split()))
+    out.append("")
+    return out
+
+
+def column_sections(col, prefix):
+    """The detailed sections of one column (as the single-column report had them)."""
+    name, _, ss = col
+    s1, s2, s3 = (ss.get(st) for st in STUDIES)
+    title = col_title(col)
+    sections = [f"## Details: {title}", ""]
+    if s1:
+        lab = s1["configs"]
+        pl = s1["perturbation"]["label"]
+        ok, n, m, blk = claim_block("a", s1["runs"], pl, claim_a)
+        sec = [f"### {title} — study 1, longitudinal: slip control on / off "
+               f"({s1['controller']}, nominal grip, sensor noise)", "",
+               f"{timing(s1)}; main sweep {s1['wall_time_main_s'] / 60:.1f} min. Command: "
+               f"`{rel(s1['command'])}`", ""]
+        sec += figs(prefixed(s1["figures"], prefix)) + [""]
+        sec += series_table(s1["runs"], lab, pl, study1=True) + [""]
+        sec += diagnosis(s1, lab, pl)
+        sec += [f"#### Claim (a), {title}", ""] + blk + [""]
+        if not ok:
+            sec += mechanism(s1, ["sc_on", "sc_off"], lab)
+        first = next(iter(s1["runs"]))
+        sec += [f"Per GG, seed {first}: mean lap or abort · max front/rear slip · ESC/CS/ABS/TC",
+                ""] + detail_table(s1["runs"][first], lab, slip_metric, study1=True) + [""]
+        sec += sensitivity(s1, lab, pl, [("(a)", claim_a)], slip_metric, study1=True,
+                           prefix=prefix)
+        sections += sec
+    if s2:
+        lab = s2["configs"]
+        pl = s2["perturbation"]["label"]
+        sec = [f"### {title} — study 2, lateral: none / ESC / CS / ESC + CS "
+               f"({s2['controller']}, rear μy reduced in the car only)", "",
+               f"{timing(s2)}; main sweep {s2['wall_time_main_s'] / 60:.1f} min. Command: "
+               f"`{rel(s2['command'])}`", ""]
+        sec += figs(prefixed(s2["figures"][:1], prefix)) + [""]
+        sec += series_table(s2["runs"], lab, pl) + [""]
+        sec += diagnosis(s2, lab, pl)
+        for k, fn in (("b", claim_b), ("c", claim_c), ("d", claim_d)):
+            ok, n, m, blk = claim_block(k, s2["runs"], pl, fn)
+            sec += [f"#### Claim ({k}), {title}", ""] + blk + [""]
+            if not ok:
+                sec += mechanism(s2, CLAIM_CONFIGS[k], lab)
+        main_p = s2["perturbation"].get("main", next(iter(s2["runs"])))
+        sec += [f"Per GG, rear μy {main_p}: mean lap or abort · max |β| · ESC/CS/ABS/TC", ""]
+        sec += detail_table(s2["runs"][main_p], lab, beta_metric) + [""]
+        tr = s2.get("trace_runs", {})
+        if tr:
+            sec += [f"First lap at GG {g(s2['trace_gg'])}, rear μy {main_p} (the paper's "
+                    "time-series figure): " + "; ".join(
+                        f"{lab.get(k, k)}: {r['status']}"
+                        + (f" at {where(r, CORNERS)}" if r["status"] != "completed" else "")
+                        + f", max |β| {r['max_abs_sideslip_deg']:.1f}°, activations {acts(r)}"
+                        for k, r in tr.items()), ""]
+        sec += figs(prefixed(s2["figures"][1:], prefix)) + [""]
+        xt = s2.get("trace_at_none_abort")
+        if xt:
+            sec += [f"The run at GG {g(xt['gg'])}, where `none` first aborts (rear μy "
+                    f"{main_p}): " + "; ".join(
+                        f"{lab.get(k, k)}: {r['status']}"
+                        + (f" at {where(r, CORNERS)}" if r["status"] != "completed" else "")
+                        + f", max |β| {r['max_abs_sideslip_deg']:.1f}°, activations "
+                        f"{acts(r)}" for k, r in xt["runs"].items()), ""]
+            sec += figs(prefixed([xt["figure"]], prefix)) + [""]
+        sec += sensitivity(s2, lab, pl, [("(b)", claim_b), ("(c)", claim_c), ("(d)", claim_d)],
+                           beta_metric, prefix=prefix)
+        sections += sec
+    if s3:
+        lab = s3["configs"]
+        pl = s3["perturbation"]["label"]
+        walls = ", ".join(f"{c} {w / 60:.1f} min" for c, w in
+                          s3.get("wall_time_per_controller_s", {}).items())
+        sec = [f"### {title} — study 3, motion controllers without / with ESC + CS", "",
+               f"{timing(s3)}; main sweeps: {walls}.", ""]
+        for ctrl, why in s3.get("skipped", {}).items():
+            sec.append(f"- skipped `{ctrl}`: {why}")
+        sec += [""] + figs(prefixed(s3["figures"], prefix)) + [""]
+        sec += series_table(s3["runs"], lab, pl) + [""]
+        done = [c for c in s3["controllers"] if c not in s3.get("skipped", {})]
+        for k, fn in (("e", claim_e), ("f", claim_f)):
+            sec += [f"#### Claim ({k}) (not scored), {title}", ""]
+            for ctrl in done:
+                ok, n, m, blk = claim_block(k, s3["runs"], pl, fn, ctrl, scored=False)
+                sec += [f"`{ctrl}`:", ""] + blk + [""]
+        sec += ["Commands: " + "; ".join(f"`{rel(c)}`" for c in s3["commands"]), ""]
+        sec += sensitivity(s3, lab, pl, [(f"({k}) `{c}`", fn, c) for c in done
+                                         for k, fn in (("e", claim_e), ("f", claim_f))],
+                           beta_metric, prefix=prefix)
+        sections += sec
+    return sections
+
+
+def verdict_table(cols):
+    """Claims (a)-(d) (scored) and (e)-(f) (not) × columns: verdict, n of m, numbers."""
+    out = ["| claim | " + " | ".join(col_title(c) for c in cols) + " |",
+           "|---|" + "---|" * len(cols)]
+    results = {}
+    for key, st in (("a", "study1_longitudinal"), ("b", "study2_lateral"),
+                    ("c", "study2_lateral"), ("d", "study2_lateral")):
+        cells = []
+        for c in cols:
+            s = c[2].get(st)
+            if not s:
+                cells.append("–")
+                continue
+            ok, n, m, txt = claim_cell(key, s)
+            results[(key, c[0])] = ok
+            cells.append(f"{verdict(ok)} ({n} of {m}) — {txt}")
+        out.append(f"| ({key}) | " + " | ".join(cells) + " |")
+    for key, fn in (("e", claim_e), ("f", claim_f)):
+        ctrls = []
+        for c in cols:
+            s3 = c[2].get("study3_motion")
+            if s3:
+                ctrls += [x for x in s3["controllers"] if x not in s3.get("skipped", {})
+                          and x not in ctrls]
+        for ctrl in ctrls:
+            cells = []
+            for c in cols:
+                s3 = c[2].get("study3_motion")
+                if not s3 or ctrl in s3.get("skipped", {}) or ctrl not in s3["controllers"]:
+                    cells.append("–")
+                    continue
+                ok, res = evaluate(fn, s3["runs"], ctrl)
+                n = sum(1 for o, _ in res.values() if o)
+                mp = s3["perturbation"].get("main", next(iter(s3["runs"])))
+                items = res[mp][1]
+                cells.append(f"{verdict(ok, scored=False)} ({n} of {len(res)}) — rear μy {mp}: "
+                             + "; ".join(t for _, _, t in items))
+            out.append(f"| ({key}) {ctrl}, unscored | " + " | ".join(cells) + " |")
+    return out, results
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--publish", metavar="DIR",
                     help="also copy report.md and the figures it links to DIR (same relative "
                          "paths; figures no longer linked are removed)")
     args = ap.parse_args(argv)
-    s1 = scwexp.read_summary("study1_longitudinal")
-    s2 = scwexp.read_summary("study2_lateral")
-    s3 = scwexp.read_summary("study3_motion")
-    cmp_ = scwexp.read_summary("compare")
+    root = scwexp.ROOT_RESULTS
+    cols = find_columns(root)
+    cmp_ = read_summary_in(root, "compare") or scwexp.read_summary("compare")
     man = scwexp.read_summary("maneuvers")
-    # Summaries of an older layout (before issue 14) are ignored.
-    s1, s2, s3 = [s if s and "runs" in s else None for s in (s1, s2, s3)]
-    for s in (s1, s2, s3):
-        if s and s.get("corners"):
-            CORNERS[:] = s["corners"]
+    for c in cols:
+        for s in c[2].values():
+            if s and s.get("corners"):
+                CORNERS[:] = s["corners"]
+                break
+        if CORNERS:
             break
 
     out = ["# Simulation studies: reproduction report", "",
-           "Generated by `experiments/report.py` from `experiments/results/*/summary.json` "
-           "(`experiments/run_all.sh` runs everything). Yas Marina North, the built-in EAV24/25 "
-           "plant, the car's shipped stability parameters, 3 laps per run, GG 1.0:0.05:1.8, each "
-           "series (one configuration at one perturbation) reported up to and including its "
-           "first abort (paper §IV). GG 1.0 is 70 % of the plant's combined limits, GG 1.43 is "
-           "100 %. Places are arc lengths s on the track with the corner they belong to "
-           "(`scw track info`; T1 = corner 1, hairpin = corner 5, chicane = corners 7–8). "
-           "Activations are counts of interventions, written ESC/CS/ABS/TC.", "", CHANGES]
-
-    # Criteria first, then the numbers.
+           "Generated by `experiments/report.py` from the studies' `summary.json` files "
+           "(`experiments/run_all.sh [PARAMS.yaml ...]` runs everything for the car's shipped "
+           "set and each given set, with both actuator models). Yas Marina North, the built-in "
+           "EAV24/25 plant, 3 laps per run, each series (one configuration at one perturbation) "
+           "reported up to and including its first abort (paper §IV). GG 1.0 is 70 % of the "
+           "plant's combined limits, GG 1.43 is 100 %. Places are arc lengths s on the track with "
+           "the corner they belong to (`scw track info`; T1 = corner 1, hairpin = corner 5, "
+           "chicane = corners 7–8). Activations are counts of interventions, written "
+           "ESC/CS/ABS/TC.", "", CHANGES]
+    out += method_section(cols)
     out += ["## Claims and their pass criteria", "",
             "Written before the numbers; a claim holds if its criterion holds in at least two "
             "of the three perturbations of its study. A claim whose responsible subsystem did "
@@ -627,103 +1019,41 @@ def main(argv=None):
         out.append(f"- **({k}) {CRITERIA[k][0]}.** Criterion: {CRITERIA[k][1]}")
     out.append("")
 
-    summary_rows, sections = [], []
-    if s1:
-        lab = s1["configs"]
-        pl = s1["perturbation"]["label"]
-        ok, n, m, blk = claim_block("a", s1["runs"], pl, claim_a)
-        summary_rows.append(("(a)", ok, f"{n} of {m} seeds", sens_verdicts(s1, claim_a)))
-        sec = ["## Study 1 — longitudinal: slip control on / off "
-               f"({s1['controller']}, nominal grip, sensor noise)", "",
-               f"{timing(s1)}; main sweep {s1['wall_time_main_s'] / 60:.1f} min. Command: "
-               f"`{rel(s1['command'])}`", ""]
-        sec += figs(s1["figures"]) + [""]
-        sec += ["Key numbers and subsystem activations per seed (ESC/CS/ABS/TC):", ""]
-        sec += series_table(s1["runs"], lab, pl, study1=True) + [""]
-        sec += diagnosis(s1, lab, pl)
-        sec += ["### Claim (a)", "", f"Criterion: {CRITERIA['a'][1]}", ""] + blk + [""]
-        if not ok:
-            sec += mechanism(s1, ["sc_on", "sc_off"], lab)
-        first = next(iter(s1["runs"]))
-        sec += [f"Per GG, seed {first}: mean lap or abort · max front/rear slip · ESC/CS/ABS/TC",
-                ""] + detail_table(s1["runs"][first], lab, slip_metric, study1=True) + [""]
-        sec += sensitivity(s1, lab, pl, [("(a)", claim_a)], slip_metric, study1=True)
-        sections += sec
-    if s2:
-        lab = s2["configs"]
-        pl = s2["perturbation"]["label"]
-        sec = ["## Study 2 — lateral: none / ESC / CS / ESC + CS "
-               f"({s2['controller']}, rear μy reduced in the car only)", "",
-               f"{timing(s2)}; main sweep {s2['wall_time_main_s'] / 60:.1f} min. Command: "
-               f"`{rel(s2['command'])}`", ""]
-        sec += figs(s2["figures"][:1]) + [""]
-        sec += ["Key numbers and subsystem activations per rear μy (ESC/CS/ABS/TC):", ""]
-        sec += series_table(s2["runs"], lab, pl) + [""]
-        sec += diagnosis(s2, lab, pl)
-        for k, fn in (("b", claim_b), ("c", claim_c), ("d", claim_d)):
-            ok, n, m, blk = claim_block(k, s2["runs"], pl, fn)
-            summary_rows.append((f"({k})", ok, f"{n} of {m} rear μy values",
-                                 sens_verdicts(s2, fn)))
-            sec += [f"### Claim ({k})", "", f"Criterion: {CRITERIA[k][1]}", ""] + blk + [""]
-            if not ok:
-                sec += mechanism(s2, CLAIM_CONFIGS[k], lab)
-        main = s2["perturbation"].get("main", next(iter(s2["runs"])))
-        sec += [f"Per GG, rear μy {main}: mean lap or abort · max |β| · ESC/CS/ABS/TC", ""]
-        sec += detail_table(s2["runs"][main], lab, beta_metric) + [""]
-        tr = s2.get("trace_runs", {})
-        if tr:
-            sec += [f"First lap at GG {g(s2['trace_gg'])}, rear μy {main} (the paper's time-series "
-                    "figure): " + "; ".join(
-                        f"{lab.get(k, k)}: {r['status']}"
-                        + (f" at {where(r, CORNERS)}" if r["status"] != "completed" else "")
-                        + f", max |β| {r['max_abs_sideslip_deg']:.1f}°, activations {acts(r)}"
-                        for k, r in tr.items()), ""]
-        sec += figs(s2["figures"][1:]) + [""]
-        xt = s2.get("trace_at_none_abort")
-        if xt:
-            sec += [f"First lap at GG {g(xt['gg'])}, where `none` first aborts (rear μy {main}): " +
-                    "; ".join(f"{lab.get(k, k)}: {r['status']}"
-                              + (f" at {where(r, CORNERS)}" if r["status"] != "completed" else "")
-                              + f", max |β| {r['max_abs_sideslip_deg']:.1f}°, activations "
-                              f"{acts(r)}" for k, r in xt["runs"].items()), ""]
-            sec += figs([xt["figure"]]) + [""]
-        sec += sensitivity(s2, lab, pl, [("(b)", claim_b), ("(c)", claim_c), ("(d)", claim_d)],
-                           beta_metric)
-        sections += sec
-    if s3:
-        lab = s3["configs"]
-        pl = s3["perturbation"]["label"]
-        walls = ", ".join(f"{c} {w / 60:.1f} min" for c, w in
-                          s3.get("wall_time_per_controller_s", {}).items())
-        sec = ["## Study 3 — motion controllers without / with ESC + CS (rear μy reduced in the "
-               "car only)", "", f"{timing(s3)}; main sweeps: {walls}.", ""]
-        for ctrl, why in s3.get("skipped", {}).items():
-            sec.append(f"- skipped `{ctrl}`: {why}")
-        sec += [""] + figs(s3["figures"]) + [""]
-        sec += ["Key numbers and subsystem activations per rear μy (ESC/CS/ABS/TC):", ""]
-        sec += series_table(s3["runs"], lab, pl) + [""]
-        done = [c for c in s3["controllers"] if c not in s3.get("skipped", {})]
-        for k, fn in (("e", claim_e), ("f", claim_f)):
-            sec += [f"### Claim ({k}) (not scored)", "", f"Criterion: {CRITERIA[k][1]}", ""]
-            for ctrl in done:
-                ok, n, m, blk = claim_block(k, s3["runs"], pl, fn, ctrl, scored=False)
-                summary_rows.append((f"({k}) {ctrl}", ok, f"{n} of {m} rear μy values",
-                                     sens_verdicts(s3, fn, ctrl)))
-                sec += [f"`{ctrl}`:", ""] + blk + [""]
-        sec += ["Commands: " + "; ".join(f"`{rel(c)}`" for c in s3["commands"]), ""]
-        sec += sensitivity(s3, lab, pl, [(f"({k}) `{c}`", fn, c) for c in done
-                                         for k, fn in (("e", claim_e), ("f", claim_f))],
-                           beta_metric)
-        sections += sec
-
-    out += ["## Results", "", "| claim | verdict | holds in | sensitivity runs (unscored) |",
-            "|---|---|---|---|"]
-    for name, ok, n, sv in summary_rows:
-        out.append(f"| {name} | {verdict(ok, not name.startswith(('(e)', '(f)')))} | {n} | "
-                   f"{sv or '–'} |")
-    if not summary_rows:
-        out.append("| – | – | no study results yet |")
-    out += [""] + findings(s1, s2, s3) + sections
+    if cols:
+        vt, results = verdict_table(cols)
+        out += ["## Results: every claim per parameter set and actuator model", "",
+                "Verdict (perturbations in which the criterion holds), then the deciding numbers "
+                "of the main perturbation with the activation counts (ESC/CS/ABS/TC). Each "
+                "column's criteria item by item are in its details section below.", ""]
+        out += vt + [""]
+        out += goal_section(results, cols)
+        out += findings_all(cols)
+        figs_ov = overlay_figures(cols, root)
+        out += ["## Figures: the sets overlaid", "",
+                "One figure per study and actuator model; colour = configuration, line style = "
+                "parameter set (legend); top: the study's metric per GG, bottom: mean lap time "
+                "(★ best lap, dotted line and reason at the first abort).", ""]
+        out += figs(figs_ov) + [""]
+        mt, zero, total = margin_table(cols)
+        out += ["## Claim (c) as a quantity: the margin of every series", "",
+                "Margin = GG from the best lap to the last GG completed before the first abort "
+                "(in steps of 0.05; bisected runs give half steps); 0 means the step after the "
+                "best lap aborts: the limit is a cliff. Lap cost = the lap at the max stable GG "
+                "minus the best lap (what running past the best lap costs, with the ESC "
+                "activations of those runs); study 2 also gives each configuration's lap against "
+                "`none` at `none`'s max stable GG.", ""]
+        out.append(f"Margin 0 in {zero} of {total} series." + (
+            " The limit is a cliff everywhere." if total and zero == total else ""))
+        out += [""] + cliff_mechanism(cols, total and zero == total)
+        out += [""] + mt + [""]
+        out += knife_edge_section(cols, root)
+        out += claims_map_section(root)
+        for c in cols:
+            prefix = os.path.relpath(c[1], root)
+            prefix = "" if prefix == "." else prefix
+            out += column_sections(c, prefix)
+    else:
+        out += ["## Results", "", "No study results yet.", ""]
     if cmp_:
         out += ["## Comparison of parameter sets", "", f"Wall time {cmp_['wall_time_s']:.0f} s. "
                 f"Sets: {', '.join(cmp_['labels'])}. Table: `{cmp_['markdown']}`.", ""]
@@ -733,8 +1063,8 @@ def main(argv=None):
                 f"(experiments/maneuvers.py, SC off and on; sets: {', '.join(man['sets'])}) in "
                 f"{man['wall_s']:.0f} s. Tables: `maneuvers/maneuvers.md`.", ""]
         out += [f"![{f}](maneuvers/{f})" for f in man["figures"]] + [""]
-    path = os.path.join(scwexp.RESULTS, "report.md")
-    os.makedirs(scwexp.RESULTS, exist_ok=True)
+    path = os.path.join(root, "report.md")
+    os.makedirs(root, exist_ok=True)
     with open(path + ".tmp", "w") as f:
         f.write("\n".join(out) + "\n")
     os.replace(path + ".tmp", path)
@@ -744,7 +1074,126 @@ def main(argv=None):
     return 0
 
 
-def sensitivity(s, labels, pert_label, claims, metric, study1=False):
+def findings_all(cols):
+    out = []
+    for c in cols:
+        f = findings(*(c[2].get(st) for st in STUDIES))
+        if f:
+            out += [f"### Findings, {col_title(c)}", ""] + f[2:]
+    return ["## Findings per column (computed from all scored runs)", ""] + out if out else []
+
+
+def goal_section(results, cols):
+    """Each of (a)-(d): reproduced where (with its credited subsystem acting, P5 being part of
+    every criterion), else what the claims map shows flips it."""
+    cm = read_summary_in(scwexp.ROOT_RESULTS, "claims_map")
+    out = ["## Where each claim reproduces", ""]
+    for k in ("a", "b", "c", "d"):
+        yes = [col_title(c) for c in cols if results.get((k, c[0]))]
+        line = f"- **({k})**: "
+        if yes:
+            line += ("reproduced, with its credited subsystem acting (P5 is part of the "
+                     "criterion), in: " + ", ".join(yes) + ".")
+        else:
+            line += "reproduced in no scored column."
+            if cm:
+                flips = [v for v in cm.get("variants", []) if v["claims"].get(k, {}).get("ok")]
+                if flips:
+                    v = flips[0]
+                    line += (" The claims map (one perturbation, the shipped set, everything "
+                             "else as the vehicle file) finds it holding with: " +
+                             "; ".join(f"{x['label']}" for x in flips[:8]) + ". The run that "
+                             f"shows it, {v['label']}: " + "; ".join(
+                                 f"{n} ({'yes' if o else 'no'}: {t})"
+                                 for n, o, t in v["claims"][k]["items"]) +
+                             (f" (sweep: `{rel(v['command'])}`)" if v.get("command") else ""))
+                else:
+                    line += (" No variant of the claims map makes it hold either (see the map "
+                             "for the margins).")
+        out.append(line)
+    return out + [""]
+
+
+def cliff_mechanism(cols, everywhere):
+    """What makes the limit a cliff, from the knife-edge numbers of each column: how long the
+    car takes from rear saturation to the loss, against the brake response, and whether ESC's
+    pressure reached a wheel in that time."""
+    parts = []
+    for c in cols:
+        s2 = c[2].get("study2_lateral")
+        ke = s2 and s2.get("knife_edge")
+        if not ke:
+            continue
+        lost = {n: x for n, x in ke["results"].items() if x and x["spun"] and x["saturated"]}
+        if not lost:
+            continue
+        w = [x["window_s"] for x in lost.values()]
+        esc = [n for n in ("esc", "esc+cs") if n in lost]
+        arr = [n for n in esc if lost[n]["t_delivered"] is not None and
+               lost[n]["t_delivered"] < lost[n]["t20"]]
+        parts.append(f"{col_title(c)} (GG {g(ke['gg'])}): {min(w):.2f}–{max(w):.2f} s from rear "
+                     f"saturation to the loss in {len(lost)} configuration(s), brake response "
+                     f"{ke['t_act'] * 1000:.0f} ms; ESC's pressure reached a wheel before the "
+                     f"loss in {len(arr)} of {len(esc)} lost ESC runs")
+    if not parts:
+        return []
+    return ["Mechanism (knife-edge traces below): once the rear axle passes its peak slip angle "
+            "at the abort GG, the car is lost within a few tenths of a second — " +
+            "; ".join(parts) + "." + (" No series has an intermediate regime in which "
+                                     "interventions slow the car without losing it."
+                                     if everywhere else ""), ""]
+
+
+def knife_edge_section(cols, root):
+    """Part 3: the traced first lap at the GG where `none` first aborts (study 2), per
+    column, from knife_edge.json written by study2_lateral.py."""
+    out = []
+    for c in cols:
+        s2 = c[2].get("study2_lateral")
+        ke = s2 and s2.get("knife_edge")
+        if not ke:
+            continue
+        import knife_edge
+        xt = s2.get("trace_at_none_abort")
+        runs = xt["runs"] if xt else s2.get("trace_runs", {})
+        res = {}
+        for n, x in ke["results"].items():
+            if x is not None:
+                x = dict(x, status=x.get("status") or runs.get(n, {}).get("status"))
+            res[n] = x
+        lines = [knife_edge.describe(n, s2["configs"].get(n, n), res.get(n), CORNERS,
+                                     (res.get(n) or {}).get("status")) for n in s2["configs"]]
+        lines.append(knife_edge.verdict_line(res, ACT_SHORT.get(column_of(c)["actuators"])))
+        out += [f"### {col_title(c)}: GG {g(ke['gg'])}, rear μy {ke['mu']}", ""]
+        out += [f"- {x}" for x in lines] + [""]
+    if out:
+        out = ["## The mechanism at the knife edge (study 2)", "",
+               "At the first GG where `none` aborts (main rear μy), the whole run of each "
+               "configuration traced (`scw sweep --trace-dir`; `experiments/knife_edge.py`). "
+               "The loss = |β| = 20°, or the run's abort when that comes first (lateral error, "
+               "off track); rear saturation t_sat = the time from which the rear axle's mean "
+               "slip angle stays beyond the rear tyre's peak slip angle (Magic Formula, nominal "
+               "load) until the loss; ESC's brake moment arrives when a wheel's applied pressure "
+               "first exceeds both its value when ESC switched on and the motion controller's "
+               "request by 10 bar; the bound is the constant yaw moment that removes the largest "
+               "yaw-rate excess Δr in the time left after the brake actuator's response: "
+               "M ≥ Iz · Δr / (t_loss − t_sat − t_act).", ""] + out
+    return out
+
+
+def claims_map_section(root):
+    cm = read_summary_in(root, "claims_map")
+    if not cm:
+        return []
+    out = ["## Claims map: what decides each claim (issue 25 part 2)", "",
+           cm.get("text", ""), "", f"Wall time {cm['wall_time_s'] / 60:.1f} min. "
+           f"Sweeps: {len(cm.get('commands', []))}.", ""]
+    out += figs([os.path.join("claims_map", x) for x in cm.get("figures", [])]) + [""]
+    out += cm.get("table", []) + [""]
+    return out
+
+
+def sensitivity(s, labels, pert_label, claims, metric, study1=False, prefix=""):
     sens = s.get("sensitivity", {})
     if not sens:
         return []
@@ -752,7 +1201,7 @@ def sensitivity(s, labels, pert_label, claims, metric, study1=False):
     for tag, v in sens.items():
         out += [f"**{v['label']}** — wall time {v['wall_time_s'] / 60:.1f} min. Command: "
                 f"`{rel(v['command'])}`", ""]
-        out += figs(v["figures"]) + [""]
+        out += figs(prefixed(v["figures"], prefix)) + [""]
         out += series_table(v["runs"], labels, pert_label, study1) + [""]
         for label, fn, *extra in claims:
             if extra and not any(n.startswith(f"{extra[0]}_") for ser in v["runs"].values()

@@ -1,13 +1,22 @@
 #!/usr/bin/env bash
-# Runs every experiment: the paper's three simulation studies as the paper ran them (studies 1
-# and 2 with the point-mass MPC, study 3 with pure pursuit, pmpc and nmpc; 3 laps, GG step 0.05,
-# three perturbations each, sensitivity runs beside), the comparison of parameter sets (the car's
-# set plus any files given as arguments) and the report. Outputs go to experiments/results/ (not
-# committed); the report is experiments/results/report.md.
+# Runs every experiment for every parameter set and both actuator models: the paper's three
+# simulation studies as the paper ran them (studies 1 and 2 with the point-mass MPC, study 3 with
+# pure pursuit and pmpc; 3 laps, GG 1.0:0.05:1.8 with each first abort bisected to 0.025, three
+# perturbations each), once with the vehicle file's actuators ("real car") and once with
+# plant.actuators=paper_sim ("paper's simulator"), for the car's shipped stability set and each
+# params file given; then the comparison of the sets and the report. Outputs go to
+# experiments/results/ (not committed): one directory per column,
+# experiments/results/columns/<set>__<actuators>/<study>/; the report is
+# experiments/results/report.md.
 #
 #   experiments/run_all.sh [PARAMS.yaml ...]        (SCW_BIN=/path/to/scw to choose the binary)
 #
-# About 15 min on 2 cores (MPC runs in 2 worker processes; each study well under 20 min).
+# Environment: ACTUATORS (default "vehicle paper_sim"), STUDY3_CONTROLLERS (default
+# pure_pursuit,pmpc; add nmpc for the nonlinear MPC, ~5 min per column), SENSITIVITY=1 (also the
+# unscored sensitivity runs, shipped set and vehicle actuators only), PROCESSES (default 2),
+# CLAIMS_MAP=1 (also experiments/claims_map.py, the map of what decides each claim, ~30 min),
+# STUDY_ARGS (extra options of every study, e.g. "--gg 1.0,1.05 --laps 1" for a quick check).
+# Shipped + one tuned set, both actuator models: see experiments/README.md for the measured time.
 # To refresh the committed reference copy afterwards:
 #   python3 experiments/report.py --publish experiments/reference-results
 set -euo pipefail
@@ -17,10 +26,40 @@ py=python3
 if ! python3 -c "import matplotlib, numpy" >/dev/null 2>&1 && [ -x /usr/bin/python3 ]; then
   py=/usr/bin/python3
 fi
+for f in "$@"; do
+  [ -f "$f" ] || { echo "run_all: no such params file: $f" >&2; exit 2; }
+done
+actuators=${ACTUATORS:-vehicle paper_sim}
+ctrls=${STUDY3_CONTROLLERS:-pure_pursuit,pmpc}
+procs=${PROCESSES:-2}
+cols="$here/results/columns"
+rm -rf "$cols"
 start=$SECONDS
-"$py" "$here/study1_longitudinal.py" --no-report
-"$py" "$here/study2_lateral.py" --no-report
-"$py" "$here/study3_motion.py" --no-report
+sets=("shipped")
+for f in "$@"; do sets+=("$(cd "$(dirname "$f")" && pwd)/$(basename "$f")"); done
+for set in "${sets[@]}"; do
+  if [ "$set" = shipped ]; then
+    label=shipped; stab=()
+  else
+    label=$(basename "$set" .yaml); stab=(--stability "$set")
+  fi
+  for act in $actuators; do
+    dir="$cols/${label}__${act}"
+    # shellcheck disable=SC2206  # STUDY_ARGS is split into words on purpose
+    common=(--no-report --results "$dir" --label "$label" --processes "$procs"
+            --set "plant.actuators=$act" "${stab[@]}" ${STUDY_ARGS:-})
+    sens=(--no-sensitivity)
+    if [ "${SENSITIVITY:-0}" = 1 ] && [ "$set" = shipped ] && [ "$act" = vehicle ]; then sens=(); fi
+    t0=$SECONDS
+    "$py" "$here/study1_longitudinal.py" "${common[@]}" "${sens[@]}"
+    "$py" "$here/study2_lateral.py" "${common[@]}" "${sens[@]}"
+    "$py" "$here/study3_motion.py" "${common[@]}" "${sens[@]}" --controllers "$ctrls"
+    echo "run_all: column ${label}__${act}: $((SECONDS - t0)) s"
+  done
+done
+if [ "${CLAIMS_MAP:-0}" = 1 ]; then
+  "$py" "$here/claims_map.py" --no-report --processes "$procs"
+fi
 "$py" "$here/compare.py" --no-report "$here/../params/stability/default.yaml" "$@"
 "$py" "$here/report.py"
 echo "run_all: $((SECONDS - start)) s; report: $here/results/report.md"

@@ -23,6 +23,16 @@ matplotlib.use("Agg")
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 RESULTS = os.path.join(HERE, "results")
+ROOT_RESULTS = RESULTS
+
+# The GG axis of every study and of the claims map (issue 25 part 6), fixed before any run and
+# the same for every configuration, parameter set and actuator model: start 1.0 (70 % of the
+# combined limits), step 0.05, stop 1.8. Each series' first abort is then resolved finer by
+# bisection between its last completed GG and its first abort (REFINE_LEVELS halvings:
+# 0.025 with 1); the bisected runs are part of the series.
+GG_AXIS = "1.0:0.05:1.8"
+GG_STEP = 0.05
+REFINE_LEVELS = 1
 
 # Where the scw binary is looked for when SCW_BIN is not set (first existing wins).
 BINARY_CANDIDATES = [
@@ -53,6 +63,15 @@ def find_scw():
         return path
     sys.exit("error: scw not found; build it (cmake --build build/release --target scw) or set "
              "SCW_BIN=/path/to/scw")
+
+
+def set_results(path):
+    """Writes the studies' outputs under `path` instead of experiments/results (run_all.sh
+    gives every parameter set and actuator model a directory of its own)."""
+    global RESULTS
+    RESULTS = os.path.abspath(path)
+    os.makedirs(RESULTS, exist_ok=True)
+    return RESULTS
 
 
 def results_dir(study):
@@ -215,7 +234,7 @@ def mpc_sweep_cmd(scw, args, sets, vary, configs, out_csv, processes=None, extra
 
 
 # Columns of a sweep row kept per run in summary.json (the report is computed from these).
-RUN_FIELDS = ("gg_scale", "status", "progress", "laps_completed", "mean_lap_time_s",
+RUN_FIELDS = ("gg_scale", "refined", "status", "progress", "laps_completed", "mean_lap_time_s",
               "max_abs_sideslip_deg", "max_slip_front_pct", "max_slip_rear_pct",
               "max_abs_lateral_error_m", "max_speed_mps", "esc_count", "cs_count", "abs_count",
               "tc_count", "esc_time_s", "cs_time_s", "abs_time_s", "tc_time_s", "end_lap",
@@ -249,10 +268,10 @@ def perturbed_series(rows, configs, pert_key, pert_values):
 
 
 def study_sweep(scw, args, sets, configs, out_csv, log, pert=None, mpc=True, gg=None,
-                extra=()):
+                extra=(), refine=True):
     """One scw sweep of a study: gg_scale (first, the series' key) and optionally a
     perturbation key (pert = (key, [values])); MPC sweeps go to --processes workers. Returns
-    (command, rows)."""
+    (command, rows). refine: bisect each series' first abort (refine_first_aborts)."""
     vary = [f"gg_scale={gg or args.gg}"]
     if pert:
         vary.append(f"{pert[0]}=" + ",".join(str(v) for v in pert[1]))
@@ -264,7 +283,115 @@ def study_sweep(scw, args, sets, configs, out_csv, log, pert=None, mpc=True, gg=
     else:
         cmd = sweep_cmd(scw, args, sets, vary, configs, out_csv, extra)
     run(cmd, log=log)
-    return cmd, read_csv(out_csv)
+    rows = read_csv(out_csv)
+    if refine and REFINE_LEVELS > 0:
+        rows, rcmds = refine_first_aborts(scw, args, sets, configs, rows, pert, out_csv, log,
+                                          mpc=mpc)
+        cmd = cmd + [f"(+ {len(rcmds)} bisection sweep(s) of the first aborts)"] if rcmds else cmd
+    return cmd, rows
+
+
+def _series_bounds(rows):
+    """(last completed GG, first abort GG) of one series' rows (any order), or None when the
+    series has no abort or no completed run below it."""
+    rows = sorted(rows, key=lambda r: r["gg_scale"])
+    ab = next((r for r in rows if r["status"] != "completed"), None)
+    if ab is None:
+        return None
+    done = [r for r in rows if r["status"] == "completed" and r["gg_scale"] < ab["gg_scale"]]
+    if not done:
+        return None
+    return done[-1]["gg_scale"], ab["gg_scale"]
+
+
+def cut_at_first_abort(rows):
+    """A series' rows in GG order up to and including its first abort."""
+    out = []
+    for r in sorted(rows, key=lambda r: r["gg_scale"]):
+        out.append(r)
+        if r["status"] != "completed":
+            break
+    return out
+
+
+def refine_first_aborts(scw, args, sets, configs, rows, pert, out_csv, log, mpc=True,
+                        levels=None, reuse=False):
+    """Resolves each series' first abort finer (issue 25 part 6): `levels` rounds of bisection
+    between the last completed GG and the first abort, all series of a round in one `scw sweep`
+    (one named configuration per bisected run: the series' overrides plus gg_scale and the
+    perturbation). Returns the merged rows, each series cut at its (new) first abort; bisected
+    rows carry refined=1 and the sweep's config name replaced by the series' own. reuse: read
+    a bisection sweep's table from a previous run with the same command instead of running it
+    (reuse_or_run)."""
+    levels = REFINE_LEVELS if levels is None else levels
+    pkey, pvals = pert if pert else (None, [None])
+    overrides = dict(c.split(":", 1) if ":" in c else (c, "") for c in configs)
+    laps = next((x.split("=", 1)[1] for x in sets if x.startswith("laps=")), "3")
+    base = [x for x in sets if not x.startswith("laps=")]
+    rows = [dict(r, refined=r.get("refined", 0)) for r in rows]
+    commands = []
+    for level in range(levels):
+        jobs = []
+        for name in overrides:
+            for pv in pvals:
+                sel = [r for r in rows if r["config"] == name and
+                       (pkey is None or abs(float(r[pkey]) - float(pv)) < 1e-9)]
+                b = _series_bounds(sel)
+                if b:
+                    jobs.append((name, pv, round((b[0] + b[1]) / 2, 6)))
+        if not jobs:
+            break
+        cfgs = []
+        for i, (name, pv, gg) in enumerate(jobs):
+            ov = [x for x in overrides[name].split(",") if x] + [f"gg_scale={gg:g}"]
+            if pkey is not None:
+                ov.append(f"{pkey}={pv}")
+            cfgs.append(f"r{i}:" + ",".join(ov))
+        csv_path = f"{out_csv[:-4]}_refine{level + 1}.csv"
+        vary = [f"laps={laps}"]
+        if mpc:
+            cmd = mpc_sweep_cmd(scw, args, base, vary, cfgs, csv_path,
+                                processes=getattr(args, "processes", None))
+        else:
+            cmd = sweep_cmd(scw, args, base, vary, cfgs, csv_path)
+        reuse_or_run(cmd, csv_path, f"{log[:-4]}_refine{level + 1}.log", reuse)
+        commands.append(" ".join(cmd))
+        new = read_csv(csv_path)
+        for r in new:
+            name, pv, gg = jobs[int(r["config"][1:])]
+            r["config"], r["gg_scale"], r["refined"] = name, gg, 1
+            if pkey is not None:
+                r[pkey] = float(pv)
+        rows += new
+        # every series again up to and including its first abort
+        kept = []
+        for name in overrides:
+            for pv in pvals:
+                sel = [r for r in rows if r["config"] == name and
+                       (pkey is None or abs(float(r[pkey]) - float(pv)) < 1e-9)]
+                kept += cut_at_first_abort(sel)
+        rows = kept
+    return rows, commands
+
+
+def reuse_or_run(cmd, csv_path, log, reuse=False):
+    """Runs a sweep writing csv_path, and records its command beside the table
+    (csv_path + ".cmd"). With reuse, a table whose recorded command equals this one (the binary
+    path aside) is read as it is, without running: sweeps of an interrupted or earlier run with
+    the same settings are not repeated."""
+    key = "\n".join(cmd[1:])
+    side = csv_path + ".cmd"
+    if reuse and os.path.exists(csv_path) and os.path.exists(side):
+        with open(side) as f:
+            if f.read() == key:
+                print(f"reusing {os.path.relpath(csv_path, ROOT)} (same command)", flush=True)
+                return
+    for path in (csv_path, side):
+        if os.path.exists(path):
+            os.remove(path)
+    run(cmd, log=log)
+    with open(side, "w") as f:
+        f.write(key)
 
 
 def brake_40ms_vehicle(scw, path):
@@ -403,9 +530,15 @@ def diagnose_series(scw, args, sets, configs, per_pert_main, pert_key, pert_valu
     return res
 
 
-def add_common_args(parser, gg="1.0:0.05:1.8", laps=3):
+def add_common_args(parser, gg=GG_AXIS, laps=3):
     parser.add_argument("--gg", default=gg,
                         help=f"GG values: start:step:stop or a comma list (default {gg})")
+    parser.add_argument("--refine", type=int, default=REFINE_LEVELS,
+                        help="bisection rounds of each series' first abort (default "
+                             f"{REFINE_LEVELS}: half a step; 0: none)")
+    parser.add_argument("--results", metavar="DIR",
+                        help="write the outputs under DIR instead of experiments/results")
+    parser.add_argument("--label", help="name of the parameter set in the report")
     parser.add_argument("--laps", type=int, default=laps, help=f"laps per run (default {laps})")
     parser.add_argument("--threads", type=int, default=0, help="worker threads (0: all cores)")
     parser.add_argument("--stability", help="stability params file (default: the car's)")
@@ -417,6 +550,27 @@ def add_common_args(parser, gg="1.0:0.05:1.8", laps=3):
                         help="skip the unscored sensitivity runs (40 ms brake and the others of the study)")
     parser.add_argument("--no-report", action="store_true",
                         help="do not regenerate experiments/results/report.md")
+
+
+def apply_common_args(args):
+    """The effect of --results and --refine (call before writing anything)."""
+    global REFINE_LEVELS
+    REFINE_LEVELS = max(0, int(args.refine))
+    if args.results:
+        set_results(args.results)
+
+
+def column_info(args):
+    """What the report needs to name this run's column: the parameter set and the actuators."""
+    act = "vehicle"
+    for x in args.set:
+        if x.startswith("plant.actuators="):
+            act = x.split("=", 1)[1]
+    return {"set_label": args.label or (os.path.splitext(os.path.basename(args.stability))[0]
+                                        if args.stability else "shipped"),
+            "stability": os.path.relpath(os.path.abspath(args.stability), ROOT)
+            if args.stability else "params/stability/default.yaml (the car's)",
+            "actuators": act, "gg_axis": args.gg, "refine_levels": REFINE_LEVELS}
 
 
 def mark_aborts(ax, rows, key, field, color, linestyle="-"):

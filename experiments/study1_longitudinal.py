@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Study 1 (paper §V-A, longitudinal stability): slip control (ABS + TC) on vs off with the
 point-mass MPC (motion.controller=pmpc, the paper's controller for studies 1 and 2), nominal
-grip, 3 laps per run, GG 1.0:0.05:1.8; a series ends at its first abort.
+grip, 3 laps per run, GG 1.0:0.05:1.8 (scwexp.GG_AXIS) with each first abort bisected to 0.025;
+a series ends at its first abort.
 
 The paper ends the test when a tyre begins to lock or spin: here slip below -50 % (lock) or
 above +30 % (spin) for at least 0.1 s (abort.lock_slip_pct=50, abort.spin_slip_pct=30,
@@ -16,7 +17,7 @@ Robustness: three sensor-noise seeds (sensor_noise=true, seed 1/2/3) in one swee
 Writes experiments/results/study1_longitudinal/: sweep.csv, sweep_brake40ms.csv,
 study1_longitudinal.png, study1_brake40ms.png, summary.json, scw*.log.
 
-    python3 experiments/study1_longitudinal.py [--gg 1.0:0.05:1.8] [--laps 3] [--processes 2]
+    python3 experiments/study1_longitudinal.py [--gg 1.0:0.05:1.8] [--refine 1] [--results DIR] [--laps 3] [--processes 2]
 """
 
 import argparse
@@ -49,10 +50,11 @@ def figure(per_pert, path, title):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    scwexp.add_common_args(p, gg="1.0:0.05:1.8", laps=3)
+    scwexp.add_common_args(p, laps=3)
     p.add_argument("--seeds", default="1,2,3", help="sensor-noise seeds (default 1,2,3)")
     p.add_argument("--controller", default=CONTROLLER, help="motion controller (default pmpc)")
     args = p.parse_args(argv)
+    scwexp.apply_common_args(args)
     scw = scwexp.find_scw()
     out = scwexp.results_dir(STUDY)
     timer = scwexp.Timer()
@@ -114,6 +116,7 @@ def main(argv=None):
     summary["corners"] = scwexp.track_corners(scw, sets)
     summary["wall_time_s"] = timer.seconds()
     summary["cpu_time_s"] = timer.cpu_seconds()
+    summary["column"] = scwexp.column_info(args)
     scwexp.write_summary(STUDY, summary)
     for v, ser in per_pert.items():
         for name, a in ser.items():

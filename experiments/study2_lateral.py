@@ -17,7 +17,7 @@ workspace's old defaults (pure pursuit, the reduced grip known to the planner).
 Writes experiments/results/study2_lateral/: sweep*.csv, study2_lateral.png,
 study2_timeseries_gg<GG>.png, study2_<sensitivity>.png, traces/, summary.json, scw*.log.
 
-    python3 experiments/study2_lateral.py [--gg 1.0:0.05:1.8] [--laps 3] [--trace-gg 1.4]
+    python3 experiments/study2_lateral.py [--gg 1.0:0.05:1.8] [--refine 1] [--results DIR] [--laps 3] [--trace-gg 1.4]
 """
 
 import argparse
@@ -27,6 +27,7 @@ import sys
 
 import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
 import report  # noqa: E402  (regenerates report.md after the study)
+import knife_edge  # noqa: E402
 import plot_trace  # noqa: E402
 import studyplot  # noqa: E402
 
@@ -53,12 +54,13 @@ def figure(per_pert, path, title):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    scwexp.add_common_args(p, gg="1.0:0.05:1.8", laps=3)
+    scwexp.add_common_args(p, laps=3)
     p.add_argument("--rear-mu-y", default=",".join(PERT[1]),
                    help="rear lateral grip factors (default 0.78,0.8,0.82)")
     p.add_argument("--trace-gg", default="1.4", help="GG of the time-series figure (default 1.4)")
     p.add_argument("--controller", default=CONTROLLER, help="motion controller (default pmpc)")
     args = p.parse_args(argv)
+    scwexp.apply_common_args(args)
     scw = scwexp.find_scw()
     out = scwexp.results_dir(STUDY)
     timer = scwexp.Timer()
@@ -84,11 +86,11 @@ def main(argv=None):
             glob.glob(os.path.join(trace_dir, "*", "*.csv")):
         os.remove(old)
 
-    def time_series(gg):
+    def time_series(gg, laps=1):
         sub = os.path.join(trace_dir, f"gg{gg:g}")
         os.makedirs(sub, exist_ok=True)
         trace_csv = os.path.join(out, f"timeseries_gg{gg:g}.csv")
-        tsets = ["laps=1", f"motion.controller={args.controller}", f"{pert[0]}={main_pert}"] + \
+        tsets = [f"laps={laps}", f"motion.controller={args.controller}", f"{pert[0]}={main_pert}"] + \
             BASE_SETS + args.set
         tcmd = scwexp.sweep_cmd(scw, args, tsets, [f"gg_scale={gg:g}"], configs, trace_csv,
                                 extra=["--trace-dir", sub])
@@ -98,28 +100,46 @@ def main(argv=None):
             tcmd[i:i + 2] = ["--processes", str(max(1, args.processes))]
         scwexp.run(tcmd, log=os.path.join(out, f"scw_traces_gg{gg:g}.log"))
         trace_rows = scwexp.read_csv(trace_csv)
-        traces, labels, runs = [], [], {}
+        traces, labels, runs, by_name = [], [], {}, {}
         for name, _, label, _ in CONFIGS:
             found = glob.glob(os.path.join(sub, f"{name}__*.csv"))
             r = next((x for x in trace_rows if x["config"] == name), None)
             if found and r:
                 traces.append(found[0])
+                by_name[name] = found[0]
                 labels.append(f"{label} ({r['status']})")
             if r:
                 runs[name] = {k: r.get(k) for k in scwexp.RUN_FIELDS}
         ts_png = os.path.join(out, f"study2_timeseries_gg{gg:g}.png")
         plot_trace.plot(traces, ts_png, labels, "distance", None,
-                        f"Study 2: first lap at GG {gg:g}, {args.controller}, "
+                        f"Study 2: {'first lap' if laps == 1 else f'{laps} laps'} at GG "
+                        f"{gg:g}, {args.controller}, "
                         f"rear μy {main_pert} in the car only")
-        return tcmd, runs, ts_png
+        return tcmd, runs, ts_png, by_name
 
-    tcmd, trace_runs, ts_png = time_series(float(args.trace_gg))
-    extra_ts = None
+    tcmd, trace_runs, ts_png, trace_files = time_series(float(args.trace_gg))
+    extra_ts, ke = None, None
     none_abort = per_pert[main_pert]["none"]["first_abort"]
-    if none_abort is not None and abs(none_abort - float(args.trace_gg)) > 1e-9:
-        _, xruns, xpng = time_series(none_abort)
-        extra_ts = {"gg": none_abort, "runs": xruns,
-                    "figure": os.path.relpath(xpng, scwexp.RESULTS)}
+    if none_abort is not None:
+        if abs(none_abort - float(args.trace_gg)) > 1e-9:
+            _, xruns, xpng, xfiles = time_series(none_abort, laps=args.laps)
+            extra_ts = {"gg": none_abort, "runs": xruns,
+                        "figure": os.path.relpath(xpng, scwexp.RESULTS)}
+        else:
+            xfiles = trace_files
+        # The mechanism at the knife edge (issue 25 part 3), from those traces.
+        act = scwexp.column_info(args)["actuators"]
+        vc = knife_edge.vehicle_constants(scw)
+        t_act = knife_edge.PAPER_SIM["brake_s"] if act == "paper_sim" else vc["brake_s"]
+        corners = scwexp.track_corners(scw, sets)
+        xr = xruns if extra_ts else trace_runs
+        res = {n: knife_edge.analyse(f, vc["iz"], t_act, vc["alpha_peak_rad"],
+                                     xr.get(n, {}).get("status")) for n, f in xfiles.items()}
+        ke = {"gg": none_abort, "mu": main_pert, "t_act": t_act, "iz": vc["iz"],
+              "results": res,
+              "lines": [knife_edge.describe(n, lab, res.get(n), corners,
+                                         xr.get(n, {}).get("status"))
+                        for n, _, lab, _ in CONFIGS] + [knife_edge.verdict_line(res, act)]}
 
     summary = {"study": STUDY, "command": " ".join(cmd), "trace_command": " ".join(tcmd),
                "controller": args.controller, "wall_time_main_s": main_wall,
@@ -128,7 +148,7 @@ def main(argv=None):
                "configs": {n: label for n, _, label, _ in CONFIGS}, "runs": per_pert,
                "figures": [os.path.relpath(x, scwexp.RESULTS) for x in (png, ts_png)],
                "trace_gg": float(args.trace_gg), "trace_runs": trace_runs,
-               "trace_at_none_abort": extra_ts, "sensitivity": {}}
+               "trace_at_none_abort": extra_ts, "knife_edge": ke, "sensitivity": {}}
 
     if not args.no_sensitivity:
         one = (pert[0], [main_pert])
@@ -171,6 +191,7 @@ def main(argv=None):
     summary["corners"] = scwexp.track_corners(scw, sets)
     summary["wall_time_s"] = timer.seconds()
     summary["cpu_time_s"] = timer.cpu_seconds()
+    summary["column"] = scwexp.column_info(args)
     scwexp.write_summary(STUDY, summary)
     for v, ser in per_pert.items():
         for name, a in ser.items():

@@ -2,8 +2,8 @@
 """Study 3 (paper §V-A, motion controllers): pure pursuit, the point-mass MPC (pmpc) and the
 nonlinear MPC (nmpc), each without and with lateral stability control (ESC + CS), rear lateral
 grip reduced in the simulated car only (plan_with_nominal_grip=true), 3 laps per run,
-GG 1.0:0.05:1.8; a series ends at its first abort (|β| > 20° or lateral error > 3 m; wheel-lock
-abort off). Slip control runs in both variants; the car's shipped stability parameters. The ESC
+GG 1.0:0.05:1.8 (scwexp.GG_AXIS) with each first abort bisected to 0.025; a series ends at its
+first abort (|β| > 20° or lateral error > 3 m; wheel-lock abort off). Slip control runs in both variants; the car's shipped stability parameters. The ESC
 targets come from the lateral acceleration each motion controller requests (paper Eq.
 "esc_target_acc").
 
@@ -14,7 +14,7 @@ note. Sensitivity (unscored, rear μy 0.80, pure pursuit and pmpc): a 40 ms brak
 Writes experiments/results/study3_motion/: sweep_<controller>.csv, study3_motion.png,
 study3_brake40ms.png, summary.json, scw_<controller>.log.
 
-    python3 experiments/study3_motion.py [--gg 1.0:0.05:1.8] [--laps 3] [--controllers a,b]
+    python3 experiments/study3_motion.py [--gg 1.0:0.05:1.8] [--refine 1] [--results DIR] [--laps 3] [--controllers a,b]
 """
 
 import argparse
@@ -63,7 +63,13 @@ def run_controllers(scw, args, out, controllers, pert, extra_sets, tag):
                              " ".join(reason[-3:]))[:400]
             print(f"skipping {ctrl}: {skipped[ctrl]}")
             continue
-        rows += scwexp.read_csv(csv_path)
+        crow = scwexp.read_csv(csv_path)
+        if scwexp.REFINE_LEVELS > 0:
+            crow, rcmds = scwexp.refine_first_aborts(scw, args, sets, configs, crow, pert,
+                                                     csv_path, log, mpc=mpc)
+            commands += rcmds
+        walls[ctrl] = t.seconds()
+        rows += crow
     return rows, commands, walls, skipped
 
 
@@ -78,12 +84,13 @@ def figure(per_pert, controllers, path, title):
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    scwexp.add_common_args(p, gg="1.0:0.05:1.8", laps=3)
+    scwexp.add_common_args(p, laps=3)
     p.add_argument("--controllers", default=",".join(CONTROLLERS),
                    help="comma-separated motion controllers (default pure_pursuit,pmpc,nmpc)")
     p.add_argument("--rear-mu-y", default=",".join(PERT[1]),
                    help="rear lateral grip factors (default 0.78,0.8,0.82)")
     args = p.parse_args(argv)
+    scwexp.apply_common_args(args)
     scw = scwexp.find_scw()
     out = scwexp.results_dir(STUDY)
     timer = scwexp.Timer()
@@ -130,6 +137,7 @@ def main(argv=None):
     summary["corners"] = scwexp.track_corners(scw, args.set)
     summary["wall_time_s"] = timer.seconds()
     summary["cpu_time_s"] = timer.cpu_seconds()
+    summary["column"] = scwexp.column_info(args)
     scwexp.write_summary(STUDY, summary)
     for v, ser in per_pert.items():
         for name, a in ser.items():

@@ -1,0 +1,334 @@
+#!/usr/bin/env python3
+"""A map of what decides each claim (issue 25 part 2): the unknowns of the plant varied one at a
+time and pairwise within stated, plausible ranges, each claim (a)-(d) evaluated on one
+perturbation per study (study 1: sensor-noise seed 1; study 2: rear μy 0.80), the car's shipped
+stability set (or --stability), 3 laps, the studies' GG axis with the first abort bisected.
+
+The unknowns and their ranges (docs/plant-calibration.md, docs/scenarios.md `plant:`):
+- brake dead time at the vehicle's fixed 150 ms total response: 0, 40, 80, 116 (the vehicle
+  file), 121 ms (the mechanism's limit: the rate limit alone needs 29 ms of the 150), and "no
+  brake dynamics" (the vehicle file's brakes with no dead time, no lag and the largest rate);
+- steering dead time 0 / 30 (the vehicle file) / 60 ms;
+- the rear tyre's force beyond its peak: plant.rear_tire_falloff 0 (no loss) / 1 (the file) /
+  1.5;
+- yaw inertia × 0.8 / 1 / 1.2;
+- the GG resolution: the axis without (0.05) and with the bisected first abort (0.025);
+- pairwise: brake dead time {0, 40, 116 ms} × steering dead time {0, 30, 60 ms} (the heat map);
+- for reference, the paper's simulator's actuators (plant.actuators=paper_sim).
+
+Every variant runs in a few `scw sweep` calls, the studies' configurations as named
+configurations of one sweep (study-specific keys in each), the variant as a varied key, runs in
+--processes workers, each series stopped at its first abort and then bisected once.
+
+Writes experiments/results/claims_map/: sweep_*.csv, claims_map.png (pass/fail with the margin
+per claim over brake × steering dead time), claims_map_one_at_a_time.png, summary.json (read by
+report.py).
+
+    python3 experiments/claims_map.py [--processes 2] [--laps 3] [--stability FILE] [--quick]
+        [--families a,b] [--reuse]
+"""
+
+import argparse
+import os
+import sys
+
+import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
+import report  # noqa: E402
+
+import matplotlib.pyplot as plt  # noqa: E402
+
+STUDY = "claims_map"
+S1 = "abort.lock_slip_pct=50,abort.spin_slip_pct=30,abort.slip_time=0.1," \
+    "abort.max_lateral_error=100,sensor_noise=true,seed=1"
+S2 = "plan_with_nominal_grip=true,abort.lock_slip_pct=100,grip.rear_mu_y=0.8"
+CONFIGS = [
+    ("sc_on", S1 + ",subsystems.abs=true,subsystems.tc=true"),
+    ("sc_off", S1 + ",subsystems.abs=false,subsystems.tc=false"),
+    ("none", S2 + ",subsystems.esc=false,subsystems.cs=false"),
+    ("esc", S2 + ",subsystems.esc=true,subsystems.cs=false"),
+    ("cs", S2 + ",subsystems.esc=false,subsystems.cs=true"),
+    ("esc+cs", S2 + ",subsystems.esc=true,subsystems.cs=true"),
+]
+BRAKES = [0.0, 0.04, 0.116]
+STEERS = [0.0, 0.03, 0.06]
+# (tag, label, varied keys as --vary arguments after gg_scale, or a vehicle-file edit)
+FAMILIES = [
+    ("brake_steer", "brake dead time × steering dead time",
+     [f"plant.brake_dead_time={','.join(map(str, BRAKES))}",
+      f"plant.steering_delay={','.join(map(str, STEERS))}"]),
+    ("brake_more", "brake dead time 80 and 121 ms", ["plant.brake_dead_time=0.08,0.121"]),
+    ("falloff", "rear tyre force beyond the peak", ["plant.rear_tire_falloff=0,1.5"]),
+    ("inertia", "yaw inertia", ["plant.yaw_inertia_scale=0.8,1.2"]),
+    ("paper_sim", "the paper's simulator's actuators", ["plant.actuators=paper_sim"]),
+    ("no_brake_dyn", "no brake dynamics", None),
+]
+QUICK = [("brake_steer", "brake dead time (quick)", ["plant.brake_dead_time=0.0,0.116"])]
+
+
+def no_brake_dynamics_vehicle(scw, path):
+    """The built-in vehicle file with brakes that act at once: no dead time, the smallest lag,
+    the largest rate limit (the vehicle file's gains and pressure limit)."""
+    scwexp.run([scw, "vehicle", "init", "-o", path], log=path + ".log")
+    with open(path) as f:
+        lines = f.read().splitlines()
+    new = {"delay": "0.0", "time_constant": "0.001", "rate_limit": "100000.0"}
+    section = ""
+    for i, line in enumerate(lines):
+        if not line.startswith(" "):
+            section = line.split(":")[0]
+        elif section == "brakes" and line.strip().split(":")[0] in new:
+            key = line.strip().split(":")[0]
+            lines[i] = line[:len(line) - len(line.lstrip())] + f"{key}: {new.pop(key)}"
+    if new:
+        sys.exit(f"error: {path}: brakes lacks {', '.join(new)}")
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    return path
+
+
+def split(rows, keys):
+    """{variant tuple: {config: rows}} by the values of the varied keys."""
+    out = {}
+    for r in rows:
+        v = tuple(str(r[k]) for k in keys)
+        out.setdefault(v, {}).setdefault(r["config"], []).append(r)
+    return out
+
+
+def evaluate(ser1, ser2):
+    """{claim: {ok, margin, text}} on one perturbation."""
+    res = {}
+    for k, fn, ser in (("a", report.claim_a, ser1), ("b", report.claim_b, ser2),
+                       ("c", report.claim_c, ser2), ("d", report.claim_d, ser2)):
+        ok, items = fn(ser)
+        res[k] = {"ok": bool(ok), "failed": [n for n, o, _ in items if o is False],
+                  "items": [[n, o, t] for n, o, t in items]}
+    on, off = ser1["sc_on"], ser1["sc_off"]
+    res["a"]["margin"] = report.stable(on) - report.stable(off)
+    d = [r for r in report.done_runs(on) if r["gg_scale"] >= report.abort_gg(off) - 1e-6]
+    res["a"]["acts"] = f"ABS/TC in {sum(1 for r in d if r['abs_count'] + r['tc_count'] > 0)}" \
+        f" of {len(d)} deciding"
+    na = report.abort_gg(ser2["none"])
+    res["b"]["margin"] = min(report.abort_gg(ser2[k]) for k in ("esc", "cs", "esc+cs")) - na
+    r = report.run_at(ser2["esc+cs"], na)
+    res["b"]["acts"] = f"ESC+CS at {na:.3f}: {report.acts(r)}" if r else "–"
+    a = ser2["esc+cs"]
+    b = report.best_run(a)
+    res["c"]["margin"] = (a["max_stable"] - b["gg_scale"]) if b else float("nan")
+    above = [x for x in report.done_runs(a) if b and x["gg_scale"] > b["gg_scale"] + 1e-6]
+    res["c"]["acts"] = "ESC above best " + ("/".join(str(int(x["esc_count"])) for x in above)
+                                            or "–")
+    items = res["d"]["items"]
+    dd = next((t for n, _, t in items if n.startswith("Δ(ESC)")), "")
+    try:
+        res["d"]["margin"] = float(dd.split()[1])
+    except (IndexError, ValueError):
+        res["d"]["margin"] = float("nan")
+    res["d"]["acts"] = items[-1][2].split("; ")[0] if len(items) > 1 else "–"
+    return res
+
+
+def pack(rows_by_cfg, names, refined=True):
+    out = {}
+    for n in names:
+        rs = rows_by_cfg.get(n, [])
+        if not refined:
+            rs = scwexp.cut_at_first_abort([r for r in rs if not r.get("refined")])
+        out[n] = scwexp.pack_series(rs)
+    return out
+
+
+def heat_map(variants, path):
+    claims = ("a", "b", "c", "d")
+    fig, axes = plt.subplots(1, 4, figsize=(16, 4.2))
+    for ax, k in zip(axes, claims):
+        grid = [[None] * len(BRAKES) for _ in STEERS]
+        for v in variants:
+            key = v.get("grid")
+            if key is None:
+                continue
+            i, j = STEERS.index(key[1]), BRAKES.index(key[0])
+            grid[i][j] = v["claims"][k]
+        for i in range(len(STEERS)):
+            for j in range(len(BRAKES)):
+                c = grid[i][j]
+                color = "#bbbbbb" if c is None else ("#7fc97f" if c["ok"] else "#f0a0a0")
+                ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1, color=color))
+                if c is not None:
+                    unit = " s" if k == "d" else ""
+                    ax.text(j, i, f"{'holds' if c['ok'] else 'fails'}\n{c['margin']:+.3f}{unit}",
+                            ha="center", va="center", fontsize=9)
+        ax.set_xlim(-0.5, len(BRAKES) - 0.5)
+        ax.set_ylim(-0.5, len(STEERS) - 0.5)
+        ax.set_xticks(range(len(BRAKES)))
+        ax.set_xticklabels([f"{b * 1000:.0f}" for b in BRAKES])
+        ax.set_yticks(range(len(STEERS)))
+        ax.set_yticklabels([f"{s * 1000:.0f}" for s in STEERS])
+        ax.set_xlabel("brake dead time [ms] (150 ms total)")
+        if k == "a":
+            ax.set_ylabel("steering dead time [ms]")
+        ax.set_title(f"claim ({k}): margin = {MARGIN_NAMES[k]}", fontsize=9)
+    fig.suptitle("Claims map: pass (green) / fail (red) with the margin, real car's actuators "
+                 "otherwise (study 1 seed 1, study 2 rear μy 0.80)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def bars(variants, path):
+    claims = ("a", "b", "c", "d")
+    fig, axes = plt.subplots(1, 4, figsize=(17, 0.45 * len(variants) + 1.8), sharey=True)
+    labels = [v["label"] for v in variants]
+    for ax, k in zip(axes, claims):
+        vals = [v["claims"][k]["margin"] for v in variants]
+        cols = ["tab:green" if v["claims"][k]["ok"] else "tab:red" for v in variants]
+        ax.barh(range(len(variants)), vals, color=cols)
+        ax.axvline(THRESH[k], color="k", ls=":", lw=1)
+        ax.set_title(f"({k}) {MARGIN_NAMES[k]}", fontsize=9)
+        ax.grid(True, axis="x", alpha=0.3)
+    axes[0].set_yticks(range(len(variants)))
+    axes[0].set_yticklabels(labels, fontsize=8)
+    axes[0].invert_yaxis()
+    fig.suptitle("Claims map, one at a time: margin per claim (green: claim holds; dotted: the "
+                 "criterion's threshold)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+MARGIN_NAMES = {"a": "max stable on − off [GG]", "b": "first abort: min(ESC, CS, ESC+CS) − none "
+                "[GG]", "c": "ESC + CS: max stable − best-lap GG", "d": "Δ(ESC) vs none [s]"}
+THRESH = {"a": 0.10, "b": 0.05, "c": 0.05, "d": 0.05}
+
+
+def label_of(keys, vals):
+    names = {"plant.brake_dead_time": ("brake dead time", 1000, "ms"),
+             "plant.steering_delay": ("steering dead time", 1000, "ms"),
+             "plant.rear_tire_falloff": ("rear falloff", 1, "×"),
+             "plant.yaw_inertia_scale": ("yaw inertia", 1, "×"),
+             "plant.actuators": ("actuators", None, "")}
+    parts = []
+    for k, v in zip(keys, vals):
+        n, scale, unit = names.get(k, (k, None, ""))
+        parts.append(f"{n} {float(v) * scale:g} {unit}".strip() if scale else f"{n} {v}")
+    return ", ".join(parts)
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    scwexp.add_common_args(p, laps=3)
+    p.add_argument("--quick", action="store_true",
+                   help="only brake dead time 0 and 116 ms (a test of the script)")
+    p.add_argument("--families", help="comma-separated subset of the families (default all: "
+                   + ",".join(f[0] for f in FAMILIES) + ")")
+    p.add_argument("--reuse", action="store_true",
+                   help="read a sweep's table from a previous run instead of running it when "
+                        "its recorded command is the same (an interrupted map goes on where it "
+                        "stopped)")
+    args = p.parse_args(argv)
+    scwexp.apply_common_args(args)
+    scw = scwexp.find_scw()
+    out = scwexp.results_dir(STUDY)
+    timer = scwexp.Timer()
+    names = [n for n, _ in CONFIGS]
+    configs = [f"{n}:{o}" for n, o in CONFIGS]
+    base_sets = [f"laps={args.laps}", "motion.controller=pmpc"] + args.set
+    variants, commands = [], []
+    base = None
+    fams = QUICK if args.quick else FAMILIES
+    if args.families:
+        want = args.families.split(",")
+        bad = [w for w in want if w not in [f[0] for f in FAMILIES]]
+        if bad:
+            sys.exit(f"error: --families: unknown {', '.join(bad)}")
+        fams = [f for f in FAMILIES if f[0] in want]
+    for tag, flabel, vary in fams:
+        sets = list(base_sets)
+        if vary is None:
+            veh = no_brake_dynamics_vehicle(scw, os.path.join(out, "vehicle_no_brake_dyn.yaml"))
+            vary = [f"vehicle={veh}"]
+        keys = [v.split("=", 1)[0] for v in vary]
+        csv_path = os.path.join(out, f"sweep_{tag}.csv")
+        cmd = scwexp.mpc_sweep_cmd(scw, args, sets, [f"gg_scale={args.gg}"] + vary, configs,
+                                   csv_path, processes=args.processes)
+        scwexp.reuse_or_run(cmd, csv_path, os.path.join(out, f"scw_{tag}.log"), args.reuse)
+        rows = scwexp.read_csv(csv_path)
+        commands.append(" ".join(cmd))
+        # bisect the first aborts: one series per (config, variant); the variant's keys are
+        # folded into the configuration's overrides
+        groups = list(split(rows, keys).items())
+        cfgs, sub = [], []
+        for i, (vals, by_cfg) in enumerate(groups):
+            extra = ",".join(f"{k}={v}" for k, v in zip(keys, vals))
+            cfgs += [f"{n}#{i}:{o},{extra}" for n, o in CONFIGS]
+            sub += [dict(r, config=f"{c}#{i}") for c, rs in by_cfg.items() for r in rs]
+        if scwexp.REFINE_LEVELS > 0:
+            sub, rc = scwexp.refine_first_aborts(scw, args, sets, cfgs, sub, None, csv_path,
+                                                 os.path.join(out, f"scw_{tag}.log"),
+                                                 reuse=args.reuse)
+            commands += rc
+        allrows = []
+        for r in sub:
+            name, i = r["config"].split("#")
+            vals = groups[int(i)][0]
+            allrows.append(dict(r, config=name, **dict(zip(keys, vals))))
+        for vals, by_cfg in split(allrows, keys).items():
+            lab = label_of(keys, vals) if tag != "no_brake_dyn" else \
+                "no brake dynamics (no dead time, 1 ms lag, 100 000 bar/s)"
+            s1 = pack(by_cfg, names[:2])
+            s2 = pack(by_cfg, names[2:])
+            v = {"family": flabel, "label": lab, "claims": evaluate(s1, s2),
+                 "series": {**s1, **s2}, "command": " ".join(cmd)}
+            if tag in ("brake_steer",) and len(keys) == 2:
+                v["grid"] = (float(vals[0]), float(vals[1]))
+            if tag == "brake_steer" and float(vals[0]) == 0.116 and \
+                    (len(keys) == 1 or float(vals[1]) == 0.03):
+                base = (by_cfg, v)
+                v["label"] = "vehicle file (brake 116 ms, steering 30 ms)"
+            variants.append(v)
+    if base is not None:
+        s1 = pack(base[0], names[:2], refined=False)
+        s2 = pack(base[0], names[2:], refined=False)
+        variants.append({"family": "GG resolution", "label": "vehicle file, GG step 0.05 "
+                         "without the bisected first abort", "claims": evaluate(s1, s2),
+                         "series": {**s1, **s2}})
+    figures = []
+    if any("grid" in v for v in variants):
+        figures.append(os.path.relpath(heat_map(variants, os.path.join(out, "claims_map.png")),
+                                       out))
+    one = [v for v in variants if "grid" not in v or v["grid"][1] == 0.03]
+    figures.append(os.path.relpath(bars(one, os.path.join(out, "claims_map_one_at_a_time.png")),
+                                   out))
+    table = ["| variant | (a) | (b) | (c) | (d) |", "|---|---|---|---|---|"]
+    for v in variants:
+        cells = []
+        for k in ("a", "b", "c", "d"):
+            c = v["claims"][k]
+            unit = " s" if k == "d" else ""
+            cells.append(f"{'**holds**' if c['ok'] else 'fails'} {c['margin']:+.3f}{unit} "
+                         f"({c['acts']})" + ("" if c["ok"] else
+                                            f"; fails on: {', '.join(c['failed'])[:100]}"))
+        table.append(f"| {v['label']} | " + " | ".join(cells) + " |")
+    holds = {k: [v["label"] for v in variants if v["claims"][k]["ok"]] for k in "abcd"}
+    text = ("One perturbation per study (study 1 sensor-noise seed 1, study 2 rear μy 0.80), "
+            f"the {'given' if args.stability else 'shipped'} stability set, 3 laps, GG "
+            f"{args.gg} with the first abort bisected; every other plant value as the vehicle "
+            "file. Margins: " + "; ".join(f"({k}) {MARGIN_NAMES[k]} (criterion ≥ {THRESH[k]})"
+                                          for k in "abcd") + ". A claim holds only with its "
+            "whole criterion (P5 included). Holds with: " +
+            "; ".join(f"({k}) " + (", ".join(holds[k]) or "no variant") for k in "abcd") + ".")
+    summary = {"study": STUDY, "commands": commands, "variants": variants, "table": table,
+               "text": text, "figures": figures, "wall_time_s": timer.seconds(),
+               "cpu_time_s": timer.cpu_seconds()}
+    scwexp.write_summary(STUDY, summary)
+    print("\n".join(table))
+    print(f"{STUDY}: {timer.seconds():.0f} s wall, {timer.cpu_seconds():.0f} s CPU")
+    report.update(args)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

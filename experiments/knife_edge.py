@@ -1,0 +1,201 @@
+"""The mechanism at the knife edge (issue 25 part 3): from the traced first lap of each study-2
+configuration at the GG where `none` first aborts, the time from the start of the rear axle's
+final saturation to |β| = 20°, when ESC and CS first act and what they deliver, against a simple
+bound of the yaw moment that would be needed in that time.
+
+Definitions (stated in the report):
+- t20: the first time |β| ≥ 20°, or the abort when the run ends otherwise (lateral error, off
+  track: the car was lost before |β| reached 20°), or the end of a completed run;
+- t_sat: the first rear saturation of the final divergence: the time from which the rear
+  axle's mean |slip angle| stays at or beyond the rear tyre's peak slip angle (Magic Formula,
+  nominal load) until t20;
+- ESC's brake moment arrives when, with ESC active, a wheel's applied pressure first exceeds
+  both its value when ESC switched on and the motion controller's request by 10 bar;
+- the actuator's response t_act: the brake's dead time + lag (the vehicle file's, or ~0 for
+  paper_sim), the time before a brake command can build a yaw moment;
+- the bound: M_needed = Iz · Δr_max / (t20 − t_sat − t_act), with Δr_max the largest yaw-rate
+  excess |r − r_ref| in [t_sat, t20]: the constant moment that removes that excess in the time
+  left once the brakes respond; infinite when no time is left.
+"""
+
+import math
+import subprocess
+
+import scwexp
+
+# Open-Car-Dynamics' published actuation (docs/plant-calibration.md): brakes at once, steering
+# 60 ms dead time + 60 ms PT1, 0.5 rad/s.
+PAPER_SIM = {"brake_s": 0.001, "steer_s": 0.12, "steer_rate": 0.5}
+
+
+def vehicle_constants(scw):
+    """Iz, the actuator times and the rear tyre's peak slip angle (Magic Formula, nominal
+    load, no camber) of the built-in vehicle file."""
+    out = subprocess.run([scw, "vehicle", "init", "-o", "/dev/stdout"], capture_output=True,
+                         text=True, cwd=scwexp.ROOT).stdout
+    vals, path = {}, []
+    for line in out.splitlines():
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        depth = (len(line) - len(line.lstrip())) // 2
+        key, _, val = line.strip().partition(":")
+        path = path[:depth] + [key]
+        try:
+            vals[".".join(path)] = float(val.split("#")[0])
+        except ValueError:
+            pass
+    iz = next((v for k, v in vals.items() if k.endswith("yaw_inertia")), math.nan)
+    return {"iz": iz,
+            "brake_s": vals.get("brakes.delay", math.nan) + vals.get("brakes.time_constant", 0),
+            "steer_s": vals.get("steering.delay", math.nan) +
+            vals.get("steering.time_constant", 0.0),
+            "alpha_peak_rad": peak_slip_angle({k.split(".")[-1]: v for k, v in vals.items()
+                                               if k.startswith("tires.rear.")})}
+
+
+def peak_slip_angle(t):
+    """Slip angle of the lateral force peak at nominal load: B·x − E·(B·x − atan(B·x)) =
+    tan(π / (2C)) with C = pcy1, D = pdy1·λμy·Fz0, K = pky1·λKy·Fz0·sin(2·atan(1/pky2)),
+    B = K / (C·D), E = pey1."""
+    c = t.get("pcy1", math.nan) * t.get("lcy", 1.0)
+    d = t.get("pdy1", math.nan) * t.get("lmuy", 1.0)
+    k = abs(t.get("pky1", math.nan)) * t.get("lky", 1.0) * \
+        math.sin(2 * math.atan(1 / t.get("pky2", math.nan)))
+    b, e = k / (c * d), t.get("pey1", 0.0)
+    target = math.tan(math.pi / (2 * c))
+    lo, hi = 0.0, 20.0
+    for _ in range(60):
+        u = 0.5 * (lo + hi)
+        if u - e * (u - math.atan(u)) < target:
+            lo = u
+        else:
+            hi = u
+    return lo / b
+
+
+def analyse(trace_csv, iz, t_act, alpha_peak, status=None):
+    """The knife-edge numbers of one traced run; status: how the run ended (an abort other
+    than sideslip ends the window at the trace's end: the car was lost before |β| = 20°)."""
+    rows = scwexp.read_csv(trace_csv)
+    if not rows:
+        return None
+    t20 = next((r["t_s"] for r in rows if abs(r["beta_deg"]) >= 20.0), None)
+    spun = t20 is not None or (status is not None and status != "completed")
+    if t20 is None:
+        t20 = rows[-1]["t_s"]
+    upto = [r for r in rows if r["t_s"] <= t20]
+    ar = [0.5 * (abs(r["alpha_rl_rad"]) + abs(r["alpha_rr_rad"])) for r in upto]
+    i = len(ar) - 1
+    while i > 0 and ar[i - 1] >= alpha_peak:
+        i -= 1
+    saturated = ar[-1] >= alpha_peak
+    t_sat = upto[i]["t_s"]
+    win = [r for r in upto if r["t_s"] >= t_sat]
+    dr = max((abs(r["yaw_rate_radps"] - r["yaw_rate_ref_radps"]) for r in win), default=0.0)
+    first = {}
+    for k in ("esc", "cs"):
+        first[k] = next((r["t_s"] for r in upto if r[f"{k}_active"] > 0.5 and
+                         r["t_s"] >= t_sat - 1.0), None)
+    m_cmd = max((abs(r["yaw_moment_Nm"]) for r in win), default=0.0)
+    p_out = max((max(r[f"p_out_{w}_bar"] - r[f"p_req_{w}_bar"] for w in ("fl", "fr", "rl", "rr"))
+                 for r in win), default=0.0)
+    steer_corr = max((abs(r["steer_out_rad"] - r["steer_req_rad"]) for r in win), default=0.0)
+    left = t20 - t_sat - t_act
+    need = iz * dr / left if left > 0 else math.inf
+    # when the brakes deliver: the first time the applied pressure of a wheel exceeds the
+    # motion controller's request by 10 bar (ESC's brake intervention arriving at the wheel)
+    wheels = ("fl", "fr", "rl", "rr")
+    t_del = None
+    if first["esc"] is not None:
+        r0 = next(r for r in upto if r["t_s"] >= first["esc"])
+        t_del = next((r["t_s"] for r in upto if r["t_s"] >= first["esc"] and
+                      r["esc_active"] > 0.5 and
+                      max(r[f"p_out_{w}_bar"] - max(r0[f"p_out_{w}_bar"], r[f"p_req_{w}_bar"])
+                          for w in wheels) >= 10.0), None)
+    return {"status": status, "spun": spun, "beta20": any(abs(r["beta_deg"]) >= 20.0 for r in rows),
+            "saturated": saturated, "t_delivered": t_del,
+            "alpha_peak_deg": math.degrees(alpha_peak), "t20": t20, "t_sat": t_sat, "window_s": t20 - t_sat,
+            "alpha_r_sat_deg": math.degrees(ar[i]), "alpha_r_end_deg": math.degrees(ar[-1]),
+            "s_m": upto[-1]["s_m"], "v_mps": upto[-1]["vx_mps"], "dr_max": dr,
+            "first_esc": first["esc"], "first_cs": first["cs"], "m_cmd_max": m_cmd,
+            "p_extra_max": p_out, "steer_corr_max_deg": math.degrees(steer_corr),
+            "t_act": t_act, "m_needed": need}
+
+
+def describe(name, label, x, corners, status=None):
+    if x is None:
+        return f"{label}: no trace"
+    def rel(t):
+        return "never" if t is None else f"{t - x['t_sat']:+.2f} s"
+    lost = f"|β| = 20° at t = {x['t20']:.2f} s" if x["beta20"] else \
+        f"{status} at t = {x['t20']:.2f} s (|β| < 20°)"
+    head = (f"{label}: " + (lost if x["spun"] else "completed, |β| < 20°")
+            + f" ({scwexp.place(x['s_m'], corners)}, {x['v_mps']:.0f} m/s)")
+    if x["saturated"]:
+        head += (f"; the rear slip angle stays beyond its peak ({x['alpha_peak_deg']:.1f}°) from "
+                 f"t_sat = {x['t_sat']:.2f} s on (up to {x['alpha_r_end_deg']:.1f}°): "
+                 f"{x['window_s']:.2f} s from rear saturation to "
+                 + ("the loss" if x["spun"] else "the end of the run"))
+    else:
+        head += f"; the rear axle is below its peak slip angle ({x['alpha_peak_deg']:.1f}°) at the end"
+    parts = [f"ESC first acts {rel(x['first_esc'])} from t_sat, CS {rel(x['first_cs'])}"]
+    if name in ("esc", "esc+cs"):
+        parts.append(f"ESC commands up to {x['m_cmd_max']:.0f} N·m; its brake pressure reaches "
+                     f"the wheel (≥ 10 bar above the request) {rel(x['t_delivered'])} from t_sat, "
+                     f"up to {x['p_extra_max']:.0f} bar")
+    if name in ("cs", "esc+cs"):
+        parts.append(f"countersteer up to {x['steer_corr_max_deg']:.1f}° at the road wheels")
+    need = x["m_needed"]
+    if x["spun"] and x["saturated"]:
+        if math.isinf(need):
+            parts.append(f"needed: impossible by braking — the window is shorter than the brake "
+                         f"response ({x['t_act'] * 1000:.0f} ms)")
+        else:
+            parts.append(f"needed ≥ {need:.0f} N·m within {x['window_s'] - x['t_act']:.2f} s "
+                         f"after the brake response of {x['t_act'] * 1000:.0f} ms (yaw-rate "
+                         f"excess {x['dr_max']:.2f} rad/s)")
+    return head + "; " + "; ".join(parts)
+
+
+def verdict_line(res, act):
+    """What prevents each configuration from catching the spin, one sentence."""
+    spun = {n: x for n, x in res.items() if x and x["spun"]}
+    if not spun:
+        return "Every configuration completes this run."
+    parts = []
+    for n, x in spun.items():
+        if n == "none":
+            continue
+        late = x["t_delivered"] is None or x["t_delivered"] > x["t20"] - 0.05
+        if not x["saturated"]:
+            why = (f"not a spin: {x['status'] or 'the loss'} with the rear axle below its peak "
+                   "slip angle (the car left its line; ESC and CS act on yaw, not on path "
+                   "error)")
+        elif n in ("esc", "esc+cs") and math.isinf(x["m_needed"]):
+            why = (f"the {x['window_s']:.2f} s from rear saturation to the loss are shorter than "
+                   f"the brake response ({x['t_act'] * 1000:.0f} ms): no brake moment can arrive "
+                   "in time")
+        elif n in ("esc", "esc+cs") and x["first_esc"] is None:
+            why = "ESC never switched on before the spin"
+        elif n in ("esc", "esc+cs") and late:
+            why = (f"ESC switched on {x['first_esc'] - x['t_sat']:+.2f} s from rear saturation, "
+                   f"but its brake pressure reached no wheel before the loss (brake response "
+                   f"{x['t_act'] * 1000:.0f} ms, window {x['window_s']:.2f} s)")
+        elif n in ("esc", "esc+cs") and x["m_cmd_max"] < x["m_needed"]:
+            why = (f"ESC's commanded moment ({x['m_cmd_max']:.0f} N·m) is below the needed "
+                   f"{x['m_needed']:.0f} N·m")
+        elif n == "cs" and x["first_cs"] is None:
+            why = "CS never acted"
+        elif n == "cs":
+            why = (f"countersteer ({x['steer_corr_max_deg']:.1f}°) turns the front wheels but "
+                   "cannot give the saturated rear axle lateral force back")
+        else:
+            why = (f"ESC switched on {x['first_esc'] - x['t_sat']:+.2f} s and its brake pressure "
+                   f"reached a wheel {x['t_delivered'] - x['t_sat']:+.2f} s from rear saturation "
+                   f"(brake response {x['t_act'] * 1000:.0f} ms), "
+                   f"{x['t20'] - x['t_delivered']:.2f} s before the loss; what it delivered in "
+                   "that time did not bring the rear axle back below its peak slip angle "
+                   f"(commanded up to {x['m_cmd_max']:.0f} N·m against the bound's "
+                   f"{x['m_needed']:.0f} N·m)")
+        parts.append(f"{n}: {why}")
+    return "What prevents the catch (" + act + "): " + "; ".join(parts) + "."

@@ -1,0 +1,196 @@
+#!/usr/bin/env python3
+"""Fast checks of the experiment scripts' logic on synthetic data (no scw runs): the bisection of
+first aborts (scwexp.refine_first_aborts, with a stand-in for the sweep), the margin of a series
+and claim (c) (report.py), the side-by-side verdict table, the rear tyre's peak slip angle and the
+knife-edge analysis of a trace (knife_edge.py). Exit 77 (skipped) without numpy/matplotlib.
+
+    python3 test/experiments/studies_test.py EXPERIMENTS_DIR WORK_DIR
+"""
+
+import csv
+import math
+import os
+import sys
+import unittest
+
+EXP, WORK = sys.argv[1], sys.argv[2]
+del sys.argv[1:]
+sys.path.insert(0, EXP)
+try:
+    import matplotlib  # noqa: F401
+    import numpy  # noqa: F401
+except ImportError:
+    print("skipped: no numpy/matplotlib")
+    sys.exit(77)
+import scwexp  # noqa: E402
+import report  # noqa: E402
+import knife_edge  # noqa: E402
+
+FIELDS = ["config", "gg_scale", "grip.rear_mu_y", "status", "mean_lap_time_s", "esc_count",
+          "cs_count", "abs_count", "tc_count"]
+
+
+def run_row(gg, status="completed", lap=70.0, esc=0, **kw):
+    r = {k: 0 for k in scwexp.RUN_FIELDS}
+    r.update(gg_scale=gg, status=status, mean_lap_time_s=lap, esc_count=esc, refined=0)
+    r.update(kw)
+    return r
+
+
+class Refine(unittest.TestCase):
+    def test_bisects_between_last_completed_and_first_abort(self):
+        limit = {"a": 1.08, "b": 1.12}   # a series completes below its limit
+        calls = []
+
+        def fake_run(cmd, log=None, check=True):
+            calls.append(cmd)
+            out = cmd[cmd.index("-o") + 1]
+            cfgs = [cmd[i + 1] for i, x in enumerate(cmd) if x == "--config"]
+            with open(out, "w", newline="") as f:
+                w = csv.writer(f)
+                w.writerow(["config", "laps", "status", "mean_lap_time_s"])
+                for c in cfgs:
+                    name, ov = c.split(":", 1)
+                    kv = dict(x.split("=") for x in ov.split(","))
+                    series = kv["subsystems.esc"]
+                    gg = float(kv["gg_scale"])
+                    self.assertEqual(kv["grip.rear_mu_y"], "0.8")
+                    ok = gg < limit[series]
+                    w.writerow([name, 3, "completed" if ok else "sideslip", 70 - gg])
+        rows = []
+        for s in ("a", "b"):
+            for gg in (1.0, 1.05, 1.1, 1.15):
+                st = "completed" if gg < limit[s] else "sideslip"
+                rows.append({"config": s, "gg_scale": gg, "grip.rear_mu_y": 0.8, "status": st})
+                if st != "completed":
+                    break
+        saved = scwexp.run
+        scwexp.run = fake_run
+        try:
+            out, cmds = scwexp.refine_first_aborts(
+                "scw", type("A", (), {"threads": 1, "processes": 2})(), ["laps=3", "seed=1"],
+                ["a:subsystems.esc=a", "b:subsystems.esc=b"], rows, ("grip.rear_mu_y", ["0.8"]),
+                os.path.join(WORK, "sweep.csv"), os.path.join(WORK, "scw.log"), levels=2)
+        finally:
+            scwexp.run = saved
+        self.assertEqual(len(cmds), 2)
+        self.assertIn("laps=3", calls[0])               # laps as the varied key
+        self.assertNotIn("--set laps=3", " ".join(calls[0]))
+        got = {s: [(r["gg_scale"], r["status"]) for r in out if r["config"] == s]
+               for s in ("a", "b")}
+        # a: 1.05 ok, 1.1 aborts -> 1.075 ok -> 1.0875 aborts (cut at it; 1.1 dropped)
+        self.assertEqual(got["a"], [(1.0, "completed"), (1.05, "completed"),
+                                    (1.075, "completed"), (1.0875, "sideslip")])
+        # b: 1.1 ok, 1.15 aborts -> 1.125 aborts -> 1.1125 ok
+        self.assertEqual(got["b"], [(1.0, "completed"), (1.05, "completed"),
+                                    (1.1, "completed"), (1.1125, "completed"),
+                                    (1.125, "sideslip")])
+        self.assertTrue(all(r["refined"] == 1 for r in out if r["gg_scale"] in (1.075, 1.1125)))
+
+
+class Margin(unittest.TestCase):
+    def series(self, runs):
+        return scwexp.pack_series(runs)
+
+    def test_cliff_and_margin(self):
+        cliff = self.series([run_row(1.0, lap=72), run_row(1.05, lap=71),
+                             run_row(1.1, "sideslip")])
+        m = report.margin_of(cliff)
+        self.assertEqual(m["margin_gg"], 0.0)
+        wide = self.series([run_row(1.0, lap=72), run_row(1.05, lap=71, esc=3),
+                            run_row(1.1, lap=71.2, esc=9), run_row(1.15, lap=71.4, esc=20),
+                            run_row(1.2, "sideslip")])
+        m = report.margin_of(wide)
+        self.assertAlmostEqual(m["margin_gg"], 0.10)
+        self.assertAlmostEqual(m["margin_steps"], 2.0)
+        self.assertAlmostEqual(m["cost_s"], 0.4)
+        self.assertEqual(m["esc_above"], [9, 20])
+
+    def test_claim_c_needs_esc_above_the_best(self):
+        def ser(esc):
+            return {"esc": self.series([run_row(1.0, lap=72), run_row(1.05, lap=71, esc=1),
+                                        run_row(1.1, lap=71.3, esc=esc),
+                                        run_row(1.15, "sideslip")]),
+                    "esc+cs": self.series([run_row(1.0, lap=72), run_row(1.05, lap=71, esc=1),
+                                           run_row(1.1, lap=71.3, esc=esc),
+                                           run_row(1.15, "sideslip")]),
+                    "none": self.series([run_row(1.0, lap=72), run_row(1.05, "sideslip")]),
+                    "cs": self.series([run_row(1.0, lap=72), run_row(1.05, "sideslip")])}
+        self.assertTrue(report.claim_c(ser(5))[0])
+        self.assertFalse(report.claim_c(ser(0))[0])
+
+
+class VerdictTable(unittest.TestCase):
+    def test_one_column_per_set_and_actuator_model(self):
+        def s2(label, act, esc_lim):
+            def ser(lim):
+                runs = [run_row(g, lap=72 - 10 * (g - 1)) for g in (1.0, 1.05, 1.1, 1.15, 1.2)
+                        if g < lim] + [run_row(lim, "sideslip")]
+                return scwexp.pack_series(runs)
+            return {"runs": {p: {"none": ser(1.05), "esc": ser(esc_lim), "cs": ser(1.05),
+                                 "esc+cs": ser(esc_lim)} for p in ("0.78", "0.8", "0.82")},
+                    "perturbation": {"label": "rear μy", "main": "0.8"},
+                    "column": {"set_label": label, "actuators": act}}
+        cols = [("shipped__vehicle", "", {"study2_lateral": s2("shipped", "vehicle", 1.05)}),
+                ("tuned__paper_sim", "", {"study2_lateral": s2("tuned", "paper_sim", 1.15)})]
+        lines, results = report.verdict_table(cols)
+        self.assertIn("shipped set, real car", lines[0])
+        self.assertIn("tuned set, paper's sim", lines[0])
+        self.assertEqual(len(lines), 2 + 4)   # header, rule, claims (a)-(d)
+        # (b): none aborts two steps below ESC only with the tuned column, but no ESC acted
+        self.assertFalse(results[("b", "shipped__vehicle")])
+        self.assertFalse(results[("b", "tuned__paper_sim")])
+        self.assertIn("none 1.05", lines[3])
+
+
+class KnifeEdge(unittest.TestCase):
+    TYRE = {"pcy1": 1.6, "pdy1": 1.97, "pey1": -0.18, "pky1": -44.7, "pky2": 2.27,
+            "lmuy": 0.8, "lky": 0.8}
+
+    def test_peak_slip_angle_is_the_force_maximum(self):
+        t = self.TYRE
+        a = knife_edge.peak_slip_angle(t)
+        c, d = t["pcy1"], t["pdy1"] * t["lmuy"]
+        k = abs(t["pky1"]) * t["lky"] * math.sin(2 * math.atan(1 / t["pky2"]))
+        b, e = k / (c * d), t["pey1"]
+
+        def fy(x):
+            u = b * x
+            return d * math.sin(c * math.atan(u - e * (u - math.atan(u))))
+        self.assertGreater(fy(a), fy(a - 0.01))
+        self.assertGreater(fy(a), fy(a + 0.01))
+        self.assertTrue(0.05 < a < 0.2)
+
+    def test_window_and_bound(self):
+        path = os.path.join(WORK, "trace.csv")
+        cols = ["t_s", "s_m", "vx_mps", "beta_deg", "yaw_rate_radps", "yaw_rate_ref_radps",
+                "alpha_rl_rad", "alpha_rr_rad", "esc_active", "cs_active", "yaw_moment_Nm",
+                "steer_out_rad", "steer_req_rad"] + \
+            [f"p_{k}_{w}_bar" for k in ("out", "req") for w in ("fl", "fr", "rl", "rr")]
+        with open(path, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(cols)
+            for i in range(201):
+                t = i * 0.01
+                alpha = 0.02 + 0.1 * t          # crosses 0.1 rad at t = 0.8
+                beta = 25.0 * max(0.0, t - 0.8) / 0.9 * 1.5   # 20° at t = 1.28
+                esc = 1 if t >= 0.9 else 0
+                p = 30.0 if t >= 1.1 else 0.0
+                w.writerow([t, 100 + t, 40, beta, 0.5 + max(0.0, t - 0.8), 0.5, alpha, alpha,
+                            esc, 0, 2000 * esc, 0, 0, p, 0, 0, 0, 0, 0, 0, 0])
+        x = knife_edge.analyse(path, 1000.0, 0.148, 0.1)
+        self.assertTrue(x["spun"])
+        self.assertAlmostEqual(x["t_sat"], 0.8, places=6)
+        self.assertAlmostEqual(x["t20"], 1.28, places=6)
+        self.assertAlmostEqual(x["first_esc"], 0.9, places=6)
+        self.assertAlmostEqual(x["t_delivered"], 1.1, places=6)
+        self.assertAlmostEqual(x["m_needed"], 1000 * 0.48 / (0.48 - 0.148), places=3)
+        slow = knife_edge.analyse(path, 1000.0, 0.6, 0.1)
+        self.assertTrue(math.isinf(slow["m_needed"]))
+        text = knife_edge.describe("esc", "ESC only", x, [])
+        self.assertIn("0.48 s from rear saturation", text)
+
+
+if __name__ == "__main__":
+    os.makedirs(WORK, exist_ok=True)
+    unittest.main(verbosity=1)
