@@ -777,7 +777,7 @@ def overlay_figures(cols, root):
         a = column_of(c)["actuators"]
         if a not in acts_:
             acts_.append(a)
-    top = {"study1_longitudinal": ([("max_slip_front_pct", "-", ", front")],
+    top = {"study1_longitudinal": ([("max_slip_front_pct", None, ", front")],
                                    "max front slip [%]", None),
            "study2_lateral": ([("max_abs_sideslip_deg", None, "")], "max |β| [deg]", 20.0),
            "study3_motion": ([("max_abs_sideslip_deg", None, "")], "max |β| [deg]", 20.0)}
