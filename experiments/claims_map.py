@@ -322,6 +322,7 @@ def main(argv=None):
             "; ".join(f"({k}) " + (", ".join(holds[k]) or "no variant") for k in "abcd") + ".")
     summary = {"study": STUDY, "commands": commands, "variants": variants, "table": table,
                "text": text, "figures": figures, "wall_time_s": timer.seconds(),
+               "reused": [os.path.basename(x) for x in scwexp.REUSED],
                "cpu_time_s": timer.cpu_seconds()}
     scwexp.write_summary(STUDY, summary)
     print("\n".join(table))

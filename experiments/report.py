@@ -628,7 +628,9 @@ def read_summary_in(d, study):
     import json
     with open(path) as f:
         s = json.load(f)
-    return s if "runs" in s else None  # an older layout (before issue 14) is ignored
+    if study in STUDIES and "runs" not in s:
+        return None  # an older layout (before issue 14) is ignored
+    return s
 
 
 def column_of(col):
@@ -775,7 +777,7 @@ def overlay_figures(cols, root):
         a = column_of(c)["actuators"]
         if a not in acts_:
             acts_.append(a)
-    top = {"study1_longitudinal": ([("max_slip_front_pct", "-", ", front")],
+    top = {"study1_longitudinal": ([("max_slip_front_pct", None, ", front")],
                                    "max front slip [%]", None),
            "study2_lateral": ([("max_abs_sideslip_deg", None, "")], "max |β| [deg]", 20.0),
            "study3_motion": ([("max_abs_sideslip_deg", None, "")], "max |β| [deg]", 20.0)}
@@ -1108,8 +1110,13 @@ def goal_section(results, cols):
                                  for n, o, t in v["claims"][k]["items"]) +
                              (f" (sweep: `{rel(v['command'])}`)" if v.get("command") else ""))
                 else:
-                    line += (" No variant of the claims map makes it hold either (see the map "
-                             "for the margins).")
+                    vs = [x for x in cm.get("variants", [])
+                          if not math.isnan(x["claims"][k].get("margin", math.nan))]
+                    best = max(vs, key=lambda x: x["claims"][k]["margin"]) if vs else None
+                    line += (" No variant of the claims map makes it hold either" + (
+                        f"; the closest is {best['label']} (margin "
+                        f"{best['claims'][k]['margin']:+.3f}; fails on: "
+                        f"{', '.join(best['claims'][k]['failed'])})" if best else "") + ".")
         out.append(line)
     return out + [""]
 
@@ -1186,8 +1193,11 @@ def claims_map_section(root):
     if not cm:
         return []
     out = ["## Claims map: what decides each claim (issue 25 part 2)", "",
-           cm.get("text", ""), "", f"Wall time {cm['wall_time_s'] / 60:.1f} min. "
-           f"Sweeps: {len(cm.get('commands', []))}.", ""]
+           cm.get("text", ""), "", f"Wall time {cm['wall_time_s'] / 60:.1f} min, "
+           f"CPU {cm.get('cpu_time_s', 0) / 60:.1f} min; sweeps: {len(cm.get('commands', []))}"
+           + (f", of which {len(cm['reused'])} read from an earlier run of the same commands "
+              "(`--reuse`; their cost is not in these times: experiments/README.md)"
+              if cm.get("reused") else "") + ".", ""]
     out += figs([os.path.join("claims_map", x) for x in cm.get("figures", [])]) + [""]
     out += cm.get("table", []) + [""]
     return out

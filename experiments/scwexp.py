@@ -374,6 +374,9 @@ def refine_first_aborts(scw, args, sets, configs, rows, pert, out_csv, log, mpc=
     return rows, commands
 
 
+REUSED = []  # tables reuse_or_run read from an earlier run instead of running
+
+
 def reuse_or_run(cmd, csv_path, log, reuse=False):
     """Runs a sweep writing csv_path, and records its command beside the table
     (csv_path + ".cmd"). With reuse, a table whose recorded command equals this one (the binary
@@ -385,13 +388,15 @@ def reuse_or_run(cmd, csv_path, log, reuse=False):
         with open(side) as f:
             if f.read() == key:
                 print(f"reusing {os.path.relpath(csv_path, ROOT)} (same command)", flush=True)
-                return
+                REUSED.append(csv_path)
+                return True
     for path in (csv_path, side):
         if os.path.exists(path):
             os.remove(path)
     run(cmd, log=log)
     with open(side, "w") as f:
         f.write(key)
+    return False
 
 
 def brake_40ms_vehicle(scw, path):
