@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <utility>
 
 #include "params/io/csv.h"
 #include "params/io/write.h"
@@ -31,9 +32,26 @@ std::string ComparisonMarkdown(const std::string& title, const BatchEvaluator& e
           std::to_string(m.cs_count) + "/" + std::to_string(m.abs_count) + "/" +
           std::to_string(m.tc_count) + " | " + FormatFixed(results[s].costs[k].total, 3) + " |\n";
     }
-  out += "\n| set | total cost |\n| --- | --- |\n";
-  for (std::size_t s = 0; s < results.size(); ++s)
-    out += "| " + labels[s] + " | " + FormatFixed(results[s].total, 3) + " |\n";
+  // Per set: the total, and the distribution over the scenarios (unweighted scenario costs: what a
+  // set does in its bad cases, which a total can hide) with the subsystems' activations summed.
+  out +=
+      "\n| set | total cost | mean cost | 90th percentile | worst | aborts | ESC/CS/ABS/TC "
+      "[count] |\n| --- | --- | --- | --- | --- | --- | --- |\n";
+  for (std::size_t s = 0; s < results.size(); ++s) {
+    const CostDistribution d = Distribution(results[s]);
+    long long esc = 0, cs = 0, abs = 0, tc = 0;
+    for (const RunMetrics& m : results[s].runs) {
+      esc += m.esc_count;
+      cs += m.cs_count;
+      abs += m.abs_count;
+      tc += m.tc_count;
+    }
+    out += "| " + labels[s] + " | " + FormatFixed(results[s].total, 3) + " | " +
+           FormatFixed(d.mean, 3) + " | " + FormatFixed(d.p90, 3) + " | " +
+           FormatFixed(d.worst, 3) + " | " + std::to_string(d.aborts) + " of " +
+           std::to_string(results[s].runs.size()) + " | " + std::to_string(esc) + "/" +
+           std::to_string(cs) + "/" + std::to_string(abs) + "/" + std::to_string(tc) + " |\n";
+  }
   return out + "\n";
 }
 
@@ -276,13 +294,9 @@ std::string Outcome(const RunMetrics& m) {
 std::string Scenarios(int n) { return Count(n, "scenario"); }
 }  // namespace
 
-CostDistribution Distribution(const SetChange& c, bool after) {
+CostDistribution Distribution(std::vector<double> costs, int aborts) {
   CostDistribution d;
-  std::vector<double> costs;
-  for (const auto& s : c.scenarios) {
-    costs.push_back(after ? s.cost_after : s.cost_before);
-    d.aborts += (after ? s.after : s.before).aborted();
-  }
+  d.aborts = aborts;
   if (costs.empty()) return d;
   std::sort(costs.begin(), costs.end());
   double sum = 0.0;
@@ -293,6 +307,24 @@ CostDistribution Distribution(const SetChange& c, bool after) {
   d.p90 = costs[std::max<std::size_t>(rank, 1) - 1];
   d.worst = costs.back();
   return d;
+}
+
+CostDistribution Distribution(const SetChange& c, bool after) {
+  std::vector<double> costs;
+  int aborts = 0;
+  for (const auto& s : c.scenarios) {
+    costs.push_back(after ? s.cost_after : s.cost_before);
+    aborts += (after ? s.after : s.before).aborted();
+  }
+  return Distribution(std::move(costs), aborts);
+}
+
+CostDistribution Distribution(const SetEvaluation& e) {
+  std::vector<double> costs;
+  int aborts = 0;
+  for (const auto& c : e.costs) costs.push_back(c.total);
+  for (const auto& m : e.runs) aborts += m.aborted();
+  return Distribution(std::move(costs), aborts);
 }
 
 std::string SetChangeMarkdown(const std::string& group, const SetChange& c) {

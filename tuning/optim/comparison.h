@@ -91,8 +91,12 @@ struct CostDistribution {
   double worst = 0.0;
   int aborts = 0;
 };
+/// The distribution of `costs` (one per scenario, any order) with `aborts` aborted runs.
+CostDistribution Distribution(std::vector<double> costs, int aborts);
 /// The baseline's (`after` false) or the tuned set's distribution.
 CostDistribution Distribution(const SetChange& c, bool after);
+/// The distribution of one evaluated set's scenario costs.
+CostDistribution Distribution(const SetEvaluation& e);
 
 /// The verdict as Markdown for comparison.md: one bold line with the overall verdict and the
 /// total's change against its noise threshold, the cost distribution of both sets (mean, 90th

@@ -257,6 +257,12 @@ TEST(SetChangeTest, DistributionGivesMeanNinetiethPercentileWorstAndAborts) {
   EXPECT_DOUBLE_EQ(t.p90, 64.5);
   EXPECT_DOUBLE_EQ(t.worst, 300.0);
   EXPECT_EQ(t.aborts, 1);
+  // One evaluated set alone (`scw evaluate`'s summary) gives the same distribution.
+  const CostDistribution alone = Distribution(Set(after));
+  EXPECT_DOUBLE_EQ(alone.mean, t.mean);
+  EXPECT_DOUBLE_EQ(alone.p90, t.p90);
+  EXPECT_DOUBLE_EQ(alone.worst, t.worst);
+  EXPECT_EQ(alone.aborts, t.aborts);
   EXPECT_TRUE(
       Has(SetChangeMarkdown("Held-out", c), "| tuned | 86.250 | 64.500 | 300.000 | 1 of 10 |"))
       << SetChangeMarkdown("Held-out", c);

@@ -19,6 +19,8 @@
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "params/io/yaml_doc.h"
+#include "tuning/optim/comparison.h"
+#include "tuning/sim/run_summary.h"
 
 namespace scw::tuning {
 namespace {
@@ -290,6 +292,17 @@ TEST_F(TuneStudyTest, TheStopFlagEndsTheOptimisationWithTheBestSoFar) {
   const SetsEvaluation table =
       EvaluateSets(study.scenarios(), {study.base(), r.tuned}, {"baseline", "tuned"}, 1);
   EXPECT_EQ(table.csv, r.comparison_csv);
+  // Its summary gives per set the total, the distribution over the scenarios and the activations.
+  EXPECT_NE(
+      table.markdown.find("| set | total cost | mean cost | 90th percentile | worst | aborts | "
+                          "ESC/CS/ABS/TC [count] |"),
+      std::string::npos)
+      << table.markdown;
+  const CostDistribution d = Distribution(r.training[1]);
+  EXPECT_NE(table.markdown.find("| tuned | " + FormatFixed(r.training[1].total, 3) + " | " +
+                                FormatFixed(d.mean, 3) + " | "),
+            std::string::npos)
+      << table.markdown;
 }
 
 TEST_F(TuneStudyTest, TheBaseOutsideARangeGrowsItOrIsRefusedBeforeAnythingRuns) {
