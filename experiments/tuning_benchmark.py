@@ -24,7 +24,12 @@ Usage:
   experiments/tuning_benchmark.py --scenarios params/scenarios/robust_set.yaml --max-evals 60
   experiments/tuning_benchmark.py --reference-evals 900  # adds crs2+sbplx at 5x the budget
 The runs are independent; --jobs N runs N tunes at once, each with --threads 1 (the results are
-the same for any thread count).
+the same for any thread count). Besides the wall time the script records each tune's CPU time
+(user + system, from wait4), which does not depend on what else the machine runs.
+
+Deterministic methods (no random numbers: Subplex from the shipped set, DIRECT-L) give the same
+run for every seed; they run on the first two seeds only, and the table says whether the two agree
+bit for bit.
 """
 
 import argparse
@@ -32,6 +37,7 @@ import concurrent.futures
 import csv
 import math
 import os
+import shlex
 import statistics
 import subprocess
 import sys
@@ -40,14 +46,20 @@ import time
 import scwexp
 
 DEFAULT_METHODS = [
+    "sbplx",  # Subplex alone, from the shipped set
     "crs2+sbplx",
     "esch+sbplx",
     "isres+sbplx",
     "direct_l+sbplx",
     "mlsl",
-    "lhs+sbplx",
     "lhs+sbplx/4",  # LHS design, then 4 Subplex searches from the 4 best points (--batch 4)
+    "sbplx+sbplx",  # Subplex from the shipped set, restarted from its best point at 60 %
 ]
+
+
+# Methods that draw no random numbers: the seed cannot change their run.
+DETERMINISTIC = {"sbplx", "sbplx+sbplx", "neldermead", "bobyqa", "cobyla", "direct_l",
+                 "direct_l+sbplx"}
 
 
 def parse_method(spec):
@@ -78,7 +90,9 @@ def run_one(scw, args, method, seed, max_evals, out_root):
     alg, batch = parse_method(method)
     folder = os.path.join(out_root, "runs", method.replace("/", "_b"), f"seed{seed}")
     if os.path.isfile(os.path.join(folder, "manifest.yaml")) and not args.rerun:
-        wall = float("nan")
+        wall, cpu = float("nan"), float("nan")
+        if os.path.isfile(folder + ".time"):
+            wall, cpu = (float(v) for v in open(folder + ".time").read().split())
     else:
         os.makedirs(os.path.dirname(folder), exist_ok=True)
         cmd = [scw, "tune", "--algorithm", alg, "--batch", str(batch), "--seed", str(seed),
@@ -86,10 +100,16 @@ def run_one(scw, args, method, seed, max_evals, out_root):
                "--progress", "never", "--out-dir", folder, "--force"]
         if args.scenarios:
             cmd += ["--scenarios", args.scenarios]
+        cmd += shlex.split(args.tune_args)
         t0 = time.monotonic()
         with open(folder + ".log", "w") as log:
-            proc = subprocess.run(cmd, stdout=log, stderr=subprocess.STDOUT, cwd=scwexp.ROOT)
+            proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, cwd=scwexp.ROOT)
+            _, status, usage = os.wait4(proc.pid, 0)
+            proc.returncode = os.waitstatus_to_exitcode(status)
         wall = time.monotonic() - t0
+        cpu = usage.ru_utime + usage.ru_stime
+        with open(folder + ".time", "w") as f:
+            f.write(f"{wall:.3f} {cpu:.3f}\n")
         if proc.returncode != 0:
             sys.exit(f"error: {' '.join(cmd)} failed (exit {proc.returncode}); see {folder}.log")
     curve = read_best_curve(os.path.join(folder, "evaluations.csv"))
@@ -100,7 +120,7 @@ def run_one(scw, args, method, seed, max_evals, out_root):
             wall = float(line.split(":", 1)[1])
     return {"method": method, "seed": seed, "max_evals": max_evals, "curve": curve,
             "search_best": curve[-1], "training": training, "held_out": held_out,
-            "last_improvement": last_improvement(curve), "wall_s": wall}
+            "last_improvement": last_improvement(curve), "wall_s": wall, "cpu_s": cpu}
 
 
 def last_improvement(curve, rel=0.005):
@@ -144,8 +164,8 @@ def plot(results, methods, path):
 
 def table(results, methods, best_any):
     rows = ["| method | evaluations | seeds | training cost per seed (1 ms) | spread | mean vs best "
-            "found | held-out mean | last improvement (median) | wall per tune |",
-            "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+            "found | held-out mean | last improvement (median) | CPU per tune | wall per tune |",
+            "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for m in methods:
         rs = [r for r in results if r["method"] == m]
         if not rs:
@@ -153,12 +173,17 @@ def table(results, methods, best_any):
         tr = [r["training"] for r in rs]
         ho = [r["held_out"] for r in rs if r["held_out"] is not None]
         mean = statistics.mean(tr)
+        seeds = f"{len(rs)}"
+        if m.split("/")[0] in DETERMINISTIC and len(rs) > 1:
+            same = all(r["curve"] == rs[0]["curve"] for r in rs)
+            seeds += " (deterministic: " + ("identical" if same else "DIFFER") + ")"
         rows.append(
-            f"| {m} | {rs[0]['max_evals']} | {len(rs)} | "
+            f"| {m} | {rs[0]['max_evals']} | {seeds} | "
             + " / ".join(f"{t:.1f}" for t in tr)
             + f" | {100 * spread(tr):.1f} % | {100 * (mean / best_any - 1):+.1f} % | "
             + (f"{statistics.mean(ho):.1f}" if ho else "-")
             + f" | {statistics.median(r['last_improvement'] for r in rs):.0f} | "
+            + f"{statistics.median(r['cpu_s'] for r in rs):.0f} s | "
             + f"{statistics.median(r['wall_s'] for r in rs):.0f} s |")
     return "\n".join(rows)
 
@@ -170,9 +195,13 @@ def main():
     ap.add_argument("--seeds", default="1,2,3,4,5")
     ap.add_argument("--max-evals", type=int, default=180)
     ap.add_argument("--reference-evals", type=int, default=0,
-                    help="also run crs2+sbplx with this budget (e.g. 5x) as the 'best found' "
+                    help="also run --reference-method with this budget (e.g. 5x) as the 'best found' "
                     "reference")
+    ap.add_argument("--reference-method", default="crs2+sbplx",
+                    help="the method(s) of the --reference-evals runs (comma-separated)")
     ap.add_argument("--scenarios", default="", help="scenario set file (default: built-in)")
+    ap.add_argument("--tune-args", default="",
+                    help="further arguments of every scw tune (e.g. \"--space S.yaml\")")
     ap.add_argument("--jobs", type=int, default=2, help="tunes at once")
     ap.add_argument("--threads", type=int, default=1, help="threads per tune")
     ap.add_argument("--out", default=os.path.join(scwexp.RESULTS, "tuning_benchmark"))
@@ -181,17 +210,18 @@ def main():
     scw = scwexp.find_scw()
     methods = [m for m in args.methods.split(",") if m]
     seeds = [int(s) for s in args.seeds.split(",") if s]
-    jobs = [(m, s, args.max_evals) for m in methods for s in seeds]
-    ref_name = ""
+    jobs = [(m, s, args.max_evals) for m in methods
+            for s in (seeds[:2] if m.split("/")[0] in DETERMINISTIC else seeds)]
+    ref_names = []
     if args.reference_evals > 0:
-        ref_name = f"crs2+sbplx@{args.reference_evals}"
-        jobs += [(ref_name, s, args.reference_evals) for s in seeds[:1]]
+        ref_names = [f"{m}@{args.reference_evals}" for m in args.reference_method.split(",") if m]
+        jobs += [(r, s, args.reference_evals) for r in ref_names for s in seeds[:1]]
     os.makedirs(args.out, exist_ok=True)
     results = []
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
         futures = []
         for m, s, n in jobs:
-            spec = "crs2+sbplx" if m.startswith("crs2+sbplx@") else m
+            spec = m.split("@", 1)[0]
             futures.append(pool.submit(run_one, scw, args, spec, s, n,
                                        os.path.join(args.out, m.replace("@", "_at")) if "@" in m
                                        else args.out))
@@ -204,16 +234,18 @@ def main():
     with open(os.path.join(args.out, "summary.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["method", "seed", "max_evals", "search_best", "training", "held_out",
-                    "last_improvement", "wall_s"])
+                    "last_improvement", "wall_s", "cpu_s"])
         for r in results:
             w.writerow([r["method"], r["seed"], r["max_evals"], r["search_best"], r["training"],
-                        r["held_out"], r["last_improvement"], f"{r['wall_s']:.1f}"])
-    shown = methods + ([ref_name] if ref_name else [])
+                        r["held_out"], r["last_improvement"], f"{r['wall_s']:.1f}",
+                        f"{r['cpu_s']:.1f}"])
+    shown = methods + ref_names
     plot(results, shown, os.path.join(args.out, "convergence.png"))
     best_any = min(r["training"] for r in results)
     md = ["# Tuning benchmark", "",
           f"scw: {scw}; scenarios: {args.scenarios or 'built-in default'}; "
-          f"seeds {args.seeds}; `--no-sensitivity`; costs are the comparison's (vehicle step).",
+          f"seeds {args.seeds}; `--no-sensitivity{(' ' + args.tune_args) if args.tune_args else ''}`; "
+          "costs are the comparison's (vehicle step).",
           f"Best training cost any run found: {best_any:.2f}.", "",
           table(results, shown, best_any), "", "![convergence](convergence.png)", ""]
     with open(os.path.join(args.out, "tuning-benchmark.md"), "w") as f:
