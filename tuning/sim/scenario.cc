@@ -119,16 +119,27 @@ std::string GgvKey(params::VehicleParams v, double brake_bias_front) {
   return params::ToPlainYaml(v) + "|brake_bias_front: " + params::FormatDouble(brake_bias_front);
 }
 
-/// A g-g-v table from the preparation cache's arrays (the order PlantGgv stores), if valid.
+/// The preparation cache's arrays of a g-g-v table: its columns in the order of GgvTable::Visit.
+CachedArrays GgvToArrays(const controller::planning::GgvTable& t) {
+  CachedArrays a;
+  params::ForEachField(t, [&](const std::string&, const std::vector<double>& column,
+                              const params::Meta&) { a.push_back(column); });
+  return a;
+}
+
+/// A g-g-v table from the preparation cache's arrays (GgvToArrays), if valid.
 std::optional<controller::planning::GgvTable> GgvFromArrays(const CachedArrays& a) {
-  if (a.size() != 6) return std::nullopt;
   controller::planning::GgvTable t;
-  t.speed = a[0];
-  t.ay_max = a[1];
-  t.ax_drive_max = a[2];
-  t.ax_brake_max = a[3];
-  t.drive_exponent = a[4];
-  t.brake_exponent = a[5];
+  std::size_t i = 0;
+  bool complete = true;
+  params::ForEachField(t,
+                       [&](const std::string&, std::vector<double>& column, const params::Meta&) {
+                         if (i < a.size())
+                           column = a[i++];
+                         else
+                           complete = false;
+                       });
+  if (!complete || i != a.size()) return std::nullopt;
   try {
     t.Validate("cache");
   } catch (const std::exception&) {
@@ -148,9 +159,7 @@ std::shared_ptr<const controller::planning::GgvTable> PlantGgv(const std::string
     if (const auto hit = cache.Load("ggv", key))
       if (auto table = GgvFromArrays(*hit)) return *std::move(table);
     controller::planning::GgvTable table = PlantEnvelope(v, brake_bias_front);
-    cache.Store("ggv", key,
-                {table.speed, table.ay_max, table.ax_drive_max, table.ax_brake_max,
-                 table.drive_exponent, table.brake_exponent});
+    cache.Store("ggv", key, GgvToArrays(table));
     return table;
   });
 }
