@@ -12,6 +12,7 @@
 #include "params/io/load.h"
 #include "params/io/override.h"
 #include "params/io/write.h"
+#include "params/schema/grip_scaling.h"
 #include "params/schema/track_params.h"
 #include "plant/track/builtin_tracks.h"
 #include "plant/track/yas_north.h"
@@ -191,18 +192,6 @@ std::shared_ptr<const controller::motion::Path> ToPath(const ReferenceTrajectory
   return std::make_shared<controller::motion::Path>(std::move(pts), r.length);
 }
 
-void ApplyGrip(const params::GripParams& f, params::GripParams* g) {
-  g->mu *= f.mu;
-  g->front_mu_x *= f.front_mu_x;
-  g->front_mu_y *= f.front_mu_y;
-  g->rear_mu_x *= f.rear_mu_x;
-  g->rear_mu_y *= f.rear_mu_y;
-  for (std::size_t i = 0; i < g->wheel_mu_x.size() && i < f.wheel_mu_x.size(); ++i)
-    g->wheel_mu_x[i] *= f.wheel_mu_x[i];
-  for (std::size_t i = 0; i < g->wheel_mu_y.size() && i < f.wheel_mu_y.size(); ++i)
-    g->wheel_mu_y[i] *= f.wheel_mu_y[i];
-}
-
 }  // namespace
 
 params::ScenarioParams LoadScenario(const std::string& path,
@@ -296,7 +285,7 @@ void ResolveVehicle(const params::ScenarioParams& spec, const std::string& base_
           ? params::VehicleParams{}
           : params::LoadPlainFile<params::VehicleParams>(ResolvePath(base_dir, spec.vehicle));
   *nominal = sc->vehicle;
-  ApplyGrip(spec.grip, &sc->vehicle.grip);
+  params::ScaleGrip(spec.grip, &sc->vehicle.grip);
   sc->vehicle.sensors.noise = sc->vehicle.sensors.noise || spec.sensor_noise;
   params::ValidateOrThrow(sc->vehicle, where + " (vehicle with the scenario's grip)");
 }
