@@ -578,6 +578,27 @@ def column_info(args):
             "actuators": act, "gg_axis": args.gg, "refine_levels": REFINE_LEVELS}
 
 
+def finish_study(study, scw, args, sets, summary, timer, per_pert, pert_label, out,
+                 main_wall=None):
+    """The common end of a study: adds the track's corners, the wall and CPU time and the
+    column's settings to `summary` and writes it, then prints one line per perturbation value and
+    configuration of `per_pert` ({value: {config: analyse_series(...)}}, the value named by
+    `pert_label`, e.g. "seed" or "rear μy") and the total time (and that of the main sweep, when
+    given). The study then calls report.update(args) itself: report.py builds on this module."""
+    summary["corners"] = track_corners(scw, sets)
+    summary["wall_time_s"] = timer.seconds()
+    summary["cpu_time_s"] = timer.cpu_seconds()
+    summary["column"] = column_info(args)
+    write_summary(study, summary)
+    for v, ser in per_pert.items():
+        for name, a in ser.items():
+            print(f"{pert_label} {v} {name}: max stable GG {a['max_stable']}, first abort "
+                  f"{a['first_abort']} ({a['first_abort_status']}), min lap "
+                  f"{fmt(a['min_lap_time_s'], 3)} s at GG {a['min_lap_value']}")
+    main = "" if main_wall is None else f" (main sweep {main_wall:.0f} s)"
+    print(f"{study}: {timer.seconds():.0f} s wall{main}; outputs in {out}")
+
+
 def mark_aborts(ax, rows, key, field, color, linestyle="-"):
     """An 'x' at the aborted run of a series (the last reported one)."""
     for r in rows:

@@ -113,17 +113,7 @@ def main(argv=None):
         scw, args, sets, [(n, o) for n, o, _, _ in CONFIGS], per_pert[first], pert[0], first,
         out)
     summary["diagnosis_perturbation"] = first
-    summary["corners"] = scwexp.track_corners(scw, sets)
-    summary["wall_time_s"] = timer.seconds()
-    summary["cpu_time_s"] = timer.cpu_seconds()
-    summary["column"] = scwexp.column_info(args)
-    scwexp.write_summary(STUDY, summary)
-    for v, ser in per_pert.items():
-        for name, a in ser.items():
-            print(f"seed {v} {name}: max stable GG {a['max_stable']}, first abort "
-                  f"{a['first_abort']} ({a['first_abort_status']}), min lap "
-                  f"{scwexp.fmt(a['min_lap_time_s'], 3)} s at GG {a['min_lap_value']}")
-    print(f"{STUDY}: {timer.seconds():.0f} s wall (main sweep {main_wall:.0f} s); outputs in {out}")
+    scwexp.finish_study(STUDY, scw, args, sets, summary, timer, per_pert, "seed", out, main_wall)
     report.update(args)
     return 0
 

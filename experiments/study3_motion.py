@@ -134,17 +134,7 @@ def main(argv=None):
             "label": f"40 ms brake response (brakes.delay 0.006 s), rear μy {main_pert}, "
                      + ", ".join(sens), "command": " | ".join(scmds), "wall_time_s": t.seconds(),
             "controllers": sens, "runs": sp, "figures": [os.path.relpath(spng, scwexp.RESULTS)]}
-    summary["corners"] = scwexp.track_corners(scw, args.set)
-    summary["wall_time_s"] = timer.seconds()
-    summary["cpu_time_s"] = timer.cpu_seconds()
-    summary["column"] = scwexp.column_info(args)
-    scwexp.write_summary(STUDY, summary)
-    for v, ser in per_pert.items():
-        for name, a in ser.items():
-            print(f"rear μy {v} {name}: max stable GG {a['max_stable']}, first abort "
-                  f"{a['first_abort']} ({a['first_abort_status']}), min lap "
-                  f"{scwexp.fmt(a['min_lap_time_s'], 3)} s at GG {a['min_lap_value']}")
-    print(f"{STUDY}: {timer.seconds():.0f} s wall; outputs in {out}")
+    scwexp.finish_study(STUDY, scw, args, args.set, summary, timer, per_pert, "rear μy", out)
     report.update(args)
     return 0
 

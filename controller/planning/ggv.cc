@@ -19,6 +19,14 @@ double Lookup(const std::vector<double>& xs, const std::vector<double>& ys, doub
 
 }  // namespace
 
+GgvTable GgvTable::Empty() {
+  GgvTable g;
+  params::ForEachField(g, [](const std::string&, std::vector<double>& column, const params::Meta&) {
+    column.clear();
+  });
+  return g;
+}
+
 GgvTable GgvTable::Constant(double ay, double ax_drive, double ax_brake, double p) {
   GgvTable g;
   g.speed = {0.0};

@@ -19,11 +19,15 @@
 // evaluations of the plant itself (plant/vehicle/quasi_steady.h), drive and brake separately,
 // with each exponent fitted so that the law lies inside the plant's combined envelope.
 //
-// Plain data; `Validate` throws scw::ConfigError listing every problem.
+// Plain data; `Visit` lists the six columns once (key, unit, description), and everything that
+// handles the columns as a whole (emptying, the preparation cache's arrays) goes through it;
+// `Validate` throws scw::ConfigError listing every problem.
 #pragma once
 
 #include <string>
 #include <vector>
+
+#include "params/schema/field.h"
 
 namespace scw::controller::planning {
 
@@ -35,6 +39,23 @@ struct GgvTable {
   std::vector<double> drive_exponent{2.0, 2.0};  ///< p of the drive law per speed, in [1, 10]
   std::vector<double> brake_exponent{2.0, 2.0};  ///< p of the brake law per speed, in [1, 10]
 
+  /// Every column once, in this order (the order of the preparation cache's arrays), as
+  /// `v.Field(self.column, {.key = ..., ...})` (params::Meta). The rules on the values are those of
+  /// Validate.
+  template <class Self, class V>
+  static void Visit(Self& self, V& v) {
+    v.Field(self.speed, {.key = "speed", .unit = "m/s", .doc = "Speeds of the rows."});
+    v.Field(self.ay_max, {.key = "ay_max", .unit = "m/s^2", .doc = "Lateral limit."});
+    v.Field(self.ax_drive_max,
+            {.key = "ax_drive_max", .unit = "m/s^2", .doc = "Pure drive limit, net of drag."});
+    v.Field(self.ax_brake_max,
+            {.key = "ax_brake_max", .unit = "m/s^2", .doc = "Pure braking limit (positive)."});
+    v.Field(self.drive_exponent, {.key = "drive_exponent", .doc = "Exponent p of the drive law."});
+    v.Field(self.brake_exponent, {.key = "brake_exponent", .doc = "Exponent p of the brake law."});
+  }
+
+  /// A table with every column empty (to be filled row by row).
+  static GgvTable Empty();
   /// One-row table (speed-independent limits, one exponent p for drive and brake).
   static GgvTable Constant(double ay, double ax_drive, double ax_brake, double p = 2.0);
   /// Sets every drive and brake exponent to p.
@@ -58,6 +79,8 @@ struct GgvTable {
 
   /// C(r, p) = (1 − r^p)^(1/p), 0 for r ≥ 1, 1 for r ≤ 0.
   static double Combine(double r, double p) noexcept;
+
+  bool operator==(const GgvTable&) const = default;
 };
 
 }  // namespace scw::controller::planning

@@ -2,7 +2,7 @@
 """Fast checks of the experiment scripts' logic on synthetic data (no scw runs): the bisection of
 first aborts (scwexp.refine_first_aborts, with a stand-in for the sweep), the margin of a series
 and claim (c) (report.py), the side-by-side verdict table, the rear tyre's peak slip angle and the
-knife-edge analysis of a trace (knife_edge.py). Exit 77 (skipped) without numpy/matplotlib.
+knife-edge analysis of a trace (knife_edge.py) and the studies' common end (scwexp.finish_study). Exit 77 (skipped) without numpy/matplotlib.
 
     python3 test/experiments/studies_test.py EXPERIMENTS_DIR WORK_DIR
 """
@@ -141,6 +141,41 @@ class VerdictTable(unittest.TestCase):
         self.assertFalse(results[("b", "shipped__vehicle")])
         self.assertFalse(results[("b", "tuned__paper_sim")])
         self.assertIn("none 1.05", lines[3])
+
+
+class FinishStudy(unittest.TestCase):
+    def test_summary_and_printed_lines(self):
+        import argparse
+        import contextlib
+        import io
+        import json
+        fake = os.path.join(WORK, "fake_scw.sh")
+        with open(fake, "w") as f:   # `scw track info`: one corner line
+            f.write("#!/bin/sh\necho '  1 right 100.0 180.0 45.0 T1'\n")
+        os.chmod(fake, 0o755)
+        scwexp.set_results(os.path.join(WORK, "finish"))
+        args = argparse.Namespace(set=["plant.actuators=paper_sim"], label="", stability="",
+                                  gg="gg_scale")
+        runs = [run_row(1.0, lap=71.5), run_row(1.1, "sideslip")]
+        per_pert = {"0.8": {"esc": scwexp.analyse_series(runs)}}
+        summary = {"study": "x"}
+        printed = io.StringIO()
+        with contextlib.redirect_stdout(printed):
+            scwexp.finish_study("studyX", fake, args, ["track=yas_north"], summary,
+                                scwexp.Timer(), per_pert, "rear μy", "OUT", main_wall=12.0)
+        with open(os.path.join(WORK, "finish", "studyX", "summary.json")) as f:
+            written = json.load(f)
+        self.assertEqual(written, summary)
+        self.assertEqual(list(written), ["study", "corners", "wall_time_s", "cpu_time_s",
+                                         "column"])
+        self.assertEqual(written["corners"], [{"n": 1, "dir": "right", "from": 100.0,
+                                               "to": 180.0, "r_min": 45.0}])
+        self.assertEqual(written["column"]["actuators"], "paper_sim")
+        lines = printed.getvalue().splitlines()
+        self.assertEqual(len(lines), 2)
+        self.assertTrue(lines[0].startswith("rear μy 0.8 esc: max stable GG 1.0, first abort "
+                                            "1.1 (sideslip), min lap 71.500 s"), lines[0])
+        self.assertRegex(lines[1], r"^studyX: \d+ s wall \(main sweep 12 s\); outputs in OUT$")
 
 
 class KnifeEdge(unittest.TestCase):

@@ -9,6 +9,7 @@
 #include "controller/motion/nmpc.h"
 #include "controller/motion/pmpc.h"
 #include "controller/motion/pure_pursuit.h"
+#include "params/schema/grip_scaling.h"
 
 namespace scw::tuning {
 namespace {
@@ -56,19 +57,7 @@ std::unique_ptr<controller::motion::MotionController> MakeMotionController(
   // The MPCs model the car the planner planned for: the scenario's grip unless the reference was
   // planned with nominal grip.
   params::VehicleParams model_vehicle = sc.vehicle;
-  if (sc.spec.plan_with_nominal_grip) {
-    auto& g = model_vehicle.grip;
-    const auto& f = sc.spec.grip;
-    g.mu /= f.mu;
-    g.front_mu_x /= f.front_mu_x;
-    g.front_mu_y /= f.front_mu_y;
-    g.rear_mu_x /= f.rear_mu_x;
-    g.rear_mu_y /= f.rear_mu_y;
-    for (std::size_t i = 0; i < 4; ++i) {
-      g.wheel_mu_x[i] /= f.wheel_mu_x[i];
-      g.wheel_mu_y[i] /= f.wheel_mu_y[i];
-    }
-  }
+  if (sc.spec.plan_with_nominal_grip) params::UnscaleGrip(sc.spec.grip, &model_vehicle.grip);
   const cm::SingleTrackParams st = cm::SingleTrackParamsFrom(model_vehicle);
   try {
     if (name == "pmpc") {

@@ -63,13 +63,7 @@ std::vector<EnvelopeRow> SampleEnvelope(const params::VehicleParams& v, double b
 }
 
 GgvTable FitEnvelope(const std::vector<EnvelopeRow>& rows) {
-  GgvTable g;
-  g.speed.clear();
-  g.ay_max.clear();
-  g.ax_drive_max.clear();
-  g.ax_brake_max.clear();
-  g.drive_exponent.clear();
-  g.brake_exponent.clear();
+  GgvTable g = GgvTable::Empty();
   for (const EnvelopeRow& r : rows) {
     double d0 = 0.0, pd = 1.0, b0 = 0.0, pb = 1.0;
     FitOne(r.drive, &d0, &pd);
@@ -108,13 +102,7 @@ GgvTable PlantEnvelope(const params::VehicleParams& v, double brake_bias_front) 
   params::VehicleParams ideal = v;
   ideal.sensors.noise = false;
   const plant::QuasiSteadyModel qs(ideal, o);
-  GgvTable g;
-  g.speed.clear();
-  g.ay_max.clear();
-  g.ax_drive_max.clear();
-  g.ax_brake_max.clear();
-  g.drive_exponent.clear();
-  g.brake_exponent.clear();
+  GgvTable g = GgvTable::Empty();
   // Between two 10 m/s knots the more conservative shape of the two applies.
   auto knot_min = [&](const std::vector<double>& col, double sp) {
     const double lo = std::clamp(std::floor(sp / 10.0) * 10.0, knots.front(), knots.back());

@@ -12,6 +12,7 @@
 #include "params/io/load.h"
 #include "params/io/override.h"
 #include "params/io/write.h"
+#include "params/schema/grip_scaling.h"
 #include "params/schema/track_params.h"
 #include "plant/track/builtin_tracks.h"
 #include "plant/track/yas_north.h"
@@ -119,16 +120,27 @@ std::string GgvKey(params::VehicleParams v, double brake_bias_front) {
   return params::ToPlainYaml(v) + "|brake_bias_front: " + params::FormatDouble(brake_bias_front);
 }
 
-/// A g-g-v table from the preparation cache's arrays (the order PlantGgv stores), if valid.
+/// The preparation cache's arrays of a g-g-v table: its columns in the order of GgvTable::Visit.
+CachedArrays GgvToArrays(const controller::planning::GgvTable& t) {
+  CachedArrays a;
+  params::ForEachField(t, [&](const std::string&, const std::vector<double>& column,
+                              const params::Meta&) { a.push_back(column); });
+  return a;
+}
+
+/// A g-g-v table from the preparation cache's arrays (GgvToArrays), if valid.
 std::optional<controller::planning::GgvTable> GgvFromArrays(const CachedArrays& a) {
-  if (a.size() != 6) return std::nullopt;
   controller::planning::GgvTable t;
-  t.speed = a[0];
-  t.ay_max = a[1];
-  t.ax_drive_max = a[2];
-  t.ax_brake_max = a[3];
-  t.drive_exponent = a[4];
-  t.brake_exponent = a[5];
+  std::size_t i = 0;
+  bool complete = true;
+  params::ForEachField(t,
+                       [&](const std::string&, std::vector<double>& column, const params::Meta&) {
+                         if (i < a.size())
+                           column = a[i++];
+                         else
+                           complete = false;
+                       });
+  if (!complete || i != a.size()) return std::nullopt;
   try {
     t.Validate("cache");
   } catch (const std::exception&) {
@@ -148,9 +160,7 @@ std::shared_ptr<const controller::planning::GgvTable> PlantGgv(const std::string
     if (const auto hit = cache.Load("ggv", key))
       if (auto table = GgvFromArrays(*hit)) return *std::move(table);
     controller::planning::GgvTable table = PlantEnvelope(v, brake_bias_front);
-    cache.Store("ggv", key,
-                {table.speed, table.ay_max, table.ax_drive_max, table.ax_brake_max,
-                 table.drive_exponent, table.brake_exponent});
+    cache.Store("ggv", key, GgvToArrays(table));
     return table;
   });
 }
@@ -180,18 +190,6 @@ std::shared_ptr<const controller::motion::Path> ToPath(const ReferenceTrajectory
   // The velocity profile may repeat the closing node at s = length: drop it.
   while (pts.size() > 3 && pts.back().s >= r.length) pts.pop_back();
   return std::make_shared<controller::motion::Path>(std::move(pts), r.length);
-}
-
-void ApplyGrip(const params::GripParams& f, params::GripParams* g) {
-  g->mu *= f.mu;
-  g->front_mu_x *= f.front_mu_x;
-  g->front_mu_y *= f.front_mu_y;
-  g->rear_mu_x *= f.rear_mu_x;
-  g->rear_mu_y *= f.rear_mu_y;
-  for (std::size_t i = 0; i < g->wheel_mu_x.size() && i < f.wheel_mu_x.size(); ++i)
-    g->wheel_mu_x[i] *= f.wheel_mu_x[i];
-  for (std::size_t i = 0; i < g->wheel_mu_y.size() && i < f.wheel_mu_y.size(); ++i)
-    g->wheel_mu_y[i] *= f.wheel_mu_y[i];
 }
 
 }  // namespace
@@ -287,7 +285,7 @@ void ResolveVehicle(const params::ScenarioParams& spec, const std::string& base_
           ? params::VehicleParams{}
           : params::LoadPlainFile<params::VehicleParams>(ResolvePath(base_dir, spec.vehicle));
   *nominal = sc->vehicle;
-  ApplyGrip(spec.grip, &sc->vehicle.grip);
+  params::ScaleGrip(spec.grip, &sc->vehicle.grip);
   sc->vehicle.sensors.noise = sc->vehicle.sensors.noise || spec.sensor_noise;
   params::ValidateOrThrow(sc->vehicle, where + " (vehicle with the scenario's grip)");
 }

@@ -16,23 +16,15 @@
 #include <sstream>
 #include <string>
 
+#include "test/common/cli_run.h"
+
 namespace scw {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-  std::string all() const { return out + err; }
-};
-
-std::string Slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using Result = test::CliResult;
+using test::Slurp;
 
 class CliTest : public ::testing::Test {
  protected:
@@ -48,16 +40,7 @@ class CliTest : public ::testing::Test {
   std::string Path(const std::string& name) const { return (dir_ / name).string(); }
 
   /// Runs `scw args` (stdout and stderr into files: not a terminal).
-  Result Scw(const std::string& args) {
-    const std::string out = Path("stdout.txt"), err = Path("stderr.txt");
-    const std::string cmd = std::string(SCW_BIN) + " " + args + " > " + out + " 2> " + err;
-    const int rc = std::system(cmd.c_str());
-    Result r;
-    r.code = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-    r.out = Slurp(out);
-    r.err = Slurp(err);
-    return r;
-  }
+  Result Scw(const std::string& args) { return test::RunCli(SCW_BIN, args, dir_); }
 
   /// A one-scenario set of one lap (a few seconds per run).
   std::string TinySet() {

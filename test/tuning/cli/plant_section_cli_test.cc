@@ -12,29 +12,19 @@
 #include <sstream>
 #include <string>
 
+#include "test/common/cli_run.h"
+
 namespace scw {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Output {
-  int code = -1;
-  std::string out, err;
-};
+using Output = test::CliResult;
 
 Output Scw(const std::string& args) {
   const fs::path dir = fs::temp_directory_path() / ("scw_plant_cli_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  const std::string out = (dir / "out.txt").string(), err = (dir / "err.txt").string();
-  const int rc =
-      std::system((std::string(SCW_BIN) + " " + args + " > " + out + " 2> " + err).c_str());
-  auto slurp = [](const std::string& path) {
-    std::ifstream in(path);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-  };
-  Output r{WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, slurp(out), slurp(err)};
+  Output r = test::RunCli(SCW_BIN, args, dir);
   fs::remove_all(dir);
   return r;
 }

@@ -63,12 +63,6 @@ TEST(PlantEnvelope, ReferenceAtFullLimitsIsQuasiSteadyFeasible) {
   EXPECT_EQ(infeasible, 0) << "of " << checked << " reference points";
 }
 
-bool SameTable(const controller::planning::GgvTable& a, const controller::planning::GgvTable& b) {
-  return a.speed == b.speed && a.ay_max == b.ay_max && a.ax_drive_max == b.ax_drive_max &&
-         a.ax_brake_max == b.ax_brake_max && a.drive_exponent == b.drive_exponent &&
-         a.brake_exponent == b.brake_exponent;
-}
-
 bool SamePath(const controller::motion::Path& a, const controller::motion::Path& b) {
   if (a.size() != b.size() || a.length() != b.length()) return false;
   for (std::size_t i = 0; i < a.size(); ++i) {
@@ -88,7 +82,7 @@ TEST(PreparationCache, ScenariosWithTheSamePlannedVehicleShareTheTable) {
   const ResolvedScenario c =
       Resolve(DefaultScenario({"grip.mu=0.8", "plan_with_nominal_grip=true"}));
   for (const ResolvedScenario* r : {&b, &c}) {
-    EXPECT_TRUE(SameTable(r->ggv, a.ggv));
+    EXPECT_TRUE(r->ggv == a.ggv);
     EXPECT_TRUE(SamePath(*r->path, *a.path));
     EXPECT_EQ(r->ideal_lap_time, a.ideal_lap_time);
     EXPECT_EQ(r->limit_lap_time, a.limit_lap_time);
@@ -125,12 +119,12 @@ TEST(PreparationCache, ATrackIsBuiltOncePerNameOrFileContent) {
 TEST(PreparationCache, AnyOtherVehicleValueGetsItsOwnTable) {
   const ResolvedScenario base = Resolve(DefaultScenario());
   const ResolvedScenario wet = Resolve(DefaultScenario({"grip.mu=0.9"}));
-  EXPECT_FALSE(SameTable(wet.ggv, base.ggv));
+  EXPECT_FALSE(wet.ggv == base.ggv);
   EXPECT_GT(wet.ideal_lap_time, base.ideal_lap_time + 0.5);
   EXPECT_GT(wet.limit_lap_time, base.limit_lap_time + 0.5);
   const ResolvedScenario bias =
       Resolve(DefaultScenario({"motion.longitudinal.brake_bias_front=0.62"}));
-  EXPECT_FALSE(SameTable(bias.ggv, base.ggv));
+  EXPECT_FALSE(bias.ggv == base.ggv);
 }
 
 TEST(PreparationCache, ConcurrentResolutionGivesTheSerialResult) {
@@ -150,7 +144,7 @@ TEST(PreparationCache, ConcurrentResolutionGivesTheSerialResult) {
   const double limit = ComputeVelocityProfile(line, table, VelocityProfileOptions{}).lap_time;
   const ResolvedScenario serial = Resolve(spec);
   for (const ResolvedScenario& r : got) {
-    EXPECT_TRUE(SameTable(r.ggv, table));
+    EXPECT_TRUE(r.ggv == table);
     EXPECT_EQ(r.ideal_lap_time, ideal);
     EXPECT_EQ(r.limit_lap_time, limit);
     EXPECT_TRUE(SamePath(*r.path, *serial.path));
