@@ -4,8 +4,8 @@
 #   golden.sh record CASE SCW WORKDIR   rewrite the committed files (never in CI; state why in
 #                                       the commit message)
 # CASE: simulate (the default scenario, 3 laps: the trace's SHA-256 and the summary), tune (a
-# short fixed-seed tune on a small set: evaluations.csv and the tuned file below its provenance
-# header), sweep (a GG sweep with two configurations: the CSV), scenarios (the expansion of the
+# short fixed-seed tune on a small set with crs2+sbplx, the algorithm it was recorded with:
+# evaluations.csv and the tuned file below its provenance header), sweep (a GG sweep with two configurations: the CSV), scenarios (the expansion of the
 # shipped Monte-Carlo set params/scenarios/robust_set.yaml, `scw tune --print-scenarios`: its
 # SHA-256).
 # To regenerate all of them from the source root after a stated behaviour change:
@@ -51,8 +51,8 @@ case $test_case in
     settle trace.sha256 simulate_trace.sha256
     ;;
   tune)
-    "$scw" tune --scenarios "$here/golden_set.yaml" --max-evals 12 --seed 1 --threads 2 \
-      --no-sensitivity --progress never --out-dir out >out.txt 2>&1 ||
+    "$scw" tune --scenarios "$here/golden_set.yaml" --algorithm crs2+sbplx --max-evals 12 --seed 1 \
+      --threads 2 --no-sensitivity --progress never --out-dir out >out.txt 2>&1 ||
       fail "scw tune failed: $(cat out.txt)"
     grep -v '^#' out/stability_tuned.yaml >tuned_body.yaml
     settle out/evaluations.csv tune_evaluations.csv

@@ -40,10 +40,10 @@ std::atomic<bool> g_stop{false};
 extern "C" void OnSigint(int) { g_stop = true; }
 
 struct TuneOptions {
-  std::string space, scenarios, base, algorithm = "crs2+sbplx", out, resume, node;
+  std::string space, scenarios, base, algorithm = "sbplx", out, resume, node;
   std::string base_outside = "grow";
   bool force = false;  // --out-dir may name an existing folder
-  int max_evals = 180;
+  int max_evals = 240;
   double max_time = 0.0;  // opt-in: a wall-time limit makes the result depend on the machine
   double search_plant_step = tuning::kDefaultSearchPlantStep;  // [s], 0: the vehicles' own
   int threads = 0;
@@ -562,9 +562,12 @@ void AddTune(CLI::App& app) {
                   "or refuse (exit 2, naming the key)")
       ->check(CLI::IsMember({"grow", "refuse"}));
   cmd->add_option("--algorithm", o->algorithm,
-                  "Search algorithm: NLopt's crs2, isres, esch, direct_l, sbplx, neldermead, "
-                  "bobyqa, cobyla; lhs (a Latin-hypercube design, batched: see --batch); or A+B "
-                  "(global A, then local B)")
+                  "Search algorithm: NLopt's sbplx (Subplex from the base set: the default, "
+                  "chosen by experiments/tuning_benchmark.py, docs/tuning-benchmark.md), crs2, "
+                  "isres, esch, direct_l, mlsl, neldermead, bobyqa, cobyla; lhs (a "
+                  "Latin-hypercube design, batched: see --batch); or A+B (global A on 60 % of "
+                  "the budget, then local B from its best point). --seed matters only to the "
+                  "stochastic ones (crs2, isres, esch, lhs)")
       ->capture_default_str();
   WholeNumberIn(cmd->add_option("--batch", o->batch,
                                 "Candidates evaluated at once, with --algorithm lhs+sbplx (the "

@@ -88,9 +88,9 @@ inline constexpr const char* kOverridesParamsFile = "stability_overrides.yaml";
 
 struct TuneStudyOptions {
   // The search (scw tune's options of the same names).
-  std::string algorithm = "crs2+sbplx";  ///< see TunerOptions::algorithm
-  int batch = 1;                         ///< candidates per objective call ("lhs" algorithms)
-  int max_evals = 180;                   ///< evaluation budget
+  std::string algorithm = "sbplx";  ///< see TunerOptions::algorithm
+  int batch = 1;                    ///< candidates per objective call ("lhs" algorithms)
+  int max_evals = 240;              ///< evaluation budget (docs/tuning-benchmark.md)
   double max_time_s = 0.0;               ///< wall-time limit (0: none)
   unsigned long long seed = 1;
   int threads = 0;  ///< worker threads per process of every evaluator (0: all cores)

@@ -92,7 +92,7 @@ TEST_F(TuneCliTest, OneEvaluationExportsTheBaseSetWithProvenanceAndPassesTheChec
     EXPECT_EQ(text.rfind("# Tuned by scw tune ", 0), 0u) << text;
     for (const std::string& item :
          {std::string("(git "), "# run folder: " + run, "# base: " + shipped_,
-          std::string("# search: crs2+sbplx"), std::string("#   training (1 scenario): "),
+          std::string("# search: sbplx"), std::string("#   training (1 scenario): "),
           std::string("# changed keys: none")})
       EXPECT_NE(text.find(item), std::string::npos) << item << "\n" << text;
   }

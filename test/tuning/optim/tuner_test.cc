@@ -126,6 +126,7 @@ TEST(TunerTest, StopFlagKeepsBestAndResumeContinuesIdentically) {
 
 TEST(TunerTest, ResumeWithDifferentSeedIsRefused) {
   TunerOptions o;
+  o.algorithm = "crs2+sbplx";  // a stochastic one: the seed changes the run
   o.max_evals = 40;
   o.seed = 1;
   o.log_path = TempPath("scw_tuner_seed.csv");
@@ -140,6 +141,7 @@ TEST(TunerTest, ResumeWithDifferentSeedIsRefused) {
 // while replaying and leaves every byte as it was; verify_resume replays without writing at all.
 TEST(TunerTest, ADivergingResumeIntoTheLogItselfLeavesItByteIdentical) {
   TunerOptions o;
+  o.algorithm = "crs2+sbplx";  // a stochastic one: another seed diverges
   o.max_evals = 30;
   o.log_path = TempPath("scw_tuner_append.csv");
   std::atomic<bool> stop{false};
@@ -326,7 +328,7 @@ TEST(TunerBatchTest, OnlyTheBatchedDesignTakesMoreThanOneCandidate) {
   TunerOptions o;
   o.batch = 2;
   o.max_evals = 10;
-  EXPECT_THROW(Tune({0.5, 0.5}, Bowl, o), std::invalid_argument);  // crs2+sbplx
+  EXPECT_THROW(Tune({0.5, 0.5}, Bowl, o), std::invalid_argument);  // the default, sbplx
 }
 
 TEST(TunerBatchTest, SameLogForAnyNumberOfEvaluatorThreads) {
