@@ -91,7 +91,7 @@ struct TuneStudyOptions {
   std::string algorithm = "sbplx";  ///< see TunerOptions::algorithm
   int batch = 1;                    ///< candidates per objective call ("lhs" algorithms)
   int max_evals = 240;              ///< evaluation budget (docs/tuning-benchmark.md)
-  double max_time_s = 0.0;               ///< wall-time limit (0: none)
+  double max_time_s = 0.0;          ///< wall-time limit (0: none)
   unsigned long long seed = 1;
   int threads = 0;  ///< worker threads per process of every evaluator (0: all cores)
   BaseOutsideSpace base_outside = BaseOutsideSpace::kGrow;
