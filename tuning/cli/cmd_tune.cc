@@ -550,7 +550,7 @@ void AddTune(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "tune",
       "Tune the stability parameters on the scenario set (no arguments: the built-in "
-      "space and scenarios, about two minutes on 2 cores) and export the car's params files");
+      "space and scenarios, about three minutes on 2 cores) and export the car's params files");
   cmd->add_option("--space", o->space, "Search space file (params/spaces/*.yaml)");
   cmd->add_option("--scenarios", o->scenarios,
                   "Scenario set: a built-in name (default; robust: Monte-Carlo draws of the "
