@@ -13,7 +13,8 @@ The unknowns and their ranges (docs/plant-calibration.md, docs/scenarios.md `pla
   1.5;
 - yaw inertia × 0.8 / 1 / 1.2;
 - the GG resolution: the axis without (0.05) and with the bisected first abort (0.025);
-- pairwise: brake dead time {0, 40, 116 ms} × steering dead time {0, 30, 60 ms} (the heat map);
+- pairwise: brake dead time {0, 40, 116 ms, no brake dynamics} × steering dead time {0, 30, 60
+  ms} (the heat map);
 - for reference, the paper's simulator's actuators (plant.actuators=paper_sim).
 
 Every variant runs in a few `scw sweep` calls, the studies' configurations as named
@@ -60,8 +61,12 @@ FAMILIES = [
     ("falloff", "rear tyre force beyond the peak", ["plant.rear_tire_falloff=0,1.5"]),
     ("inertia", "yaw inertia", ["plant.yaw_inertia_scale=0.8,1.2"]),
     ("paper_sim", "the paper's simulator's actuators", ["plant.actuators=paper_sim"]),
-    ("no_brake_dyn", "no brake dynamics", None),
+    ("no_brake_dyn", "no brake dynamics × steering dead time",
+     [f"plant.steering_delay={','.join(map(str, STEERS))}"]),
 ]
+NO_DYN = "no brake dynamics (no dead time, 1 ms lag, 100 000 bar/s)"
+# the heat map's columns: the brake dead times at the fixed 150 ms response, then no dynamics
+COLUMNS = BRAKES + ["nodyn"]
 QUICK = [("brake_steer", "brake dead time (quick)", ["plant.brake_dead_time=0.0,0.116"])]
 
 
@@ -142,15 +147,15 @@ def heat_map(variants, path):
     claims = ("a", "b", "c", "d")
     fig, axes = plt.subplots(1, 4, figsize=(16, 4.2))
     for ax, k in zip(axes, claims):
-        grid = [[None] * len(BRAKES) for _ in STEERS]
+        grid = [[None] * len(COLUMNS) for _ in STEERS]
         for v in variants:
             key = v.get("grid")
             if key is None:
                 continue
-            i, j = STEERS.index(key[1]), BRAKES.index(key[0])
+            i, j = STEERS.index(key[1]), COLUMNS.index(key[0])
             grid[i][j] = v["claims"][k]
         for i in range(len(STEERS)):
-            for j in range(len(BRAKES)):
+            for j in range(len(COLUMNS)):
                 c = grid[i][j]
                 color = "#bbbbbb" if c is None else ("#7fc97f" if c["ok"] else "#f0a0a0")
                 ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1, color=color))
@@ -158,13 +163,13 @@ def heat_map(variants, path):
                     unit = " s" if k == "d" else ""
                     ax.text(j, i, f"{'holds' if c['ok'] else 'fails'}\n{c['margin']:+.3f}{unit}",
                             ha="center", va="center", fontsize=9)
-        ax.set_xlim(-0.5, len(BRAKES) - 0.5)
+        ax.set_xlim(-0.5, len(COLUMNS) - 0.5)
         ax.set_ylim(-0.5, len(STEERS) - 0.5)
-        ax.set_xticks(range(len(BRAKES)))
-        ax.set_xticklabels([f"{b * 1000:.0f}" for b in BRAKES])
+        ax.set_xticks(range(len(COLUMNS)))
+        ax.set_xticklabels([f"{b * 1000:.0f}" if b != "nodyn" else "none" for b in COLUMNS])
         ax.set_yticks(range(len(STEERS)))
         ax.set_yticklabels([f"{s * 1000:.0f}" for s in STEERS])
-        ax.set_xlabel("brake dead time [ms] (150 ms total)")
+        ax.set_xlabel("brake dead time [ms] (150 ms total; none: no brake dynamics)")
         if k == "a":
             ax.set_ylabel("steering dead time [ms]")
         ax.set_title(f"claim ({k}): margin = {MARGIN_NAMES[k]}", fontsize=9)
@@ -247,9 +252,9 @@ def main(argv=None):
         fams = [f for f in FAMILIES if f[0] in want]
     for tag, flabel, vary in fams:
         sets = list(base_sets)
-        if vary is None:
+        if tag == "no_brake_dyn":
             veh = no_brake_dynamics_vehicle(scw, os.path.join(out, "vehicle_no_brake_dyn.yaml"))
-            vary = [f"vehicle={veh}"]
+            sets.append(f"vehicle={veh}")
         keys = [v.split("=", 1)[0] for v in vary]
         csv_path = os.path.join(out, f"sweep_{tag}.csv")
         cmd = scwexp.mpc_sweep_cmd(scw, args, sets, [f"gg_scale={args.gg}"] + vary, configs,
@@ -276,14 +281,17 @@ def main(argv=None):
             vals = groups[int(i)][0]
             allrows.append(dict(r, config=name, **dict(zip(keys, vals))))
         for vals, by_cfg in split(allrows, keys).items():
-            lab = label_of(keys, vals) if tag != "no_brake_dyn" else \
-                "no brake dynamics (no dead time, 1 ms lag, 100 000 bar/s)"
+            lab = label_of(keys, vals)
+            if tag == "no_brake_dyn":
+                lab = NO_DYN + ("" if float(vals[0]) == 0.03 else ", " + lab)
             s1 = pack(by_cfg, names[:2])
             s2 = pack(by_cfg, names[2:])
             v = {"family": flabel, "label": lab, "claims": evaluate(s1, s2),
                  "series": {**s1, **s2}, "command": " ".join(cmd)}
-            if tag in ("brake_steer",) and len(keys) == 2:
+            if tag == "brake_steer" and len(keys) == 2:
                 v["grid"] = (float(vals[0]), float(vals[1]))
+            elif tag == "no_brake_dyn":
+                v["grid"] = ("nodyn", float(vals[0]))
             if tag == "brake_steer" and float(vals[0]) == 0.116 and \
                     (len(keys) == 1 or float(vals[1]) == 0.03):
                 base = (by_cfg, v)

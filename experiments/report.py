@@ -1117,8 +1117,58 @@ def goal_section(results, cols):
                         f"; the closest is {best['label']} (margin "
                         f"{best['claims'][k]['margin']:+.3f}; fails on: "
                         f"{', '.join(best['claims'][k]['failed'])})" if best else "") + ".")
+            if cm:
+                line += map_blockers(cm, k)
         out.append(line)
     return out + [""]
+
+
+def map_blockers(cm, k):
+    """What keeps claim k from holding over the whole claims map: how often each criterion item
+    fails, and for study 2 how ESC alone ends at `none`'s first-abort GG (a spin caught but the
+    line lost is a lateral error, not a sideslip)."""
+    vs = cm.get("variants", [])
+    if not vs:
+        return ""
+    count = {}
+    for v in vs:
+        for n, o, _ in v["claims"][k]["items"]:
+            if o is False:
+                count[n] = count.get(n, 0) + 1
+    if not count:
+        return ""
+    parts = [f"{n} fails in {c} of {len(vs)}" for n, c in
+             sorted(count.items(), key=lambda x: -x[1])[:3]]
+    text = f" Over the {len(vs)} variants of the map: " + "; ".join(parts) + "."
+    if k in ("b", "c"):
+        ends, where_s = {}, []
+        for v in vs:
+            esc, none = v["series"].get("esc"), v["series"].get("none")
+            if not esc or not none:
+                continue
+            r = run_at(esc, abort_gg(none))
+            st = r["status"] if r else "no run"
+            ends[st] = ends.get(st, 0) + 1
+            if st == "lateral_error" and r.get("end_s_m") is not None:
+                where_s.append(r["end_s_m"])
+        text += (" ESC alone at `none`'s first-abort GG: " + ", ".join(
+            f"{status_text(st)} in {c}" for st, c in sorted(ends.items(), key=lambda x: -x[1])))
+        if where_s:
+            text += (f" (the lateral errors at s = {min(where_s):.0f}–{max(where_s):.0f} m: "
+                     "the run ends on the 3 m line-error limit, not on |β| > 20°)")
+        text += "."
+    if k == "c":
+        both = [v["label"] for v in vs if all(
+            o for n, o, _ in v["claims"]["c"]["items"] if n.startswith("`esc+cs`"))]
+        text += (f" The ESC + CS half of the criterion holds in {len(both)} of {len(vs)}" +
+                 (f" ({'; '.join(both[:6])})" if both else "") + ".")
+    if k == "d":
+        acted = sum(1 for v in vs for n, o, _ in v["claims"]["d"]["items"]
+                    if n.startswith("ESC active") and o)
+        text += (f" ESC acts at the highest GG all four configurations complete in {acted} of "
+                 f"{len(vs)} variants: it intervenes only in runs that would otherwise be lost, "
+                 "so it costs no lap time where `none` also finishes.")
+    return text
 
 
 def cliff_mechanism(cols, everywhere):
