@@ -169,11 +169,12 @@ def heat_map(variants, path):
         ax.set_xticklabels([f"{b * 1000:.0f}" if b != "nodyn" else "none" for b in COLUMNS])
         ax.set_yticks(range(len(STEERS)))
         ax.set_yticklabels([f"{s * 1000:.0f}" for s in STEERS])
-        ax.set_xlabel("brake dead time [ms] (150 ms total; none: no brake dynamics)")
+        ax.set_xlabel("brake dead time [ms]")
         if k == "a":
             ax.set_ylabel("steering dead time [ms]")
         ax.set_title(f"claim ({k}): margin = {MARGIN_NAMES[k]}", fontsize=9)
-    fig.suptitle("Claims map: pass (green) / fail (red) with the margin, real car's actuators "
+    fig.suptitle("Claims map: pass (green) / fail (red) with the margin; brake dead time within "
+                 "the fixed 150 ms response, 'none': no brake dynamics; real car's actuators "
                  "otherwise (study 1 seed 1, study 2 rear μy 0.80)", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
