@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include "controller/motion/nlp_solver.h"
+
 namespace scw::controller::motion {
 
 Problems ValidateMpcInputs(const Path* path, const GgTable& limits, const Corridor& corridor) {
@@ -60,5 +62,47 @@ double SolveStats::Quantile(double q) const {
 }
 
 double SolveStats::Median() const { return Quantile(0.5); }
+
+double MeanCurvature(const Path& path, double s0, double s1) noexcept {
+  const double ds = s1 - s0;
+  if (ds < 0.5) return path.Sample(s0).kappa;
+  return WrapAngle(path.Sample(s1).psi - path.Sample(s0).psi) / ds;
+}
+
+MpcController::MpcController(GgTable limits, Corridor corridor, std::shared_ptr<const Path> path)
+    : limits_(std::move(limits)), corridor_(std::move(corridor)), path_(std::move(path)) {}
+
+double MpcController::CorridorLeft(double s) const noexcept {
+  return InterpolateStations(*path_, corridor_.left, s);
+}
+double MpcController::CorridorRight(double s) const noexcept {
+  return InterpolateStations(*path_, corridor_.right, s);
+}
+
+void MpcController::CorridorBounds(double s, double margin, double* lo, double* up) const noexcept {
+  *up = CorridorLeft(s) - margin;
+  *lo = -(CorridorRight(s) - margin);
+  if (*up < *lo) *up = *lo = 0.5 * (*up + *lo);
+}
+
+PathProjection MpcController::Locate(const MotionInput& in, double window, MotionState* st,
+                                     MotionOutput* out, PathPoint* ref) const noexcept {
+  const PathProjection here = MatchOnPath(*path_, in, window, st, out);
+  *ref = path_->Sample(here.s);
+  out->v_target = ref->v;
+  return here;
+}
+
+bool MpcController::TimedSolve(NlpSolver* solver, SparseNlp* nlp, MpcDiagnostics* d) {
+  NlpResult res;
+  {
+    ScopedSolveTimer timer(&d->solve_time);
+    res = solver->Solve(nlp);
+  }
+  ++d->solves;
+  d->iterations += res.iterations;
+  d->last_status = res.status;
+  return res.usable;
+}
 
 }  // namespace scw::controller::motion

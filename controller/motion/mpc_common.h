@@ -1,6 +1,8 @@
-// Shared pieces of the model-predictive motion controllers (point-mass tube MPC, single-track
-// NMPC): the planner's acceleration limits, the drivable corridor around the reference path, the
-// solve-time statistics and the plan shift used as warm start.
+// The wrapper the model-predictive motion controllers (point-mass tube MPC, single-track NMPC)
+// share: the planner's acceleration limits, the drivable corridor around the reference path, the
+// solve-time statistics, and the rules around a solve (MpcController, MpcState): a solve that
+// fails or throws keeps the previous plan (shifted in time) while it lasts; once it has run out
+// each controller's fallback law drives until a solve succeeds. Both are counted.
 //
 // Acceleration limits (GgTable): the velocity planner's own table and law (controller/planning/
 // ggv.h: drive and brake exponents per speed), already scaled (limit_fraction × GG × the plant's
@@ -16,6 +18,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "controller/motion/motion_controller.h"
 #include "controller/motion/path.h"
 #include "controller/planning/ggv.h"
 #include "params/schema/field.h"
@@ -85,6 +88,86 @@ struct MpcDiagnostics {
   std::int64_t fallback_steps = 0;  ///< steps driven by the fallback law (no usable plan left)
   std::int64_t iterations = 0;      ///< solver iterations, summed
   int last_status = 0;              ///< last Ipopt ApplicationReturnStatus
+};
+
+class NlpSolver;
+class SparseNlp;
+
+/// The state both MPCs share: the plan in use, the scratch plan (its shifted warm start) and the
+/// diagnostics. `Plan` has the members `t0` (time of node 0 [s]), `valid` and `Resize(n)` (sized
+/// for n intervals, not valid).
+template <class Plan>
+struct MpcState : MotionState {
+  explicit MpcState(int horizon_steps) {
+    plan.Resize(horizon_steps);
+    scratch.Resize(horizon_steps);
+  }
+  Plan plan;     ///< the plan in use
+  Plan scratch;  ///< the shifted warm start / linearisation trajectory
+  MpcDiagnostics diagnostics;
+};
+
+/// Mean curvature of `path` between the stations s0 ≤ s1 [1/m] (heading change over arc length;
+/// the curvature at s0 below 0.5 m).
+double MeanCurvature(const Path& path, double s0, double s1) noexcept;
+
+/// The wrapper both MPCs derive from: it holds the path, the planner's limits and the corridor,
+/// and runs the solve / hold-previous-plan / fallback rule around each controller's own solve.
+class MpcController : public MotionController {
+ public:
+  const GgTable& limits() const noexcept { return limits_; }
+  const Path& path() const noexcept { return *path_; }
+  /// Lateral room [m] left (> 0) and right (> 0) of the path at s (untightened).
+  double CorridorLeft(double s) const noexcept;
+  double CorridorRight(double s) const noexcept;
+
+ protected:
+  /// Stores the inputs; the derived constructor checks them with ValidateInputs (and its own).
+  MpcController(GgTable limits, Corridor corridor, std::shared_ptr<const Path> path);
+  /// ValidateMpcInputs of the stored inputs.
+  Problems ValidateInputs() const { return ValidateMpcInputs(path_.get(), limits_, corridor_); }
+
+  /// Bounds lo ≤ n ≤ up [m] of the lateral offset at s keeping `margin` off the corridor's edges
+  /// (both at the middle where the corridor is narrower than 2·margin).
+  void CorridorBounds(double s, double margin, double* lo, double* up) const noexcept;
+
+  /// Matches the vehicle on the path (MatchOnPath), samples the reference there into *ref and sets
+  /// out->v_target.
+  PathProjection Locate(const MotionInput& in, double window, MotionState* st, MotionOutput* out,
+                        PathPoint* ref) const noexcept;
+
+  /// One timed solver call on `nlp`, counted in d (solve time, solves, iterations, last status).
+  /// Returns whether the result is usable.
+  static bool TimedSolve(NlpSolver* solver, SparseNlp* nlp, MpcDiagnostics* d);
+
+  /// Runs `solve` (bool(), replaces the plan when it returns true). False or a throw counts as a
+  /// failure and keeps the previous plan, shifted in time by construction, until `hold` [s] after
+  /// its node 0; then the plan is dropped.
+  template <class Plan, class Solve>
+  static void SolveOrHold(double t, double hold, Plan* plan, MpcDiagnostics* d,
+                          Solve&& solve) noexcept {
+    bool ok = false;
+    try {
+      ok = solve();
+    } catch (...) {
+      ok = false;
+    }
+    if (ok) return;
+    ++d->failures;
+    if (plan->valid && t - plan->t0 >= hold) plan->valid = false;
+  }
+
+  /// Whether the plan drives this step; otherwise the fallback law does and the step is counted.
+  template <class Plan>
+  static bool FollowPlan(const Plan& plan, MpcDiagnostics* d) noexcept {
+    if (!plan.valid) ++d->fallback_steps;
+    return plan.valid;
+  }
+
+ private:
+  GgTable limits_;
+  Corridor corridor_;
+  std::shared_ptr<const Path> path_;
 };
 
 }  // namespace scw::controller::motion

@@ -496,20 +496,6 @@ struct SingleTrackMpc::Workspace final : SparseNlp {
 
 namespace {
 
-void ResizePlan(SingleTrackMpc::Plan* p, int n) {
-  p->x.assign(static_cast<std::size_t>((n + 1) * M::kNx), 0.0);
-  p->u.assign(static_cast<std::size_t>(n * M::kNu), 0.0);
-  p->s.assign(static_cast<std::size_t>(n + 1), 0.0);
-  p->kappa.assign(static_cast<std::size_t>(n), 0.0);
-  p->valid = false;
-}
-
-double MeanCurvature(const Path& path, double s0, double s1) {
-  const double ds = s1 - s0;
-  if (ds < 0.5) return path.Sample(s0).kappa;
-  return WrapAngle(path.Sample(s1).psi - path.Sample(s0).psi) / ds;
-}
-
 // Plan state i at time tau (linear between nodes, held outside).
 double StateAt(const SingleTrackMpc::Plan& p, int i, double tau, double dt) {
   const int nodes = static_cast<int>(p.s.size());
@@ -528,21 +514,24 @@ double InputAt(const SingleTrackMpc::Plan& p, int j, double tau, double dt) {
 
 }  // namespace
 
-SingleTrackMpc::State::State(const SingleTrackMpc& c)
-    : ws(std::make_unique<Workspace>(c.options_, c.model_)) {
-  ResizePlan(&plan, c.options_.horizon_steps);
-  ResizePlan(&scratch, c.options_.horizon_steps);
+void SingleTrackMpc::Plan::Resize(int steps) {
+  x.assign(static_cast<std::size_t>((steps + 1) * M::kNx), 0.0);
+  u.assign(static_cast<std::size_t>(steps * M::kNu), 0.0);
+  s.assign(static_cast<std::size_t>(steps + 1), 0.0);
+  kappa.assign(static_cast<std::size_t>(steps), 0.0);
+  valid = false;
 }
+
+SingleTrackMpc::State::State(const SingleTrackMpc& c)
+    : MpcState(c.options_.horizon_steps), ws(std::make_unique<Workspace>(c.options_, c.model_)) {}
 SingleTrackMpc::State::~State() = default;
 
 SingleTrackMpc::SingleTrackMpc(const NmpcOptions& options, const SingleTrackParams& model,
                                GgTable limits, Corridor corridor, std::shared_ptr<const Path> path)
-    : options_(options),
-      model_(model),
-      limits_(std::move(limits)),
-      corridor_(std::move(corridor)),
-      path_(std::move(path)) {
-  Problems pr = ValidateMpcInputs(path_.get(), limits_, corridor_);
+    : MpcController(std::move(limits), std::move(corridor), std::move(path)),
+      options_(options),
+      model_(model) {
+  Problems pr = ValidateInputs();
   const auto& o = options_;
   pr.Append(params::Validate(static_cast<const params::NmpcParams&>(o)));  // bounds
   const auto positive = [&pr](double v, const char* key) {
@@ -566,19 +555,12 @@ std::unique_ptr<MotionState> SingleTrackMpc::MakeState() const {
   return std::make_unique<State>(*this);
 }
 
-double SingleTrackMpc::CorridorLeft(double s) const noexcept {
-  return InterpolateStations(*path_, corridor_.left, s);
-}
-double SingleTrackMpc::CorridorRight(double s) const noexcept {
-  return InterpolateStations(*path_, corridor_.right, s);
-}
-
 bool SingleTrackMpc::Solve(const MotionInput& in, double s, const M::StateVec& x0,
                            State* st) const {
   const auto& o = options_;
   const int N = o.horizon_steps;
   const double dt = o.step;
-  const Path& path = *path_;
+  const Path& path = this->path();
   Workspace& ws = *st->ws;
   Plan& lin = st->scratch;
   const Plan& prev = st->plan;
@@ -600,8 +582,8 @@ bool SingleTrackMpc::Solve(const MotionInput& in, double s, const M::StateVec& x
       const PathPoint r0 = path.Sample(lin.s[K]);
       const double v = std::max(xk[M::kVx], o.min_speed);
       delta = std::atan(l * r0.kappa) + UndersteerGradient(model_, v) * r0.kappa * v * v;
-      a = std::clamp((path.Sample(lin.s[K] + v * dt).v - v) / dt, -limits_.AxBrakeMax(v),
-                     limits_.AxDriveMax(v));
+      a = std::clamp((path.Sample(lin.s[K] + v * dt).v - v) / dt, -limits().AxBrakeMax(v),
+                     limits().AxDriveMax(v));
     }
     delta = std::clamp(delta, -o.max_steering, o.max_steering);
     lin.u[K * M::kNu + M::kDelta] = delta;
@@ -647,9 +629,8 @@ bool SingleTrackMpc::Solve(const MotionInput& in, double s, const M::StateVec& x
       ws.zl[e] = 0.0;
       ws.qdiag[e] = o.slack_l2;
       ws.lin[e] = o.slack_l1;
-      double up = CorridorLeft(lin.s[K]) - o.margin;
-      double lo = -(CorridorRight(lin.s[K]) - o.margin);
-      if (up < lo) up = lo = 0.5 * (up + lo);
+      double lo = 0.0, up = 0.0;
+      CorridorBounds(lin.s[K], o.margin, &lo, &up);
       const auto row = static_cast<std::size_t>(ws.CorRow(k));
       ws.gu[row] = up;
       ws.gl[row + 1] = lo;
@@ -659,8 +640,8 @@ bool SingleTrackMpc::Solve(const MotionInput& in, double s, const M::StateVec& x
     if (k < N) {
       const double vb = std::max(lin.x[K * M::kNx + M::kVx], o.min_speed);
       ws.kappa[K] = lin.kappa[K];
-      ws.ax_lim[K] = o.accel_fraction * limits_.AxBrakeMax(vb);
-      ws.ay_lim[K] = o.accel_fraction * limits_.AyMax(vb);
+      ws.ax_lim[K] = o.accel_fraction * limits().AxBrakeMax(vb);
+      ws.ay_lim[K] = o.accel_fraction * limits().AyMax(vb);
       ws.gu[static_cast<std::size_t>(ws.EllRow(k))] = 1.0;
       const auto ud = zk + M::kNx + M::kDelta, ua = zk + M::kNx + M::kA;
       ws.z0[ud] = lin.u[K * M::kNu + M::kDelta];
@@ -668,7 +649,7 @@ bool SingleTrackMpc::Solve(const MotionInput& in, double s, const M::StateVec& x
       ws.zl[ud] = -o.max_steering;
       ws.zu[ud] = o.max_steering;
       ws.zl[ua] = -1.2 * ws.ax_lim[K];
-      ws.zu[ua] = std::max(o.accel_fraction * limits_.AxDriveMax(vb), 0.0);
+      ws.zu[ua] = std::max(o.accel_fraction * limits().AxDriveMax(vb), 0.0);
       ws.z0[ua] = std::clamp(ws.z0[ua], ws.zl[ua], ws.zu[ua]);
       ws.qdiag[ua] = o.r_a;
       ws.qref[ua] = path.Sample(lin.s[K]).a_x;
@@ -696,15 +677,7 @@ bool SingleTrackMpc::Solve(const MotionInput& in, double s, const M::StateVec& x
   }
 
   // 3. Solve.
-  NlpResult res;
-  {
-    ScopedSolveTimer timer(&st->diagnostics.solve_time);
-    res = ws.solver.Solve(&ws);
-  }
-  ++st->diagnostics.solves;
-  st->diagnostics.iterations += res.iterations;
-  st->diagnostics.last_status = res.status;
-  if (!res.usable) return false;
+  if (!TimedSolve(&ws.solver, &ws, &st->diagnostics)) return false;
   for (double v : ws.z)
     if (!std::isfinite(v)) return false;
 
@@ -735,30 +708,19 @@ bool SingleTrackMpc::Solve(const MotionInput& in, double s, const M::StateVec& x
 MotionOutput SingleTrackMpc::Step(const MotionInput& in, MotionState* base) const noexcept {
   auto* st = static_cast<State*>(base);
   const auto& o = options_;
-  const Path& path = *path_;
   MotionOutput out;
   const double v_x = std::isfinite(in.v_x) ? in.v_x : 0.0;
   const double v_y = std::isfinite(in.v_y) ? in.v_y : 0.0;
   const double r = std::isfinite(in.yaw_rate) ? in.yaw_rate : 0.0;
-  const PathProjection here = MatchOnPath(path, in, o.projection_window, st, &out);
-  const PathPoint ref = path.Sample(here.s);
-  out.v_target = ref.v;
+  PathPoint ref;
+  const PathProjection here = Locate(in, o.projection_window, st, &out, &ref);
 
   const M::StateVec x0(here.lateral_error, here.heading_error, std::max(v_x, o.min_speed), v_y, r);
-  bool ok = false;
-  try {
-    ok = Solve(in, here.s, x0, st);
-  } catch (...) {
-    ok = false;
-  }
-  if (!ok) {
-    ++st->diagnostics.failures;
-    if (st->plan.valid && in.t - st->plan.t0 >= (o.horizon_steps - 1) * o.step)
-      st->plan.valid = false;
-  }
+  SolveOrHold(in.t, (o.horizon_steps - 1) * o.step, &st->plan, &st->diagnostics,
+              [&] { return Solve(in, here.s, x0, st); });
 
   double delta = 0.0, a = 0.0;
-  if (st->plan.valid) {
+  if (FollowPlan(st->plan, &st->diagnostics)) {
     const Plan& p = st->plan;
     const double tau = in.t - p.t0;
     delta = InputAt(p, M::kDelta, tau, o.step);
@@ -772,10 +734,9 @@ MotionOutput SingleTrackMpc::Step(const MotionInput& in, MotionState* base) cons
     out.beta_request = std::atan2(x1[M::kVy], std::max(x1[M::kVx], 1.0));
   } else {
     // Fallback: pure-pursuit-like geometry on the reference with the speed profile.
-    ++st->diagnostics.fallback_steps;
     const double v = std::max(v_x, o.min_speed);
     const double look = std::max(o.fallback_min_lookahead, o.fallback_lookahead_time * v);
-    const PathPoint goal = path.Sample(here.s + look);
+    const PathPoint goal = path().Sample(here.s + look);
     const double dx = goal.x - in.x, dy = goal.y - in.y;
     const double d_lat = -std::sin(in.psi) * dx + std::cos(in.psi) * dy;
     const double kappa = 2.0 * d_lat / (look * look);

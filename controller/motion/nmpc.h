@@ -31,7 +31,7 @@
 // Outputs (every sample_time, one solve each): δ_req = δ_0, a_x,req = a_0, ESC targets from the
 // plan at node 1: a_y,req, ψ̇_req = r_1, β_req = atan(v_y,1/v_x,1). A failed solve uses the previous
 // plan shifted in time; once it runs out a pure-pursuit-like law on the reference takes over until
-// a solve succeeds. Both are counted in the diagnostics.
+// a solve succeeds. Both are counted in the diagnostics (the shared MPC wrapper, mpc_common.h).
 #pragma once
 
 #include <Eigen/Core>
@@ -100,7 +100,7 @@ struct NmpcOptions : params::NmpcParams {
   double max_steering = 0.3;  ///< [rad] (the vehicle's)
 };
 
-class SingleTrackMpc final : public MotionController {
+class SingleTrackMpc final : public MpcController {
  public:
   struct Workspace;
   struct Plan {
@@ -110,12 +110,11 @@ class SingleTrackMpc final : public MotionController {
     std::vector<double> kappa;  ///< N frozen curvatures [1/m]
     double t0 = 0.0;
     bool valid = false;
+    void Resize(int steps);  ///< N = steps, zeros, not valid
   };
-  struct State : MotionState {
+  struct State : MpcState<Plan> {
     explicit State(const SingleTrackMpc& c);
     ~State() override;
-    Plan plan, scratch;
-    MpcDiagnostics diagnostics;
     double prev_delta = 0.0, prev_a = 0.0;  ///< inputs applied last [rad, m/s²]
     std::unique_ptr<Workspace> ws;
   };
@@ -133,18 +132,12 @@ class SingleTrackMpc final : public MotionController {
 
   const NmpcOptions& options() const noexcept { return options_; }
   const SingleTrackParams& model() const noexcept { return model_; }
-  const GgTable& limits() const noexcept { return limits_; }
-  double CorridorLeft(double s) const noexcept;
-  double CorridorRight(double s) const noexcept;
 
  private:
   bool Solve(const MotionInput& in, double s, const SingleTrackModel::StateVec& x0,
              State* st) const;
   NmpcOptions options_;
   SingleTrackParams model_;
-  GgTable limits_;
-  Corridor corridor_;
-  std::shared_ptr<const Path> path_;
 };
 
 }  // namespace scw::controller::motion

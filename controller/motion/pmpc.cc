@@ -219,18 +219,6 @@ struct PointMassMpc::Workspace final : SparseNlp {
 
 namespace {
 
-void ResizePlan(PointMassMpc::Plan* p, int n) {
-  const auto nodes = static_cast<std::size_t>(n + 1), steps = static_cast<std::size_t>(n);
-  p->n.assign(nodes, 0.0);
-  p->w.assign(nodes, 0.0);
-  p->v.assign(nodes, 0.0);
-  p->s.assign(nodes, 0.0);
-  p->at.assign(steps, 0.0);
-  p->an.assign(steps, 0.0);
-  p->kappa.assign(steps, 0.0);
-  p->valid = false;
-}
-
 // Linear interpolation of node values at time tau after node 0 (held outside).
 double NodeAt(const std::vector<double>& v, double tau, double dt) {
   const double x = tau / dt;
@@ -250,29 +238,24 @@ double IntervalAt(const std::vector<double>& u, double tau, double dt) {
   return u[i];
 }
 
-// Mean curvature of the path between s0 and s1 (heading change over arc length).
-double MeanCurvature(const Path& path, double s0, double s1) {
-  const double ds = s1 - s0;
-  if (ds < 0.5) return path.Sample(s0).kappa;
-  return WrapAngle(path.Sample(s1).psi - path.Sample(s0).psi) / ds;
-}
-
 }  // namespace
 
-PointMassMpc::State::State(const PointMassMpc& c)
-    : ws(std::make_unique<Workspace>(c.options_, static_cast<int>(kPolygonSides))) {
-  ResizePlan(&plan, c.options_.horizon_steps);
-  ResizePlan(&scratch, c.options_.horizon_steps);
+void PointMassMpc::Plan::Resize(int steps) {
+  const auto nodes = static_cast<std::size_t>(steps + 1), ints = static_cast<std::size_t>(steps);
+  for (auto* x : {&n, &w, &v, &s}) x->assign(nodes, 0.0);
+  for (auto* x : {&at, &an, &kappa}) x->assign(ints, 0.0);
+  valid = false;
 }
+
+PointMassMpc::State::State(const PointMassMpc& c)
+    : MpcState(c.options_.horizon_steps),
+      ws(std::make_unique<Workspace>(c.options_, static_cast<int>(kPolygonSides))) {}
 PointMassMpc::State::~State() = default;
 
 PointMassMpc::PointMassMpc(const PmpcOptions& options, GgTable limits, Corridor corridor,
                            std::shared_ptr<const Path> path)
-    : options_(options),
-      limits_(std::move(limits)),
-      corridor_(std::move(corridor)),
-      path_(std::move(path)) {
-  Problems pr = ValidateMpcInputs(path_.get(), limits_, corridor_);
+    : MpcController(std::move(limits), std::move(corridor), std::move(path)), options_(options) {
+  Problems pr = ValidateInputs();
   const auto& o = options_;
   pr.Append(params::Validate(static_cast<const params::PmpcParams&>(o)));  // bounds, cross-checks
   const auto positive = [&pr](double v, const char* key) {
@@ -314,19 +297,12 @@ std::unique_ptr<MotionState> PointMassMpc::MakeState() const {
   return std::make_unique<State>(*this);
 }
 
-double PointMassMpc::CorridorLeft(double s) const noexcept {
-  return InterpolateStations(*path_, corridor_.left, s);
-}
-double PointMassMpc::CorridorRight(double s) const noexcept {
-  return InterpolateStations(*path_, corridor_.right, s);
-}
-
 bool PointMassMpc::Solve(const MotionInput& in, double s, double n, double w, double v,
                          State* st) const {
   const auto& o = options_;
   const int N = o.horizon_steps;
   const double dt = o.step;
-  const Path& path = *path_;
+  const Path& path = this->path();
   Workspace& ws = *st->ws;
   Plan& lin = st->scratch;
   const Plan& prev = st->plan;
@@ -398,9 +374,8 @@ bool PointMassMpc::Solve(const MotionInput& in, double s, double n, double w, do
   }
   for (int k = 1; k <= N; ++k) {
     const auto K = static_cast<std::size_t>(k);
-    double up = CorridorLeft(lin.s[K]) - o.tube_lateral;
-    double lo = -(CorridorRight(lin.s[K]) - o.tube_lateral);
-    if (up < lo) up = lo = 0.5 * (up + lo);
+    double lo = 0.0, up = 0.0;
+    CorridorBounds(lin.s[K], o.tube_lateral, &lo, &up);
     const auto row = static_cast<std::size_t>(3 * N + 2 * (k - 1));
     ws.jv[e++] = 1.0;
     ws.jv[e++] = -1.0;
@@ -428,12 +403,12 @@ bool PointMassMpc::Solve(const MotionInput& in, double s, double n, double w, do
   for (int k = 0; k < N; ++k) {
     const auto K = static_cast<std::size_t>(k);
     const double vb = lin.v[K];
-    const double ay = o.nominal_fraction * limits_.AyMax(vb);
-    const double ad = std::max(o.nominal_fraction * limits_.AxDriveMax(vb), 0.05);
-    const double ab = o.nominal_fraction * limits_.AxBrakeMax(vb);
+    const double ay = o.nominal_fraction * limits().AyMax(vb);
+    const double ad = std::max(o.nominal_fraction * limits().AxDriveMax(vb), 0.05);
+    const double ab = o.nominal_fraction * limits().AxBrakeMax(vb);
     const std::size_t S = kPolygonSides;
-    const std::size_t base[2] = {PolygonBase(limits_.DriveExponent(vb)),
-                                 PolygonBase(limits_.BrakeExponent(vb))};
+    const std::size_t base[2] = {PolygonBase(limits().DriveExponent(vb)),
+                                 PolygonBase(limits().BrakeExponent(vb))};
     for (int side = 0; side < 2; ++side)
       for (std::size_t j = 0; j < S; ++j)
         for (int sg = 0; sg < 2; ++sg) {
@@ -481,15 +456,7 @@ bool PointMassMpc::Solve(const MotionInput& in, double s, double n, double w, do
 
   // 3. Solve (warm-started from the multipliers of the plan in use when it is shifted).
   ws.mult_shift = shift ? tau / dt : -1.0;
-  NlpResult res;
-  {
-    ScopedSolveTimer timer(&st->diagnostics.solve_time);
-    res = ws.solver.Solve(&ws);
-  }
-  ++st->diagnostics.solves;
-  st->diagnostics.iterations += res.iterations;
-  st->diagnostics.last_status = res.status;
-  if (!res.usable) return false;
+  if (!TimedSolve(&ws.solver, &ws, &st->diagnostics)) return false;
 
   // 4. The new plan.
   Plan& p = st->plan;
@@ -522,13 +489,11 @@ bool PointMassMpc::Solve(const MotionInput& in, double s, double n, double w, do
 MotionOutput PointMassMpc::Step(const MotionInput& in, MotionState* base) const noexcept {
   auto* st = static_cast<State*>(base);
   const auto& o = options_;
-  const Path& path = *path_;
   MotionOutput out;
   const double v_x = std::isfinite(in.v_x) ? in.v_x : 0.0;
   const double v_y = std::isfinite(in.v_y) ? in.v_y : 0.0;
-  const PathProjection here = MatchOnPath(path, in, o.projection_window, st, &out);
-  const PathPoint ref = path.Sample(here.s);
-  out.v_target = ref.v;
+  PathPoint ref;
+  const PathProjection here = Locate(in, o.projection_window, st, &out, &ref);
 
   const double beta = std::atan2(v_y, std::max(std::abs(v_x), 1.0));
   const double xi = WrapAngle(here.heading_error + beta);
@@ -537,23 +502,13 @@ MotionOutput PointMassMpc::Step(const MotionInput& in, MotionState* base) const 
 
   if (!st->plan.valid || in.t - st->last_solve_t >= o.solve_period - 1e-9) {
     st->last_solve_t = in.t;
-    bool ok = false;
-    try {
-      ok = Solve(in, here.s, n, v * std::sin(xi), v * std::cos(xi), st);
-    } catch (...) {
-      ok = false;
-    }
-    if (!ok) {
-      ++st->diagnostics.failures;
-      // Keep the previous plan (it is shifted in time by construction) while it lasts.
-      if (st->plan.valid && in.t - st->plan.t0 >= o.horizon_steps * o.step - o.step)
-        st->plan.valid = false;
-    }
+    SolveOrHold(in.t, o.horizon_steps * o.step - o.step, &st->plan, &st->diagnostics,
+                [&] { return Solve(in, here.s, n, v * std::sin(xi), v * std::cos(xi), st); });
   }
 
   // Nominal state and input at this time: the plan, or the reference (fallback).
   double n_nom = 0.0, xi_nom = 0.0, v_nom = ref.v, at_nom = ref.a_x, an_nom = ref.kappa * v * v;
-  if (st->plan.valid) {
+  if (FollowPlan(st->plan, &st->diagnostics)) {
     const Plan& p = st->plan;
     const double tau = in.t - p.t0;
     n_nom = NodeAt(p.n, tau, o.step);
@@ -561,22 +516,20 @@ MotionOutput PointMassMpc::Step(const MotionInput& in, MotionState* base) const 
     xi_nom = std::asin(std::clamp(NodeAt(p.w, tau, o.step) / std::max(v_nom, 1.0), -1.0, 1.0));
     at_nom = IntervalAt(p.at, tau, o.step);
     an_nom = IntervalAt(p.an, tau, o.step);
-  } else {
-    ++st->diagnostics.fallback_steps;
   }
 
   // Ancillary feedback: return to the nominal within the lookahead distance.
   const double e_n = n - n_nom, e_xi = WrapAngle(xi - xi_nom);
   const double look = std::max(o.min_lookahead, o.lookahead_time * v);
-  const double ay_cap = o.headroom * limits_.AyMax(v);
+  const double ay_cap = o.headroom * limits().AyMax(v);
   const double an_cmd =
       std::clamp(an_nom - 2.0 * v * v * (e_n + look * e_xi) / (look * look), -ay_cap, ay_cap);
   double delta = std::atan(o.wheelbase * an_cmd / (v * v)) + o.understeer_gradient * an_cmd;
   if (!std::isfinite(delta)) delta = 0.0;
   out.steering_request = std::clamp(delta, -o.max_steering, o.max_steering);
   double ax = at_nom + o.speed_gain * (v_nom - v);
-  ax = std::clamp(ax, -o.headroom * limits_.AxBrakeMax(v),
-                  std::max(o.headroom * limits_.AxDriveMax(v), 0.5));
+  ax = std::clamp(ax, -o.headroom * limits().AxBrakeMax(v),
+                  std::max(o.headroom * limits().AxDriveMax(v), 0.5));
   out.ax_request = std::isfinite(ax) ? ax : 0.0;
   out.ay_request = std::isfinite(an_nom) ? an_nom : 0.0;
   return out;

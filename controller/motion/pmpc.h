@@ -28,7 +28,8 @@
 //   δ = atan(l·a_n,cmd/v²) + K_us·a_n,cmd,  a_x,req = ā_t(τ) + k_v (v̄(τ) − v),
 //   ESC target a_y,req = ā_n(τ) (the plan's lateral acceleration).
 // A failed solve uses the previous plan shifted in time; once it runs out (horizon) a
-// pure-pursuit-like law on the reference takes over until a solve succeeds. Both are counted.
+// pure-pursuit-like law on the reference takes over until a solve succeeds. Both are counted
+// (the shared MPC wrapper, mpc_common.h).
 //
 // Solver: Ipopt told what the problem is — a convex QP (constant Jacobian and Hessian, evaluated
 // once per solve), factorised with the quasi-definite LDLᵀ instead of MUMPS (nlp_solver.h; MUMPS
@@ -73,7 +74,7 @@ struct PmpcOptions : params::PmpcParams {
   bool warm_start = true;  ///< start from the shifted multipliers of the plan in use
 };
 
-class PointMassMpc final : public MotionController {
+class PointMassMpc final : public MpcController {
  public:
   struct Workspace;
   /// The current plan: nodes k = 0..N of the state and intervals k = 0..N−1 of the input.
@@ -83,13 +84,11 @@ class PointMassMpc final : public MotionController {
     std::vector<double> kappa;       ///< N curvature used per interval [1/m]
     double t0 = 0.0;                 ///< time of node 0 [s]
     bool valid = false;
+    void Resize(int steps);  ///< N = steps, zeros, not valid
   };
-  struct State : MotionState {
+  struct State : MpcState<Plan> {
     explicit State(const PointMassMpc& c);
     ~State() override;
-    Plan plan;     ///< the plan in use
-    Plan scratch;  ///< the shifted warm start
-    MpcDiagnostics diagnostics;
     double last_solve_t = -1e300;
     double prev_at = 0.0, prev_an = 0.0;  ///< inputs applied at the last solve [m/s²]
     std::unique_ptr<Workspace> ws;
@@ -107,11 +106,6 @@ class PointMassMpc final : public MotionController {
   MotionOutput Step(const MotionInput& in, MotionState* state) const noexcept override;
 
   const PmpcOptions& options() const noexcept { return options_; }
-  const GgTable& limits() const noexcept { return limits_; }
-  const Path& path() const noexcept { return *path_; }
-  /// Lateral room [m] left (> 0) and right (> 0) of the path at s (untightened).
-  double CorridorLeft(double s) const noexcept;
-  double CorridorRight(double s) const noexcept;
   /// The inscribed g-g polygon in normalised coordinates (x = a_t/a_lim, r = |a_n|/ay_max):
   /// x ≤ c_j + m_j r for the segments j (same for drive and brake, m_j ≤ 0).
   /// Index of the first side of the inscribed polygon used for exponent p in the slope/offset
@@ -121,9 +115,6 @@ class PointMassMpc final : public MotionController {
  private:
   bool Solve(const MotionInput& in, double s, double n, double w, double v, State* st) const;
   PmpcOptions options_;
-  GgTable limits_;
-  Corridor corridor_;
-  std::shared_ptr<const Path> path_;
   std::vector<double> slope_, offset_;
 };
 

@@ -245,6 +245,73 @@ const std::vector<double>* CsvTable::Column(const std::string& name) const {
   return nullptr;
 }
 
+CsvLog::CsvLog(std::string path, Open how, const std::vector<std::string>& header, std::string what)
+    : path_(std::move(path)), what_(std::move(what)), columns_(header.size()) {
+  if (how == Open::kAppend) {
+    std::error_code ec;
+    bytes_ = std::filesystem::file_size(path_, ec);
+    if (ec) throw std::runtime_error("cannot read the size of " + what_ + " " + path_);
+    file_.open(path_, std::ios::app | std::ios::binary);
+    if (!file_) throw std::runtime_error("cannot append to " + what_ + " " + path_);
+    return;
+  }
+  file_.open(path_, std::ios::trunc | std::ios::binary);
+  if (!file_) throw std::runtime_error("cannot write " + what_ + " " + path_);
+  const std::string head = CsvRecord(header) + '\n';
+  file_ << head << std::flush;
+  if (!file_) throw std::runtime_error("cannot write " + what_ + " " + path_);
+  bytes_ = head.size();
+}
+
+bool CsvLog::Write(const std::vector<std::string>& row) {
+  if (row.size() != columns_)
+    throw std::logic_error(path_ + ": a row of " + std::to_string(row.size()) + " cells under " +
+                           std::to_string(columns_) + " columns");
+  if (!file_.is_open()) return false;
+  const std::string line = CsvRecord(row) + '\n';
+  file_ << line << std::flush;
+  if (!file_) {
+    // Disk full or similar: cut the log back to its last whole row, so that it stays a valid CSV
+    // that can be continued.
+    file_.close();
+    std::error_code ec;
+    std::filesystem::resize_file(path_, bytes_, ec);
+    error_ = "writing " + what_ + " " + path_ + " failed";
+    return false;
+  }
+  bytes_ += line.size();
+  return true;
+}
+
+void CsvLog::Close() {
+  if (file_.is_open()) file_.close();
+}
+
+CsvRowReader::CsvRowReader(const std::string& path) : file_(path, std::ios::binary) {
+  if (!file_) return;
+  {
+    std::ifstream tail(path, std::ios::binary | std::ios::ate);
+    const auto size = static_cast<long long>(tail.tellg());
+    char last = '\n';
+    if (size > 0) {
+      tail.seekg(size - 1);
+      tail.get(last);
+    }
+    ends_with_line_break_ = last == '\n';
+  }
+  std::getline(file_, header_);
+}
+
+CsvRowReader::Row CsvRowReader::Next(std::vector<std::string>* cells) {
+  if (!file_.is_open() || !std::getline(file_, line_) || line_.empty()) return Row::kEnd;
+  try {
+    SplitCsvLine(line_, cells, false);
+  } catch (const std::invalid_argument&) {
+    return Row::kMalformed;
+  }
+  return Row::kCells;
+}
+
 CsvTable ReadCsvTable(const std::string& path, const std::vector<std::string>& required,
                       const std::vector<std::string>& optional) {
   std::error_code ec;

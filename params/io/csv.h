@@ -11,13 +11,19 @@
 // Writing: CsvWriter streams rows through io::AtomicWriter (params/io/atomic_file.h): a regular
 // target appears whole at Commit() or not at all, a device, FIFO or `-` is written directly.
 // Numbers are written with the shortest round-trip text (bit-exact when read back), NaN as `nan`.
+// CsvLog is the one exception to "whole or not at all": an append-only log (a tune's evaluation
+// log) whose rows must survive an interrupted run, so each row is flushed as it is written and a
+// row that does not fit is cut off again (the file always holds whole rows).
 //
 // Reading: ParseCsv (whole text, quoted fields may span lines), SplitCsvLine (one line, for
-// streaming readers) and ReadCsvTable (numeric columns by name from a file with a header, comment
-// and blank lines) share one tokenizer. Blank = ' ', '\t', '\r' (params/io/text.h).
+// streaming readers), CsvRowReader (a log row by row, as it is replayed) and ReadCsvTable (numeric
+// columns by name from a file with a header, comment and blank lines) share one tokenizer.
+// Blank = ' ', '\t', '\r' (params/io/text.h).
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -86,8 +92,66 @@ class CsvWriter {
   std::string row_;
 };
 
+/// An append-only CSV log (see the file comment): rows reach the file one by one, each flushed,
+/// and a row that cannot be written whole is cut off again, so the file stays a valid CSV that a
+/// reader (CsvRowReader) can continue from. Messages name the log as `what` (e.g. "the
+/// evaluation log") and its path. Not thread-safe.
+class CsvLog {
+ public:
+  enum class Open {
+    kCreate,  ///< create or truncate the file and write the header
+    kAppend,  ///< append after the rows already there (the caller has checked its header)
+  };
+  /// Throws std::runtime_error `cannot write <what> <path>` (kCreate), `cannot append to <what>
+  /// <path>` or `cannot read the size of <what> <path>` (kAppend).
+  CsvLog(std::string path, Open how, const std::vector<std::string>& header, std::string what);
+  CsvLog(const CsvLog&) = delete;
+  CsvLog& operator=(const CsvLog&) = delete;
+
+  /// Writes one record and flushes it. Throws std::logic_error when the row does not have as many
+  /// cells as the header (a bug in the caller). On a write error (disk full, …) the file is cut
+  /// back to its last whole row and closed, error() says `writing <what> <path> failed`, and the
+  /// result is false; every later call returns false.
+  bool Write(const std::vector<std::string>& row);
+  bool is_open() const { return file_.is_open(); }
+  const std::string& error() const { return error_; }
+  void Close();
+
+ private:
+  std::string path_, what_, error_;
+  std::ofstream file_;
+  std::size_t columns_ = 0;
+  std::uintmax_t bytes_ = 0;  ///< size of the whole rows written so far
+};
+
 // ---------------------------------------------------------------------------------------------
 // Reading
+
+/// A CSV file read record by record (memory stays flat), for a log replayed as it is consumed.
+/// One record per line (a quoted field cannot span lines here). Opening never throws: is_open()
+/// says whether the file could be read.
+class CsvRowReader {
+ public:
+  enum class Row {
+    kEnd,        ///< no more records (end of file or an empty line)
+    kCells,      ///< *cells holds the next record's unquoted, untrimmed fields
+    kMalformed,  ///< the next line is no valid record (SplitCsvLine refused it)
+  };
+  explicit CsvRowReader(const std::string& path);
+  bool is_open() const { return file_.is_open(); }
+  /// The first line of the file as written (without its line break): the header.
+  const std::string& header_line() const { return header_; }
+  /// Whether the file ends with a line break (false for a file cut inside a row; true if empty).
+  bool ends_with_line_break() const { return ends_with_line_break_; }
+  /// Reads the next record (the line after the previous one).
+  Row Next(std::vector<std::string>* cells);
+  void Close() { file_.close(); }
+
+ private:
+  std::ifstream file_;
+  std::string header_, line_;
+  bool ends_with_line_break_ = true;
+};
 
 /// Splits CSV text into records of unquoted fields. Quoted fields may hold commas, doubled
 /// quotes and line breaks; a final line end is optional; a trailing empty line is no record.

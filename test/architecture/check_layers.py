@@ -39,6 +39,12 @@ RULES = [
 IO_FILES = ('params/io/atomic_file', 'params/io/csv', 'params/io/text', 'params/io/sha256',
             'params/io/suggest', 'params/io/test_fault')
 IO_RULES = [YAML, (r'"params/io/(load|write|yaml_doc|docs|ros2_check|stability_lint)\.h"', 'scw::io is below scw::params')]
+# Drawing is the CLI's (tuning/cli/python_script.cc runs the plot scripts): outside tuning/cli no
+# source starts a process that runs Python, and no plot script lives there. Starting processes as
+# such is allowed (the sweep's workers are `scw` itself).
+SPAWN_CALL = re.compile(r'\b(posix_spawnp?|popen|system|fork|vfork|exec[lv]p?e?)\s*\(')
+PYTHON = re.compile(r'python|matplotlib|\.py\b', re.I)
+DRAWING_HOME = 'tuning/cli/'
 # Calls that open files, forbidden in the models whatever the include.
 OPEN_CALL = re.compile(r'\b(fopen|freopen|std::ifstream|std::ofstream|std::fstream|::open\s*\()')
 LIBRARY_FOLDERS = ('controller', 'plant', 'params', 'tuning')
@@ -49,7 +55,7 @@ def sources(root):
     for top in LIBRARY_FOLDERS:
         for d, _, files in os.walk(os.path.join(root, top)):
             for f in sorted(files):
-                if f.endswith(('.h', '.cc', '.in')):
+                if f.endswith(('.h', '.cc', '.in', '.py')):
                     p = os.path.join(d, f)
                     yield os.path.relpath(p, root).replace(os.sep, '/'), p
 
@@ -62,6 +68,11 @@ def strip_comments(text):
 def check(root):
     problems = []
     for rel, path in sources(root):
+        if rel.endswith('.py'):
+            if not rel.startswith(DRAWING_HOME):
+                problems.append(f'{rel}: a script in a library: libraries never draw (plot scripts '
+                                f'belong to {DRAWING_HOME})')
+            continue
         text = open(path, encoding='utf-8', errors='replace').read()
         code = strip_comments(text)
         includes = INCLUDE.findall(text)
@@ -72,6 +83,9 @@ def check(root):
             for inc in includes:
                 if re.search(pattern, inc):
                     problems.append(f'{rel}: includes {inc}: {why}')
+        if not rel.startswith(DRAWING_HOME) and SPAWN_CALL.search(code) and PYTHON.search(code):
+            problems.append(f'{rel}: spawns a process to draw ({SPAWN_CALL.search(code).group(0)} '
+                            f'and Python): libraries never draw, {DRAWING_HOME} does')
         if rel.startswith(('plant/', 'controller/')) and OPEN_CALL.search(code):
             problems.append(f'{rel}: opens a file ({OPEN_CALL.search(code).group(0)}): models open no files')
     # Every library .cc is named in a CMakeLists.txt of its folder or a parent, and no library
@@ -157,6 +171,12 @@ def self_test():
         'tuning/optim/CMakeLists.txt': 'file(GLOB X *.cc)\n',
         'experiments/a.py': 'import b\n',
         'experiments/b.py': 'def f():\n    import a\n',
+        'tuning/optim/bad_plot.cc': 'void F() { popen("python3 - plots.py", "w"); }\n',
+        'tuning/optim/plots.py': 'import matplotlib\n',
+        # Allowed: the CLI runs Python; a library starts `scw` workers.
+        'tuning/cli/draw.cc': 'void F() { posix_spawnp(0, "python3", 0, 0, 0, 0); }\n',
+        'tuning/cli/draw.py': 'import matplotlib\n',
+        'tuning/sim/workers.cc': 'void F() { posix_spawn(0, "scw", 0, 0, 0, 0); }\n',
     }
     with tempfile.TemporaryDirectory() as root:
         for rel, text in planted.items():
@@ -173,11 +193,17 @@ def self_test():
                 'tuning/sim/bad.cc: includes "tuning/optim/tuner.h"',
                 'tuning/optim/CMakeLists.txt: globs its sources',
                 'tuning/sim/bad.cc: not listed',
-                'experiments/: import cycle a -> b -> a']
+                'experiments/: import cycle a -> b -> a',
+                'tuning/optim/bad_plot.cc: spawns a process to draw',
+                'tuning/optim/plots.py: a script in a library']
+    allowed = ['tuning/cli/draw.cc', 'tuning/cli/draw.py', 'tuning/sim/workers.cc']
     missing = [e for e in expected if not any(f.startswith(e) for f in found)]
     for e in missing:
         print(f'self-test: the planted violation "{e}" was not reported')
-    return 1 if missing else 0
+    wrong = [f for f in found if f.startswith(tuple(allowed))]
+    for f in wrong:
+        print(f'self-test: an allowed planted file was reported: {f}')
+    return 1 if missing or wrong else 0
 
 
 def main():

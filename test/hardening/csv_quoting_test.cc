@@ -94,5 +94,45 @@ TEST_F(CsvQuotingTest, ParserAcceptsCrLfAndRefusesBrokenQuoting) {
   EXPECT_THROW(io::ParseCsv("\"closed\"tail,b\n"), std::invalid_argument);
 }
 
+// The append-only log (a tune's evaluation log) and its row reader: rows are quoted like every
+// other CSV, appending keeps the rows already there byte for byte, the reader gives the header as
+// written, whole rows, a malformed row as such, and says whether the file ends inside a row.
+TEST_F(CsvQuotingTest, AnAppendedLogReadsBackRowByRow) {
+  const std::string path = (dir_ / "log.csv").string();
+  {
+    io::CsvLog log(path, io::CsvLog::Open::kCreate, {"eval", "status"}, "the test log");
+    ASSERT_TRUE(log.Write({"0", "ok"}));
+    EXPECT_THROW(log.Write({"1"}), std::logic_error);
+  }
+  {
+    io::CsvLog log(path, io::CsvLog::Open::kAppend, {"eval", "status"}, "the test log");
+    ASSERT_TRUE(log.Write({"1", "late, 2 s"}));
+  }
+  EXPECT_EQ(params::ReadTextFile(path), "eval,status\n0,ok\n1,\"late, 2 s\"\n");
+  io::CsvRowReader in(path);
+  ASSERT_TRUE(in.is_open());
+  EXPECT_EQ(in.header_line(), "eval,status");
+  EXPECT_TRUE(in.ends_with_line_break());
+  std::vector<std::string> cells;
+  ASSERT_EQ(in.Next(&cells), io::CsvRowReader::Row::kCells);
+  EXPECT_EQ(cells, (std::vector<std::string>{"0", "ok"}));
+  ASSERT_EQ(in.Next(&cells), io::CsvRowReader::Row::kCells);
+  EXPECT_EQ(cells, (std::vector<std::string>{"1", "late, 2 s"}));
+  EXPECT_EQ(in.Next(&cells), io::CsvRowReader::Row::kEnd);
+
+  io::WriteFileAtomic(path, "a,b\n\"open,1\n2,");
+  io::CsvRowReader cut(path);
+  EXPECT_FALSE(cut.ends_with_line_break());
+  EXPECT_EQ(cut.Next(&cells), io::CsvRowReader::Row::kMalformed);
+  EXPECT_FALSE(io::CsvRowReader((dir_ / "missing.csv").string()).is_open());
+  const std::string missing = (dir_ / "no" / "log.csv").string();
+  try {
+    io::CsvLog log(missing, io::CsvLog::Open::kCreate, {"a"}, "the test log");
+    ADD_FAILURE() << "no error for " << missing;
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "cannot write the test log " + missing);
+  }
+}
+
 }  // namespace
 }  // namespace scw::tuning

@@ -18,11 +18,12 @@
 #include <string>
 #include <vector>
 
-#include "params/io/yaml_doc.h"
+#include "test/common/cli_run.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using scw::test::Slurp;
 class OutputTargetsTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -79,14 +80,6 @@ class OutputTargetsTest : public ::testing::Test {
     for (const auto& name : Listing())
       if (name.find(".tmp.") != std::string::npos) out.push_back(name);
     return out;
-  }
-
-  static std::string Slurp(const std::string& path) {
-    try {
-      return scw::params::ReadTextFile(path);
-    } catch (const std::exception&) {
-      return "";
-    }
   }
 
   // Runs `scw simulate` with a trace, a controller log and a summary; the run raises `sig` in

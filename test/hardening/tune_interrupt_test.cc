@@ -16,11 +16,14 @@
 #include <string>
 #include <vector>
 
-#include "params/io/yaml_doc.h"
+#include "test/common/cli_run.h"
 
 namespace {
 
 namespace fs = std::filesystem;
+using scw::test::CliResult;
+using scw::test::RunCli;
+using scw::test::Slurp;
 // Starts `SCW_BIN args...` with stdout/stderr into `capture`; returns the pid.
 pid_t Start(const std::vector<std::string>& args, const std::string& capture) {
   std::vector<std::string> argv_s = {SCW_BIN};
@@ -48,11 +51,6 @@ int Wait(pid_t pid) {
   return ::waitpid(pid, &status, 0) == pid ? status : -1;
 }
 
-int RunScw(const std::vector<std::string>& args, const std::string& capture) {
-  const int status = Wait(Start(args, capture));
-  return status >= 0 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 std::vector<std::string> Lines(const std::string& path) {
   std::vector<std::string> out;
   std::ifstream in(path);
@@ -63,14 +61,6 @@ std::vector<std::string> Lines(const std::string& path) {
 
 std::size_t Cells(const std::string& line) {
   return static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1;
-}
-
-std::string Slurp(const std::string& path) {
-  try {
-    return scw::params::ReadTextFile(path);
-  } catch (const std::exception&) {
-    return "";
-  }
 }
 
 TEST(TuneInterruptTest, CtrlCKeepsLogAndBestAndResumeContinues) {
@@ -121,15 +111,17 @@ TEST(TuneInterruptTest, CtrlCKeepsLogAndBestAndResumeContinues) {
   const std::string over = (run1 / "stability_overrides.yaml").string();
   ASSERT_TRUE(fs::exists(full));
   ASSERT_TRUE(fs::exists(over));
-  EXPECT_EQ(RunScw({"params", "check", full}, (dir / "check1.out").string()), 0)
-      << Slurp((dir / "check1.out").string());
-  EXPECT_EQ(RunScw({"params", "check", over, "--overrides"}, (dir / "check2.out").string()), 0)
-      << Slurp((dir / "check2.out").string());
+  for (const std::string& args : {full, over + " --overrides"}) {
+    const CliResult check = RunCli(SCW_BIN, "params check " + args, dir);
+    EXPECT_EQ(check.code, 0) << check.all();
+  }
 
   // Resume with the same options into a fresh folder: completes, starts with the same rows.
-  auto args2 = common;
-  args2.insert(args2.end(), {"--out", run2.string(), "--resume", log1});
-  ASSERT_EQ(RunScw(args2, (dir / "run2.out").string()), 0) << Slurp((dir / "run2.out").string());
+  std::string args2;
+  for (const auto& a : common) args2 += a + " ";
+  const CliResult resumed =
+      RunCli(SCW_BIN, args2 + "--out " + run2.string() + " --resume " + log1, dir);
+  ASSERT_EQ(resumed.code, 0) << resumed.all();
   const auto rows2 = Lines(log2);
   ASSERT_GT(rows2.size(), rows1.size());
   for (std::size_t i = 0; i < rows1.size(); ++i) EXPECT_EQ(rows2[i], rows1[i]) << "row " << i;

@@ -24,7 +24,7 @@
 #include "tuning/cli/console.h"
 #include "tuning/cli/options.h"
 #include "tuning/cli/progress.h"
-#include "tuning/optim/plots/tune_plots.h"
+#include "tuning/cli/tune_plots.h"
 #include "tuning/optim/space.h"
 #include "tuning/optim/tune_study.h"
 #include "tuning/optim/tuner.h"
@@ -328,8 +328,8 @@ class TuneRun : public tuning::TuneObserver {
     // The plots read comparison.csv and evaluations.csv; comparison.md embeds them.
     io::WriteFileAtomic(Path("comparison.csv"), r.comparison_csv);
     std::string plot_message;
-    if (tuning::WriteTunePlots(dir_, &plot_message))
-      plots_md_ = tuning::TunePlotsMarkdown();
+    if (WriteTunePlots(dir_, &plot_message))
+      plots_md_ = TunePlotsMarkdown();
     else
       std::cerr << "  note: no plots (" << plot_message
                 << "); the run's other outputs are complete\n";
@@ -364,10 +364,9 @@ class TuneRun : public tuning::TuneObserver {
     if (!o_.space.empty()) record.space_sha256 = FileSha256(o_.space);
     if (!o_.scenarios.empty()) record.scenarios_sha256 = FileSha256(o_.scenarios);
     record.wall_time_s = SecondsSince(t_start_);
-    for (const char* f :
-         {"evaluations.csv", "evaluations.identity.yaml", tuning::kTunedParamsFile,
-          tuning::kOverridesParamsFile, "comparison.md", "comparison.csv", "sensitivity.csv",
-          tuning::kConvergencePlotFile, tuning::kComparisonPlotFile})
+    for (const char* f : {"evaluations.csv", "evaluations.identity.yaml", tuning::kTunedParamsFile,
+                          tuning::kOverridesParamsFile, "comparison.md", "comparison.csv",
+                          "sensitivity.csv", kConvergencePlotFile, kComparisonPlotFile})
       if (fs::exists(Path(f))) record.files_sha256.emplace_back(f, FileSha256(Path(f)));
     io::WriteFileAtomic(Path("manifest.yaml"), study_.ManifestYaml(r, record));
   }

@@ -10,9 +10,9 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
@@ -107,59 +107,36 @@ class Run {
                             : "u" + std::to_string(i));
     for (const auto& h : o.log_extra_header) header_.push_back(h);
     if (!o.resume_path.empty()) {
-      resume_.open(o.resume_path, std::ios::binary);
-      if (!resume_) throw ResumeMismatch("cannot read the resume log " + o.resume_path);
-      std::string first;
-      std::getline(resume_, first);
-      if (first != io::CsvRecord(header_))
+      resume_ = std::make_unique<io::CsvRowReader>(o.resume_path);
+      if (!resume_->is_open()) throw ResumeMismatch("cannot read the resume log " + o.resume_path);
+      if (resume_->header_line() != io::CsvRecord(header_))
         throw ResumeMismatch("the resume log " + o.resume_path +
                              " was written for a different problem (its header differs)");
       // A log cut inside a row (the process was killed while writing it) cannot be continued
       // without rewriting it, and a log is never rewritten.
-      std::ifstream tail(o.resume_path, std::ios::binary | std::ios::ate);
-      const auto size = static_cast<long long>(tail.tellg());
-      char last = '\n';
-      if (size > 0) {
-        tail.seekg(size - 1);
-        tail.get(last);
-      }
-      if (last != '\n')
+      if (!resume_->ends_with_line_break())
         throw ResumeMismatch("the resume log " + o.resume_path +
                              " ends inside a row (its last line has no line break): remove the "
                              "incomplete last line, then resume");
     }
     if (!o.log_path.empty() && !o.verify_resume) {
-      log_file_ = o.log_path;
       std::error_code ec;
       in_place_ =
           !o.resume_path.empty() && (o.log_path == o.resume_path ||
                                      std::filesystem::equivalent(o.log_path, o.resume_path, ec));
-      if (in_place_) {
-        // Append-only: the logged rows stay as they are, new rows follow them.
-        log_bytes_ = std::filesystem::file_size(log_file_, ec);
-        if (ec) throw std::runtime_error("cannot read the size of the evaluation log " + log_file_);
-        log_.open(log_file_, std::ios::app | std::ios::binary);
-        if (!log_) throw std::runtime_error("cannot append to the evaluation log " + log_file_);
-      } else {
-        log_.open(log_file_, std::ios::trunc | std::ios::binary);
-        if (!log_) throw std::runtime_error("cannot write the evaluation log " + log_file_);
-        const std::string head = io::CsvRecord(header_) + '\n';
-        log_ << head << std::flush;
-        if (!log_) throw std::runtime_error("cannot write the evaluation log " + log_file_);
-        log_bytes_ = head.size();
-      }
+      // Append-only: resuming into the log itself keeps the logged rows as they are, new rows
+      // follow them.
+      log_ = std::make_unique<io::CsvLog>(
+          o.log_path, in_place_ ? io::CsvLog::Open::kAppend : io::CsvLog::Open::kCreate, header_,
+          "the evaluation log");
     }
     start_ = std::chrono::steady_clock::now();
     result_.best_u.assign(static_cast<std::size_t>(n), 0.5);
   }
 
-  ~Run() {
-    if (log_.is_open()) log_.close();
-  }
-
   /// Closes the log; throws what stopped the run (ResumeMismatch for a log that diverges).
   void Finish() {
-    if (log_.is_open()) log_.close();
+    if (log_) log_->Close();
     if (verify_left_rows_ && mismatch_.empty())
       mismatch_ = "the resume log " + o_.resume_path +
                   " holds more evaluations than this run makes (" + std::to_string(result_.evals) +
@@ -170,9 +147,9 @@ class Run {
 
   /// After a verifying run: whether rows of the resume log were left unread.
   void NoteUnreadRows() {
-    if (!o_.verify_resume || !resume_.is_open()) return;
-    std::string line;
-    verify_left_rows_ = static_cast<bool>(std::getline(resume_, line)) && !line.empty();
+    if (!o_.verify_resume || !resume_ || !resume_->is_open()) return;
+    std::vector<std::string> cells;
+    verify_left_rows_ = resume_->Next(&cells) != io::CsvRowReader::Row::kEnd;
   }
 
   void RunPhase(const AlgorithmName& a, int budget, std::vector<double> x,
@@ -523,19 +500,14 @@ class Run {
   /// The next row of the resume log, if it is open and not exhausted; kMismatch (with error_ set)
   /// if that row holds another point.
   Replayed ReplayNext(const std::vector<std::string>& ucells, Evaluation* ev) {
-    if (!resume_.is_open()) return Replayed::kNo;
-    std::string line;
-    if (!std::getline(resume_, line) || line.empty()) {
-      resume_.close();  // log exhausted: continue with real evaluations
+    if (!resume_ || !resume_->is_open()) return Replayed::kNo;
+    std::vector<std::string> cells;
+    const io::CsvRowReader::Row row = resume_->Next(&cells);
+    if (row == io::CsvRowReader::Row::kEnd) {
+      resume_->Close();  // log exhausted: continue with real evaluations
       return Replayed::kNo;
     }
-    std::vector<std::string> cells;
-    bool match = true;
-    try {
-      io::SplitCsvLine(line, &cells, false);
-    } catch (const std::invalid_argument&) {
-      match = false;  // a malformed row cannot be the logged point
-    }
+    bool match = row == io::CsvRowReader::Row::kCells;  // a malformed row is not the logged point
     const std::size_t nu = static_cast<std::size_t>(n_);
     match = match && cells.size() == header_.size();
     for (std::size_t i = 0; match && i < nu; ++i) match = cells[5 + i] == ucells[i];
@@ -618,24 +590,16 @@ class Run {
       result_.best_u = u;
       result_.best_eval = index;
     }
-    if (log_.is_open() && !(replayed && in_place_)) {
+    if (log_ && log_->is_open() && !(replayed && in_place_)) {
       std::vector<std::string> row = {std::to_string(index), phase_, params::FormatDouble(ev.cost),
                                       ev.status, params::FormatDouble(result_.best_cost)};
       row.insert(row.end(), ucells.begin(), ucells.end());
       ev.columns.resize(o_.log_extra_header.size());
       row.insert(row.end(), ev.columns.begin(), ev.columns.end());
-      const std::string line = io::CsvRecord(row) + '\n';
-      log_ << line << std::flush;
-      if (!log_) {
-        // Disk full or similar: cut the log back to its last whole row, so that it stays a valid
-        // CSV that --resume can continue from.
-        log_.close();
-        std::error_code ec;
-        std::filesystem::resize_file(log_file_, log_bytes_, ec);
-        error_ = "writing the evaluation log " + log_file_ + " failed";
+      if (!log_->Write(row)) {  // the log keeps its whole rows, so --resume can continue from it
+        error_ = log_->error();
         return false;
       }
-      log_bytes_ += line.size();
     }
     if (o_.on_progress)
       o_.on_progress(Progress{result_.evals, o_.max_evals, result_.best_cost, elapsed, phase_});
@@ -653,10 +617,8 @@ class Run {
   const TunerOptions& o_;
   int n_;
   std::vector<std::string> header_;
-  std::ifstream resume_;
-  std::ofstream log_;
-  std::uintmax_t log_bytes_ = 0;  ///< size of the log's whole rows written so far
-  std::string log_file_;
+  std::unique_ptr<io::CsvRowReader> resume_;
+  std::unique_ptr<io::CsvLog> log_;
   bool in_place_ = false;          ///< appending to the resume log itself
   bool verify_left_rows_ = false;  ///< a verifying run left rows of the resume log unread
   std::string mismatch_;           ///< why the resume log does not belong to this run

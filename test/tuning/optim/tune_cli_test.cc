@@ -4,7 +4,6 @@
 // the key the shipped file has outside the default space; `scw space show` warns about it;
 // --batch needs the batched design and gives the same evaluations on 1 and 2 threads.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,26 +17,15 @@
 #include "params/io/write.h"
 #include "params/io/yaml_doc.h"
 #include "params/schema/stability_params.h"
+#include "test/common/cli_run.h"
 
 namespace scw {
 namespace {
 
 namespace fs = std::filesystem;
 using params::StabilityParams;
-
-int RunScw(const std::string& args, const std::string& capture) {
-  const std::string cmd = std::string(SCW_BIN) + " " + args + " > " + capture + " 2>&1";
-  const int rc = std::system(cmd.c_str());
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
-
-std::string Slurp(const std::string& path) {
-  try {
-    return params::ReadTextFile(path);
-  } catch (const std::exception&) {
-    return "";
-  }
-}
+using test::CliResult;
+using test::Slurp;
 
 StabilityParams LoadText(const std::string& text, const std::string& name) {
   return params::LoadRosText<StabilityParams>(text, name, params::kStabilityNodeKey);
@@ -57,6 +45,7 @@ class TuneCliTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+  CliResult Scw(const std::string& args) const { return test::RunCli(SCW_BIN, args, dir_); }
 
   fs::path dir_;
   std::string set_, shipped_;
@@ -64,15 +53,13 @@ class TuneCliTest : public ::testing::Test {
 
 TEST_F(TuneCliTest, OneEvaluationExportsTheBaseSetWithProvenanceAndPassesTheChecker) {
   const std::string run = Path("run");
-  ASSERT_EQ(RunScw("tune --scenarios " + set_ + " --base " + shipped_ +
-                       " --max-evals 1 --threads 1 --progress never --max-time 0 --no-sensitivity "
-                       "--no-freeze --search-plant-step 0 --out " +
-                       run,
-                   Path("tune.out")),
-            0)
-      << Slurp(Path("tune.out"));
-  EXPECT_NE(Slurp(Path("tune.out")).find("note: ESC.beta_threshold_deactivate"), std::string::npos)
-      << Slurp(Path("tune.out"));
+  const CliResult tune = Scw("tune --scenarios " + set_ + " --base " + shipped_ +
+                             " --max-evals 1 --threads 1 --progress never --max-time 0 "
+                             "--no-sensitivity --no-freeze --search-plant-step 0 --out " +
+                             run);
+  ASSERT_EQ(tune.code, 0) << tune.all();
+  EXPECT_NE(tune.all().find("note: ESC.beta_threshold_deactivate"), std::string::npos)
+      << tune.all();
 
   const std::string full = Slurp(run + "/stability_tuned.yaml");
   const std::string over = Slurp(run + "/stability_overrides.yaml");
@@ -97,11 +84,11 @@ TEST_F(TuneCliTest, OneEvaluationExportsTheBaseSetWithProvenanceAndPassesTheChec
       EXPECT_NE(text.find(item), std::string::npos) << item << "\n" << text;
   }
   // The project's ROS 2 checker accepts both.
-  EXPECT_EQ(RunScw("params check " + run + "/stability_tuned.yaml", Path("c1.out")), 0)
-      << Slurp(Path("c1.out"));
-  EXPECT_EQ(RunScw("params check " + run + "/stability_overrides.yaml --overrides", Path("c2.out")),
-            0)
-      << Slurp(Path("c2.out"));
+  for (const std::string args :
+       {"/stability_tuned.yaml", "/stability_overrides.yaml --overrides"}) {
+    const CliResult check = Scw("params check " + run + args);
+    EXPECT_EQ(check.code, 0) << check.all();
+  }
 
   // Evaluation 0 is the base set; training costs before and after are equal (the search at the
   // vehicle's own step: at another the optimisation's costs are that step's, tune_study_test).
@@ -137,88 +124,88 @@ TEST_F(TuneCliTest, ADivergingResumeExitsTwoAndLeavesTheLogByteIdentical) {
   const std::string base = "tune --scenarios " + set_ + " --space " + space +
                            " --threads 1 --progress never --no-sensitivity --out-dir " + run;
   const std::string common = base + " --max-evals 3";
-  ASSERT_EQ(RunScw(common, Path("first.out")), 0) << Slurp(Path("first.out"));
+  const CliResult first = Scw(common);
+  ASSERT_EQ(first.code, 0) << first.all();
   const std::string log = run + "/evaluations.csv";
   const std::string logged = Slurp(log), identity = Slurp(run + "/evaluations.identity.yaml");
   ASSERT_FALSE(identity.empty());
-  EXPECT_EQ(RunScw(common + " --seed 2 --resume " + log, Path("seed.out")), 2)
-      << Slurp(Path("seed.out"));
-  EXPECT_NE(Slurp(Path("seed.out")).find("seed: the log was written with 1, this run has 2"),
-            std::string::npos)
-      << Slurp(Path("seed.out"));
-  EXPECT_EQ(RunScw(base + " --max-evals 4 --resume " + log, Path("evals.out")), 2)
-      << Slurp(Path("evals.out"));
+  const CliResult seed = Scw(common + " --seed 2 --resume " + log);
+  EXPECT_EQ(seed.code, 2) << seed.all();
+  EXPECT_NE(seed.all().find("seed: the log was written with 1, this run has 2"), std::string::npos)
+      << seed.all();
+  const CliResult evals = Scw(base + " --max-evals 4 --resume " + log);
+  EXPECT_EQ(evals.code, 2) << evals.all();
   EXPECT_EQ(Slurp(log), logged);
   EXPECT_EQ(Slurp(run + "/evaluations.identity.yaml"), identity);
   // The same options: every row replayed, nothing rewritten.
-  ASSERT_EQ(RunScw(common + " --resume " + log, Path("same.out")), 0) << Slurp(Path("same.out"));
-  EXPECT_NE(Slurp(Path("same.out")).find("(3 replayed)"), std::string::npos)
-      << Slurp(Path("same.out"));
+  const CliResult same = Scw(common + " --resume " + log);
+  ASSERT_EQ(same.code, 0) << same.all();
+  EXPECT_NE(same.all().find("(3 replayed)"), std::string::npos) << same.all();
   EXPECT_EQ(Slurp(log), logged);
   // The console is short: verdicts and totals, no tables.
-  EXPECT_NE(Slurp(Path("first.out")).find("training (1 scenario): cost "), std::string::npos)
-      << Slurp(Path("first.out"));
-  EXPECT_EQ(Slurp(Path("first.out")).find("| "), std::string::npos) << Slurp(Path("first.out"));
+  EXPECT_NE(first.all().find("training (1 scenario): cost "), std::string::npos) << first.all();
+  EXPECT_EQ(first.all().find("| "), std::string::npos) << first.all();
 }
 
 TEST_F(TuneCliTest, RefuseNamesTheKeyOutsideTheSpaceAndSpaceShowWarns) {
   const std::string run = Path("refused");
-  EXPECT_EQ(RunScw("tune --scenarios " + set_ + " --base " + shipped_ +
-                       " --base-outside refuse --max-evals 1 --progress never --out " + run,
-                   Path("refuse.out")),
-            2);
-  const std::string out = Slurp(Path("refuse.out"));
+  const CliResult refuse =
+      Scw("tune --scenarios " + set_ + " --base " + shipped_ +
+          " --base-outside refuse --max-evals 1 --progress never --out " + run);
+  EXPECT_EQ(refuse.code, 2);
+  const std::string out = refuse.all();
   EXPECT_NE(out.find("ESC.beta_threshold_deactivate: the base value 0.035 is 2.011 × "
                      "min(ESC.beta_threshold_activate), outside the ratio range [0.3, 0.98]"),
             std::string::npos)
       << out;
   EXPECT_FALSE(fs::exists(run)) << "a refused run must not leave a run folder";
   // --check-set applies the same rule (it used to grow the range regardless).
-  EXPECT_EQ(RunScw("tune --check-set --scenarios " + set_ + " --base " + shipped_ +
-                       " --base-outside refuse --progress never",
-                   Path("refuse_check.out")),
-            2);
-  EXPECT_NE(Slurp(Path("refuse_check.out")).find("ESC.beta_threshold_deactivate"),
-            std::string::npos)
-      << Slurp(Path("refuse_check.out"));
+  const CliResult check = Scw("tune --check-set --scenarios " + set_ + " --base " + shipped_ +
+                              " --base-outside refuse --progress never");
+  EXPECT_EQ(check.code, 2);
+  EXPECT_NE(check.all().find("ESC.beta_threshold_deactivate"), std::string::npos) << check.all();
 
-  EXPECT_EQ(RunScw("space show", Path("show.out")), 0);
-  const std::string show = Slurp(Path("show.out"));
+  const CliResult space_show = Scw("space show");
+  EXPECT_EQ(space_show.code, 0);
+  const std::string show = space_show.all();
   EXPECT_NE(show.find("warning: ESC.beta_threshold_deactivate"), std::string::npos) << show;
   EXPECT_NE(show.find("grows the range to [0.3, 2.02]"), std::string::npos) << show;
 }
 
 TEST_F(TuneCliTest, ArgumentProblemsAreFoundBeforeAnyFolderIsCreated) {
   const std::string run = Path("never");
-  EXPECT_EQ(RunScw("tune --scenarios " + set_ + " --algorithm crs3 --max-evals 1 --out-dir " + run,
-                   Path("alg.out")),
-            2);
-  const std::string out = Slurp(Path("alg.out"));
+  const CliResult alg =
+      Scw("tune --scenarios " + set_ + " --algorithm crs3 --max-evals 1 --out-dir " + run);
+  EXPECT_EQ(alg.code, 2);
+  const std::string out = alg.all();
   EXPECT_NE(out.find("unknown algorithm 'crs3'"), std::string::npos) << out;
   EXPECT_FALSE(fs::exists(run));
-  EXPECT_EQ(RunScw("tune --scenarios " + set_ + " --resume " + Path("missing.csv") +
-                       " --max-evals 1 --out-dir " + run,
-                   Path("resume.out")),
+  EXPECT_EQ(Scw("tune --scenarios " + set_ + " --resume " + Path("missing.csv") +
+                " --max-evals 1 --out-dir " + run)
+                .code,
             2);
   EXPECT_FALSE(fs::exists(run));
   std::ofstream(Path("a_file")) << "x\n";
-  EXPECT_EQ(RunScw("tune --scenarios " + set_ + " --max-evals 1 --out-dir " + Path("a_file"),
-                   Path("file.out")),
-            2);
-  EXPECT_NE(Slurp(Path("file.out")).find("is not a folder"), std::string::npos);
+  const CliResult file =
+      Scw("tune --scenarios " + set_ + " --max-evals 1 --out-dir " + Path("a_file"));
+  EXPECT_EQ(file.code, 2);
+  EXPECT_NE(file.all().find("is not a folder"), std::string::npos);
 }
 
 TEST_F(TuneCliTest, AnExistingRunFolderIsRefusedUnlessForcedAndTheManifestHashesTheFiles) {
   const std::string run = Path("run");
   const std::string args = "tune --scenarios " + set_ +
                            " --max-evals 1 --progress never --no-sensitivity --out-dir " + run;
-  ASSERT_EQ(RunScw(args, Path("first.out")), 0) << Slurp(Path("first.out"));
+  const CliResult first = Scw(args);
+  ASSERT_EQ(first.code, 0) << first.all();
   const std::string log = Slurp(run + "/evaluations.csv");
-  EXPECT_EQ(RunScw(args, Path("second.out")), 2);
-  const std::string second = Slurp(Path("second.out"));
+  const CliResult refused = Scw(args);
+  EXPECT_EQ(refused.code, 2);
+  const std::string second = refused.all();
   EXPECT_NE(second.find("already holds files"), std::string::npos) << second;
   EXPECT_EQ(Slurp(run + "/evaluations.csv"), log) << "a refused run must not touch the folder";
-  EXPECT_EQ(RunScw(args + " --force", Path("forced.out")), 0) << Slurp(Path("forced.out"));
+  const CliResult forced_run = Scw(args + " --force");
+  EXPECT_EQ(forced_run.code, 0) << forced_run.all();
 
   // files_sha256 equals sha256sum of each file as written.
   const std::string manifest = Slurp(run + "/manifest.yaml");
@@ -227,15 +214,15 @@ TEST_F(TuneCliTest, AnExistingRunFolderIsRefusedUnlessForcedAndTheManifestHashes
     const auto at = manifest.find("  " + f + ": ");
     ASSERT_NE(at, std::string::npos) << manifest;
     const std::string digest = manifest.substr(at + f.size() + 4, 64);
-    if (std::system(("sha256sum " + run + "/" + f + " > " + Path("sum.out")).c_str()) == 0) {
-      EXPECT_EQ(Slurp(Path("sum.out")).substr(0, 64), digest) << f;
+    if (const CliResult sum = test::RunCli("sha256sum", run + "/" + f, dir_); sum.code == 0) {
+      EXPECT_EQ(sum.out.substr(0, 64), digest) << f;
     }
   }
   EXPECT_NE(manifest.find("hash_algorithm: sha256"), std::string::npos);
 
   // The pictures, embedded in comparison.md (when python3 with matplotlib is installed; without
   // it the run says so once and still succeeds).
-  const std::string forced = Slurp(Path("forced.out"));
+  const std::string forced = forced_run.all();
   if (forced.find("note: no plots") != std::string::npos) {
     EXPECT_FALSE(fs::exists(run + "/convergence.png"));
   } else {
@@ -251,12 +238,11 @@ TEST_F(TuneCliTest, AnExistingRunFolderIsRefusedUnlessForcedAndTheManifestHashes
 
 TEST_F(TuneCliTest, BatchedTuneNeedsTheBatchedDesignAndIsTheSameOnAnyThreadCount) {
   const std::string never = Path("never");
-  EXPECT_EQ(RunScw("tune --scenarios " + set_ + " --batch 2 --max-evals 4 --out-dir " + never,
-                   Path("batch.out")),
-            2);
-  EXPECT_NE(Slurp(Path("batch.out")).find("--batch"), std::string::npos);
-  EXPECT_NE(Slurp(Path("batch.out")).find("lhs+sbplx"), std::string::npos)
-      << Slurp(Path("batch.out"));
+  const CliResult batch =
+      Scw("tune --scenarios " + set_ + " --batch 2 --max-evals 4 --out-dir " + never);
+  EXPECT_EQ(batch.code, 2);
+  EXPECT_NE(batch.all().find("--batch"), std::string::npos);
+  EXPECT_NE(batch.all().find("lhs+sbplx"), std::string::npos) << batch.all();
   EXPECT_FALSE(fs::exists(never));
 
   const std::string set2 = Path("set2.yaml");
@@ -267,13 +253,10 @@ TEST_F(TuneCliTest, BatchedTuneNeedsTheBatchedDesignAndIsTheSameOnAnyThreadCount
   std::string logs[2];
   for (int threads : {1, 2}) {
     const std::string run = Path("batch" + std::to_string(threads));
-    ASSERT_EQ(
-        RunScw("tune --scenarios " + set2 +
-                   " --algorithm lhs+sbplx --batch 2 --max-evals 9 --threads " +
-                   std::to_string(threads) + " --progress never --no-sensitivity --out-dir " + run,
-               Path("batch_run.out")),
-        0)
-        << Slurp(Path("batch_run.out"));
+    const CliResult tune = Scw(
+        "tune --scenarios " + set2 + " --algorithm lhs+sbplx --batch 2 --max-evals 9 --threads " +
+        std::to_string(threads) + " --progress never --no-sensitivity --out-dir " + run);
+    ASSERT_EQ(tune.code, 0) << tune.all();
     logs[threads - 1] = Slurp(run + "/evaluations.csv");
     EXPECT_NE(Slurp(run + "/manifest.yaml").find("\nbatch: 2\n"), std::string::npos);
     EXPECT_NE(Slurp(run + "/comparison.md").find("(lhs+sbplx, batch 2, seed 1)"),

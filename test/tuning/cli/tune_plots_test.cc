@@ -1,8 +1,7 @@
-// The figures of a scw tune run folder (tuning/optim/plots/tune_plots.h) on a small run folder
+// The figures of a scw tune run folder (tuning/cli/tune_plots.h) on a small run folder
 // written with the real writers: the tuner's evaluation log and ComparisonCsv. Tests that need
 // python3 with matplotlib skip when it is absent.
-#include "tuning/optim/plots/tune_plots.h"
-#include "params/io/atomic_file.h"
+#include "tuning/cli/tune_plots.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -14,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "params/io/atomic_file.h"
 #include "params/io/write.h"
 #include "tuning/optim/comparison.h"
 #include "tuning/optim/evaluator.h"
@@ -23,6 +23,12 @@ namespace scw::tuning {
 namespace {
 
 namespace fs = std::filesystem;
+using cli::kComparisonPlotFile;
+using cli::kConvergencePlotFile;
+using cli::TunePlotOptions;
+using cli::TunePlotScript;
+using cli::TunePlotsMarkdown;
+using cli::WriteTunePlots;
 
 std::string Read(const fs::path& p) {
   std::ifstream f(p, std::ios::binary);
@@ -218,7 +224,7 @@ TEST_F(TunePlotsTest, AMissingMatplotlibIsReported) {
 }
 
 TEST(TunePlotsScriptTest, TheEmbeddedScriptIsTheSourceFile) {
-  const std::string source = Read(fs::path(SCW_SOURCE_DIR) / "tuning/optim/plots/tune_plots.py");
+  const std::string source = Read(fs::path(SCW_SOURCE_DIR) / "tuning/cli/tune_plots.py");
   ASSERT_FALSE(source.empty());
   EXPECT_EQ(TunePlotScript(), source);
 }

@@ -1,4 +1,5 @@
-// Figures of a `scw tune` run folder, drawn with Python and matplotlib.
+// Figures of a `scw tune` run folder, drawn by the CLI with Python and matplotlib (the optimiser
+// library writes the data, tuning/cli draws: STYLE.md §2).
 //
 //   convergence.png  training cost of every evaluation (log scale; colour = optimiser phase from
 //                    the log's `phase` column: start, then e.g. crs2 and sbplx; marker = whether
@@ -9,22 +10,19 @@
 //                    intervention counts, with the change tuned − baseline
 //
 // Inputs: the run folder's evaluations.csv (the tuner's log) and comparison.csv (ComparisonCsv).
-// The script is tuning/optim/plots/tune_plots.py, compiled into the library as text (CMake
-// generates a header with it as a raw string literal), so an installed scw needs no checkout; it is
-// run as `PYTHON - RUN_DIR` with the script on stdin. It writes each PNG under a temporary name in
-// the run folder and renames it into place, with the Agg backend and no date or software metadata,
-// so the same inputs give byte-identical files (for the same matplotlib version).
-//
-// Interpreter: TunePlotOptions::python, else the environment variable SCW_PYTHON, else `python3`
-// from PATH and, if that one lacks matplotlib (a pyenv or venv python first on PATH),
-// /usr/bin/python3 (Debian's, where python3-matplotlib installs).
+// The script is tuning/cli/tune_plots.py, compiled into the program as text (CMake generates a
+// header with it as a raw string literal), so an installed scw needs no checkout; it is run by
+// RunPythonScript (python_script.h: interpreter choice, exit codes) as `PYTHON - RUN_DIR`. It
+// writes each PNG under a temporary name in the run folder and renames it into place, with the Agg
+// backend and no date or software metadata, so the same inputs give byte-identical files (for the
+// same matplotlib version).
 #pragma once
 
 #include <filesystem>
 #include <string>
 #include <string_view>
 
-namespace scw::tuning {
+namespace scw::cli {
 
 inline constexpr const char* kConvergencePlotFile = "convergence.png";
 inline constexpr const char* kComparisonPlotFile = "comparison.png";
@@ -47,4 +45,4 @@ std::string TunePlotsMarkdown();
 /// The embedded script's text.
 std::string_view TunePlotScript();
 
-}  // namespace scw::tuning
+}  // namespace scw::cli
