@@ -1,55 +1,14 @@
-// Reference path of the motion controllers: a closed (periodic in s) racing line with its speed
-// and acceleration profile, sampled at arc-length stations. Built once per scenario and shared
-// read-only by every controller and thread.
-//
-// Conventions: s [m] arc length along the line, wrapped into [0, length); x, y [m] world frame;
-// psi [rad] heading of the line; kappa [1/m] > 0 turning left; v [m/s] target speed; a_x [m/s²]
-// target longitudinal acceleration. Lateral error n > 0: the point lies LEFT of the line.
+// The reference path the motion controllers follow is planning's output
+// (controller/planning/path.h: stations, conventions, projection); motion names it as its own.
 #pragma once
 
-#include <cstddef>
-#include <vector>
+#include "controller/planning/path.h"
 
 namespace scw::controller::motion {
 
-struct PathPoint {
-  double s = 0.0, x = 0.0, y = 0.0, psi = 0.0, kappa = 0.0, v = 0.0, a_x = 0.0;
-};
-
-struct PathProjection {
-  double s = 0.0;              ///< [m] arc length of the closest point
-  double lateral_error = 0.0;  ///< [m] signed distance, > 0 left of the line
-  double heading_error = 0.0;  ///< [rad] vehicle heading − line heading, wrapped to (−π, π]
-  std::size_t segment = 0;     ///< index of the segment [i, i+1] holding the closest point
-};
-
-class Path {
- public:
-  /// Stations must be strictly increasing in s, starting at 0; the line closes from the last
-  /// station back to the first over `length` − s_last; all of x, y, psi, kappa, v, a_x finite.
-  /// Throws scw::ConfigError (source "reference path") otherwise.
-  Path(std::vector<PathPoint> points, double length);
-
-  double length() const noexcept { return length_; }
-  std::size_t size() const noexcept { return points_.size(); }
-  const std::vector<PathPoint>& points() const noexcept { return points_; }
-
-  /// s wrapped into [0, length).
-  double Wrap(double s) const noexcept;
-  /// Linear interpolation of every field at s (wrapped; heading interpolated on the circle).
-  PathPoint Sample(double s) const noexcept;
-  /// Closest point to (x, y). With a finite `s_hint` only segments within ±`window` metres of the
-  /// hint are searched (O(window)), otherwise all. Allocation-free.
-  PathProjection Project(double x, double y, double psi, double s_hint = -1.0,
-                         double window = 60.0) const noexcept;
-
- private:
-  std::size_t SegmentAt(double s) const noexcept;
-  std::vector<PathPoint> points_;
-  double length_;
-  double mean_ds_;
-};
-
-double WrapAngle(double a) noexcept;
+using planning::Path;
+using planning::PathPoint;
+using planning::PathProjection;
+using planning::WrapAngle;
 
 }  // namespace scw::controller::motion

@@ -1,7 +1,7 @@
 // The g-g-v table of the driving stack: the acceleration limits the planner and the motion
 // controllers respect (plant-and-track spec §6.1, §6.3: TUM forward-backward solver and the TUMRT
 // "diamond" representation). The one table of the project; the velocity profile
-// (tuning/sim/trajectory/velocity_profile.h) and the MPCs (controller/motion) use it.
+// (controller/planning/velocity_profile.h) and the MPCs (controller/motion) use it.
 //
 // At speed v the admissible accelerations (a_x along the path, a_y lateral, [m/s^2]) are
 //   |a_y| ≤ ay_max(v)
@@ -15,7 +15,7 @@
 // gain), the braking limit INCLUDES them (drag helps braking). Callers scale the table (GG, track
 // friction): Scaled() multiplies ay and both a_x columns.
 //
-// Where the numbers come from: tuning/sim/plant_envelope.h derives the table from quasi-steady
+// Where the numbers come from: controller/planning/envelope.h derives the table from quasi-steady
 // evaluations of the plant itself (plant/vehicle/quasi_steady.h), drive and brake separately,
 // with each exponent fitted so that the law lies inside the plant's combined envelope.
 //

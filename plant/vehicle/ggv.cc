@@ -138,12 +138,4 @@ GgvPoint ComputeGgvPoint(const params::VehicleParams& p, double speed) {
   return g;
 }
 
-std::vector<GgvPoint> ComputeGgv(const params::VehicleParams& p,
-                                 const std::vector<double>& speeds) {
-  std::vector<GgvPoint> out;
-  out.reserve(speeds.size());
-  for (double v : speeds) out.push_back(ComputeGgvPoint(p, v));
-  return out;
-}
-
 }  // namespace scw::plant

@@ -22,8 +22,6 @@
 // and traction is net of drag, as a velocity-profile solver needs them. Deterministic and pure.
 #pragma once
 
-#include <vector>
-
 #include "params/schema/vehicle_params.h"
 
 namespace scw::plant {
@@ -36,9 +34,9 @@ struct GgvPoint {
   bool lateral_lock_limited = false;  ///< the steering lock, not the tyres, bounded lateral_max
 };
 
-/// Limits at one speed (throws scw::ConfigError for invalid parameters).
+/// Limits at one speed (throws scw::ConfigError for invalid parameters). What `scw vehicle gg`
+/// prints, speed by speed: a check of the planner's quasi-steady envelope
+/// (controller/planning/envelope.h) against the simulated plant, not its source.
 GgvPoint ComputeGgvPoint(const params::VehicleParams& p, double speed);
-
-std::vector<GgvPoint> ComputeGgv(const params::VehicleParams& p, const std::vector<double>& speeds);
 
 }  // namespace scw::plant

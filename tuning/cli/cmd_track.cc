@@ -6,6 +6,8 @@
 #include <sstream>
 #include <string>
 
+#include "controller/planning/racing_line.h"
+#include "controller/planning/velocity_profile.h"
 #include "params/io/atomic_file.h"
 #include "params/io/load.h"
 #include "params/io/write.h"
@@ -16,8 +18,6 @@
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
 #include "tuning/sim/track_csv.h"
-#include "tuning/sim/trajectory/racing_line.h"
-#include "tuning/sim/trajectory/velocity_profile.h"
 
 namespace scw::cli {
 namespace {
@@ -80,22 +80,24 @@ int Info(const TrackOptions& o) {
 
 int Line(const TrackOptions& o) {
   const plant::Track t = LoadTrack(o.track);
-  const controller::planning::GgvTable ggv =
-      o.ggv.empty() ? tuning::RepresentativeGgv() : tuning::LoadGgvCsv(o.ggv, o.ggv_exponent);
-  tuning::RacingLine rl = [&] {
+  const controller::planning::GgvTable ggv = o.ggv.empty()
+                                                 ? controller::planning::RepresentativeGgv()
+                                                 : tuning::LoadGgvCsv(o.ggv, o.ggv_exponent);
+  controller::planning::RacingLine rl = [&] {
     if (!o.raceline.empty()) return tuning::LoadRacingLine(o.raceline, t);
-    tuning::RacingLineOptions ro;
+    controller::planning::RacingLineOptions ro;
     ro.margin = o.margin;
-    return tuning::MinimumCurvatureLine(t, ro);
+    return controller::planning::MinimumCurvatureLine(t, ro);
   }();
   if (o.raceline.empty())
     std::cerr << "racing line: minimum curvature, " << rl.offset.size() << " offsets, "
               << rl.evaluations << " evaluations, " << Fixed(rl.seconds, 2) << " s (" << rl.status
               << ")\n";
-  tuning::VelocityProfileOptions vo;
+  controller::planning::VelocityProfileOptions vo;
   vo.gg_scale = o.gg_scale;
   vo.v_max = o.v_max;
-  const tuning::ReferenceTrajectory r = tuning::ComputeVelocityProfile(rl.line, ggv, vo);
+  const controller::planning::ReferenceTrajectory r =
+      controller::planning::ComputeVelocityProfile(rl.line, ggv, vo);
   std::ostringstream csv;
   csv << "s_m,x_m,y_m,psi_rad,kappa_radpm,v_mps,ax_mps2,ay_mps2,t_s\n";
   using params::FormatNumber;

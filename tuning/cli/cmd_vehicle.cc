@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "controller/planning/envelope.h"
 #include "params/io/atomic_file.h"
 #include "params/io/load.h"
 #include "params/io/write.h"
@@ -17,7 +18,6 @@
 #include "plant/vehicle/quasi_steady.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
-#include "tuning/sim/plant_envelope.h"
 #include "tuning/sim/plant_variation.h"
 #include "tuning/sim/scenario.h"
 
@@ -50,7 +50,8 @@ void CheckSpeeds(const std::vector<double>& speeds, const std::string& cmd) {
 int Gg(const VehicleOptions& o, const std::string& cmd) {
   const params::VehicleParams p = LoadVehicle(o.vehicle);
   CheckSpeeds(o.speeds, cmd);
-  const auto table = plant::ComputeGgv(p, o.speeds);
+  std::vector<plant::GgvPoint> table;
+  for (double v : o.speeds) table.push_back(plant::ComputeGgvPoint(p, v));
   if (o.csv || !o.csv_file.empty()) {
     std::ostringstream buffer;
     std::ostream& csv = o.csv_file.empty() ? std::cout : buffer;
@@ -168,18 +169,18 @@ int Balance(const VehicleOptions& o, const std::string& cmd) {
 
 int Envelope(const VehicleOptions& o) {
   const params::VehicleParams p = LoadVehicle(o.vehicle);
-  const auto rows = tuning::SampleEnvelope(p, o.brake_bias_front, o.speeds);
-  const auto fit = tuning::FitEnvelope(rows);
+  const auto rows = controller::planning::SampleEnvelope(p, o.brake_bias_front, o.speeds);
+  const auto fit = controller::planning::FitEnvelope(rows);
   if (o.csv || !o.csv_file.empty()) {
     std::ostringstream buffer;
     std::ostream& csv = o.csv_file.empty() ? std::cout : buffer;
     csv << "speed_mps,ay_max_mps2,level,drive_mps2,brake_mps2,drive_fit_mps2,brake_fit_mps2\n";
     for (std::size_t i = 0; i < rows.size(); ++i)
-      for (std::size_t j = 0; j < tuning::kEnvelopeLevels.size(); ++j) {
-        const double ay = tuning::kEnvelopeLevels[j] * rows[i].ay_max;
+      for (std::size_t j = 0; j < controller::planning::kEnvelopeLevels.size(); ++j) {
+        const double ay = controller::planning::kEnvelopeLevels[j] * rows[i].ay_max;
         const double v = rows[i].speed;
         csv << params::FormatDouble(v) << ',' << params::FormatDouble(rows[i].ay_max) << ','
-            << params::FormatDouble(tuning::kEnvelopeLevels[j]) << ','
+            << params::FormatDouble(controller::planning::kEnvelopeLevels[j]) << ','
             << params::FormatDouble(rows[i].drive[j]) << ','
             << params::FormatDouble(rows[i].brake[j]) << ','
             << params::FormatDouble(fit.AxDriveMax(v) * fit.DriveFactor(ay, fit.AyMax(v), v)) << ','
@@ -203,7 +204,7 @@ int Envelope(const VehicleOptions& o) {
                   v, rows[i].ay_max, fit.AxDriveMax(v), fit.DriveExponent(v), fit.AxBrakeMax(v),
                   fit.BrakeExponent(v));
     std::cout << line << "   level  ";
-    for (double l : tuning::kEnvelopeLevels) {
+    for (double l : controller::planning::kEnvelopeLevels) {
       std::snprintf(line, sizeof line, "%6.2f", l);
       std::cout << line;
     }

@@ -13,6 +13,7 @@
 #include "tuning/sim/parallel/mpi_backend.h"
 #include "tuning/sim/parallel/parallel_for.h"
 #include "tuning/sim/parallel/wire.h"
+#include "tuning/sim/prep_cache.h"
 
 namespace scw::tuning {
 namespace {
@@ -193,6 +194,8 @@ BatchEvaluator BatchEvaluator::FromEntries(const std::vector<ScenarioEntry>& ent
   std::vector<double> weights;
   for (const auto& e : entries) weights.push_back(e.weight);
   ProgressCounter counter(progress, static_cast<int>(entries.size()));
+  // One preparation cache for the set: scenarios on one track and car share line and table.
+  controller::planning::ReferenceCache cache(&PrepCache::Process());
   ParallelFor(static_cast<int>(entries.size()), threads, [&](int i) {
     const ScenarioEntry& e = entries[static_cast<std::size_t>(i)];
     const params::ScenarioParams spec = LoadEntry(e, base_dir);
@@ -204,7 +207,7 @@ BatchEvaluator BatchEvaluator::FromEntries(const std::vector<ScenarioEntry>& ent
       dir = f.parent_path().string();
     }
     resolved[static_cast<std::size_t>(i)] =
-        Resolve(spec, dir, e.file.empty() ? "built-in" : e.file);
+        Resolve(spec, dir, e.file.empty() ? "built-in" : e.file, &cache);
     counter.JobDone();
   });
   BatchEvaluator ev(std::move(resolved), std::move(weights), cost, threads);

@@ -10,7 +10,8 @@
 //   rear grip  both rear wheels' friction factor ×= factor (overlapping: multiplied)
 //   gust       wind over the ground += speed · ½(1 − cos 2πτ/duration) from `from_deg` relative to
 //              the track's direction at the place (overlapping: summed)
-// Late braking acts before the run, on the reference (LateBrakingPath).
+// Late braking acts before the run, on the reference (controller/planning/late_braking.h, which
+// also places events: EventPlace).
 //
 // An EventSchedule is immutable after construction; the per-run State holds the firing times.
 #pragma once
@@ -18,16 +19,10 @@
 #include <string>
 #include <vector>
 
-#include "controller/motion/path.h"
 #include "params/schema/event_params.h"
 #include "plant/track/track.h"
 
 namespace scw::tuning {
-
-/// Arc length on the track of an event place: `s` itself (corner 0) or the apex of corner k plus
-/// `s`, wrapped into [0, L). Throws ConfigError naming `key` when the track has fewer corners.
-double EventPlace(const plant::Track& track, double corner, double s, const std::string& key,
-                  std::size_t index);
 
 class EventSchedule {
  public:
@@ -72,15 +67,5 @@ class EventSchedule {
   std::vector<Event> events_;
   double length_ = 0.0;
 };
-
-/// The reference with every late-braking event applied: for each, the braking zone (a run of
-/// decreasing target speed) whose slowest point lies nearest to the event's place; its brake
-/// point moves later by min(distance, 0.8 × zone length), the speed stays at the zone's entry
-/// speed until then, and the original speed curve is compressed into the remaining distance (same
-/// speed at the slowest point, more deceleration). a_x is recomputed from v over the zone. Throws
-/// ConfigError as EventPlace.
-controller::motion::Path LateBrakingPath(const controller::motion::Path& path,
-                                         const params::LateBraking& late,
-                                         const plant::Track& track);
 
 }  // namespace scw::tuning

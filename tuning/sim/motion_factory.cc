@@ -9,6 +9,7 @@
 #include "controller/motion/nmpc.h"
 #include "controller/motion/pmpc.h"
 #include "controller/motion/pure_pursuit.h"
+#include "controller/planning/corridor.h"
 #include "params/schema/grip_scaling.h"
 
 namespace scw::tuning {
@@ -21,23 +22,13 @@ cm::GgTable PlannerLimits(const ResolvedScenario& sc) {
   return sc.ggv.Scaled(sc.spec.gg_scale * sc.spec.limit_fraction);
 }
 
-/// Room left and right of the reference line at each of its stations, from the track widths,
-/// capped at 60 % of the scenario's lateral-error abort threshold (the MPC never plans towards an
-/// abort; the reference keeps raceline_margin from the edges anyway).
+/// The reference's corridor (controller/planning/corridor.h), capped at 60 % of the scenario's
+/// lateral-error abort threshold (the MPC never plans towards an abort; the reference keeps
+/// raceline_margin from the edges anyway).
 cm::Corridor MakeCorridor(const ResolvedScenario& sc) {
-  const plant::Track& track = *sc.track;
-  const double cap = 0.6 * sc.spec.abort.max_lateral_error;
-  cm::Corridor c;
-  double hint = plant::Track::kNoHint;
-  for (const auto& p : sc.path->points()) {
-    const auto tp = track.Project(p.x, p.y, p.psi, hint);
-    hint = tp.s;
-    const double left = track.WidthLeftAt(tp.s) - tp.n;
-    const double right = track.WidthRightAt(tp.s) + tp.n;
-    c.left.push_back(std::clamp(left, 0.0, cap));
-    c.right.push_back(std::clamp(right, 0.0, cap));
-  }
-  return c;
+  controller::planning::Corridor c = controller::planning::MakeCorridor(
+      *sc.track, *sc.path, 0.6 * sc.spec.abort.max_lateral_error);
+  return {std::move(c.left), std::move(c.right)};
 }
 
 }  // namespace

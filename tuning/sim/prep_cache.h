@@ -3,7 +3,8 @@
 // the processes of an MPI run, so that a second tune, sweep or rank does not compute them again.
 //
 // Content-keyed: an entry's name is the SHA-256 of its kind, the exact text of every input (the
-// callers' memo keys: the vehicle as the params writer prints it, the track's bytes, the options)
+// reference cache's keys, controller/planning/reference_cache.h: the vehicle's schema
+// fingerprint, the track's node numbers, the options)
 // and the identity of the program (the SHA-256 of the running executable and the NLopt version),
 // so a rebuilt scw or another input never reads an older result. Values are arrays of doubles
 // stored exactly (hexadecimal floating point), so a result read from the cache is bit for bit the
@@ -21,15 +22,17 @@
 #include <string>
 #include <vector>
 
+#include "controller/planning/reference_cache.h"
+
 namespace scw::tuning {
 
-using CachedArrays = std::vector<std::vector<double>>;
+using CachedArrays = controller::planning::ReferenceStore::Arrays;
 
 /// The running program's identity: the SHA-256 of its executable (/proc/self/exe) and the NLopt
 /// version; "" when the executable cannot be read. Computed once per process.
 const std::string& ProgramIdentity();
 
-class PrepCache {
+class PrepCache : public controller::planning::ReferenceStore {
  public:
   /// The process's cache, configured from the environment on first use.
   static const PrepCache& Process();
@@ -40,9 +43,10 @@ class PrepCache {
   const std::string& folder() const { return folder_; }
 
   /// The arrays stored under (kind, key), or nothing (disabled, absent, unreadable, malformed).
-  std::optional<CachedArrays> Load(const std::string& kind, const std::string& key) const;
+  std::optional<CachedArrays> Load(const std::string& kind, const std::string& key) const override;
   /// Stores the arrays under (kind, key); failures are ignored.
-  void Store(const std::string& kind, const std::string& key, const CachedArrays& arrays) const;
+  void Store(const std::string& kind, const std::string& key,
+             const CachedArrays& arrays) const override;
 
   /// The file an entry lives in (for tests and docs).
   std::string PathOf(const std::string& kind, const std::string& key) const;

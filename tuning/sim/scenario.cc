@@ -1,28 +1,23 @@
 #include "tuning/sim/scenario.h"
 
-#include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <future>
-#include <map>
-#include <mutex>
 #include <optional>
 #include <utility>
 
+#include "controller/planning/reference.h"
 #include "params/io/load.h"
 #include "params/io/override.h"
 #include "params/io/write.h"
+#include "params/io/yaml_doc.h"
 #include "params/schema/grip_scaling.h"
 #include "params/schema/track_params.h"
 #include "plant/track/builtin_tracks.h"
 #include "plant/track/yas_north.h"
 #include "tuning/sim/events.h"
-#include "tuning/sim/plant_envelope.h"
 #include "tuning/sim/plant_variation.h"
 #include "tuning/sim/prep_cache.h"
 #include "tuning/sim/track_csv.h"
-#include "tuning/sim/trajectory/racing_line.h"
-#include "tuning/sim/trajectory/velocity_profile.h"
 
 namespace scw::tuning {
 namespace {
@@ -54,142 +49,20 @@ plant::Track LoadTrack(const std::string& file) {
   throw ConfigError(file, "track", "unknown track file type (expected .csv, .yaml or .yml)");
 }
 
-/// Process-wide memo of expensive, pure preparation steps (racing line, g-g-v table, full-limit
-/// lap), keyed by a text that determines the result. Thread-safe and single-flight: the first
-/// caller of a key computes it outside the lock, concurrent callers of that key wait for its
-/// result. Values are immutable once stored; a failed computation is not kept.
-template <class T>
-class Memo {
- public:
-  template <class Make>
-  std::shared_ptr<const T> Get(const std::string& key, Make&& make) {
-    std::promise<std::shared_ptr<const T>> promise;
-    std::shared_future<std::shared_ptr<const T>> result;
-    bool first = false;
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      auto [it, inserted] = items_.try_emplace(key);
-      if (inserted) {
-        it->second = promise.get_future().share();
-        first = true;
-      }
-      result = it->second;
-    }
-    if (first) {
-      try {
-        promise.set_value(std::make_shared<const T>(make()));
-      } catch (...) {
-        {
-          std::lock_guard<std::mutex> lock(mutex_);
-          items_.erase(key);
-        }
-        promise.set_exception(std::current_exception());  // waiters see the same error
-      }
-    }
-    return result.get();
-  }
-
- private:
-  std::mutex mutex_;
-  std::map<std::string, std::shared_future<std::shared_ptr<const T>>> items_;
-};
-
-/// The track of a scenario, shared within the process: a built-in track is a pure function of its
-/// name, a track file's of the file's bytes (building Yas Marina North from its clothoids is about
-/// a quarter of a scenario's preparation). A file that cannot be read gets LoadTrack's error.
-/// `key` receives the text that determines the track ("" for a file that cannot be read).
-std::shared_ptr<const plant::Track> SharedTrack(const std::string& file, std::string* key) {
-  static Memo<plant::Track> tracks;
-  *key = "built-in:" + file;
+/// The track of a scenario, shared through the cache: a built-in track is a pure function of its
+/// name, a track file's of the file's bytes (the loader's key: the file is read anyway). A file
+/// that cannot be read gets LoadTrack's error.
+std::shared_ptr<const plant::Track> SharedTrack(const std::string& file,
+                                                controller::planning::ReferenceCache& cache) {
+  std::string key = "built-in:" + file;
   if (fs::path(file).has_extension()) {
     try {
-      *key = "file:" + file + "\n" + params::ReadTextFile(file);
+      key = "file:" + file + "\n" + params::ReadTextFile(file);
     } catch (const std::exception&) {
-      key->clear();
       return std::make_shared<const plant::Track>(LoadTrack(file));
     }
   }
-  return tracks.Get(*key, [&] { return LoadTrack(file); });
-}
-
-/// Exact text of every input of PlantEnvelope: the vehicle as the params writer emits it (doubles
-/// in shortest round-trip form) and the brake bias. The sensor-noise switch is left out of the key
-/// (written as false): PlantEnvelope switches noise off itself.
-std::string GgvKey(params::VehicleParams v, double brake_bias_front) {
-  v.sensors.noise = false;
-  return params::ToPlainYaml(v) + "|brake_bias_front: " + params::FormatDouble(brake_bias_front);
-}
-
-/// The preparation cache's arrays of a g-g-v table: its columns in the order of GgvTable::Visit.
-CachedArrays GgvToArrays(const controller::planning::GgvTable& t) {
-  CachedArrays a;
-  params::ForEachField(t, [&](const std::string&, const std::vector<double>& column,
-                              const params::Meta&) { a.push_back(column); });
-  return a;
-}
-
-/// A g-g-v table from the preparation cache's arrays (GgvToArrays), if valid.
-std::optional<controller::planning::GgvTable> GgvFromArrays(const CachedArrays& a) {
-  controller::planning::GgvTable t;
-  std::size_t i = 0;
-  bool complete = true;
-  params::ForEachField(t,
-                       [&](const std::string&, std::vector<double>& column, const params::Meta&) {
-                         if (i < a.size())
-                           column = a[i++];
-                         else
-                           complete = false;
-                       });
-  if (!complete || i != a.size()) return std::nullopt;
-  try {
-    t.Validate("cache");
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
-  return t;
-}
-
-/// The planner's g-g-v table: the plant's own combined envelope (tuning/sim/plant_envelope.h), per
-/// vehicle and brake bias, shared within the process.
-std::shared_ptr<const controller::planning::GgvTable> PlantGgv(const std::string& key,
-                                                               const params::VehicleParams& v,
-                                                               double brake_bias_front) {
-  static Memo<controller::planning::GgvTable> memo;
-  return memo.Get(key, [&] {
-    const PrepCache& cache = PrepCache::Process();
-    if (const auto hit = cache.Load("ggv", key))
-      if (auto table = GgvFromArrays(*hit)) return *std::move(table);
-    controller::planning::GgvTable table = PlantEnvelope(v, brake_bias_front);
-    cache.Store("ggv", key, GgvToArrays(table));
-    return table;
-  });
-}
-
-/// The minimum-curvature line of `track` (its text `track_key`, "" = not cacheable): its
-/// optimised offsets go through the preparation cache, the line is built from them.
-plant::Track OptimalLine(const plant::Track& track, const std::string& track_key,
-                         const RacingLineOptions& ro) {
-  if (track_key.empty()) return MinimumCurvatureLine(track, ro).line;
-  const std::string key = track_key + "\nmargin: " + params::FormatDouble(ro.margin);
-  const PrepCache& cache = PrepCache::Process();
-  if (const auto hit = cache.Load("line", key); hit && hit->size() == 1) {
-    RacingLineOptions known = ro;
-    known.known_offset = &hit->front();
-    RacingLine line = MinimumCurvatureLine(track, known);
-    if (line.status == "known") return std::move(line.line);
-  }
-  RacingLine line = MinimumCurvatureLine(track, ro);
-  cache.Store("line", key, {line.offset});
-  return std::move(line.line);
-}
-
-std::shared_ptr<const controller::motion::Path> ToPath(const ReferenceTrajectory& r) {
-  std::vector<controller::motion::PathPoint> pts(r.size());
-  for (std::size_t i = 0; i < r.size(); ++i)
-    pts[i] = {r.s[i], r.x[i], r.y[i], r.psi[i], r.kappa[i], r.v[i], r.a_x[i]};
-  // The velocity profile may repeat the closing node at s = length: drop it.
-  while (pts.size() > 3 && pts.back().s >= r.length) pts.pop_back();
-  return std::make_shared<controller::motion::Path>(std::move(pts), r.length);
+  return cache.Track(key, [&] { return LoadTrack(file); });
 }
 
 }  // namespace
@@ -337,98 +210,90 @@ void ApplyPlantStep(const params::ScenarioParams& spec, const std::string& where
   }
 }
 
-}  // namespace
+/// The scenario's track and the reference planned on it (controller/planning/reference.h), for
+/// the planned car: the vehicle file's own grip with plan_with_nominal_grip, else the scenario's.
+void ResolveReference(const params::ScenarioParams& spec, const std::string& base_dir,
+                      const std::string& where, const params::VehicleParams& planned,
+                      controller::planning::ReferenceCache& cache, ResolvedScenario* sc) {
+  namespace planning = controller::planning;
+  sc->track = SharedTrack(ResolvePath(base_dir, spec.track), cache);
+  planning::ReferenceOptions o;
+  const std::string& line = spec.motion.raceline;
+  o.line = line == "centerline"                ? planning::LineKind::kCentreLine
+           : line == "optimal" || line.empty() ? planning::LineKind::kOptimal
+                                               : planning::LineKind::kGiven;
+  if (o.line == planning::LineKind::kGiven)
+    o.given_line = std::make_shared<const plant::Track>(
+        LoadRacingLine(ResolvePath(base_dir, line), *sc->track).line);
+  o.line_margin = spec.motion.raceline_margin;
+  o.limit_scale = spec.gg_scale * spec.limit_fraction;
+  o.brake_bias_front = spec.motion.longitudinal.brake_bias_front;
+  o.late_braking = spec.events.late_braking;
+  o.source = where;
+  const planning::PreparedReference ref = planning::PrepareReference(*sc->track, planned, o, cache);
+  sc->path = ref.path;
+  sc->ggv = *ref.ggv;
+  sc->ideal_lap_time = ref.ideal_lap_time;
+  sc->limit_lap_time = ref.limit_lap_time;
+  // Critical situations: a corner the track does not have is a configuration error now, not in
+  // the middle of a batch.
+  try {
+    const EventSchedule check(spec.events, *sc->track);
+  } catch (const ConfigError& e) {
+    throw ConfigError(where, e.problems());
+  }
+}
 
-ResolvedScenario ResolveCar(const params::ScenarioParams& spec, const std::string& base_dir,
-                            const std::string& source) {
+/// The motion controllers' tracking parameters: the file's (or the shipped values), steering
+/// limits from the vehicle.
+void ResolveTracking(const params::ScenarioParams& spec, const std::string& base_dir,
+                     ResolvedScenario* sc) {
+  if (!spec.motion.params.empty())
+    sc->tracking = params::LoadRosFile<params::TrackingParams>(
+        ResolvePath(base_dir, spec.motion.params), params::kTrackingNodeKey);
+  sc->tracking.vehicle.min_angle = -sc->vehicle.steering.max_angle;
+  sc->tracking.vehicle.max_angle = sc->vehicle.steering.max_angle;
+}
+
+/// Resolve and ResolveCar: the car always, the track, reference and tracking parameters only
+/// `with_reference`. The order of the steps is the order of the errors a bad scenario reports.
+ResolvedScenario ResolveScenario(const params::ScenarioParams& spec, const std::string& base_dir,
+                                 const std::string& source, bool with_reference,
+                                 controller::planning::ReferenceCache* cache) {
   ResolvedScenario sc;
   sc.spec = spec;
   sc.source = source;
   const std::string where = Where(spec, source);
   params::VehicleParams nominal;
   ResolveVehicle(spec, base_dir, where, &sc, &nominal);
+  if (with_reference) {
+    // Without a caller's cache: one for this call, over the process's disk cache.
+    std::optional<controller::planning::ReferenceCache> own;
+    if (cache == nullptr) cache = &own.emplace(&PrepCache::Process());
+    ResolveReference(spec, base_dir, where, spec.plan_with_nominal_grip ? nominal : sc.vehicle,
+                     *cache, &sc);
+  }
   ResolveStability(spec, base_dir, where, &sc);
+  if (with_reference) ResolveTracking(spec, base_dir, &sc);
   sc.longitudinal_model = LongitudinalModelFor(sc.vehicle);
+  // The simulated car and the scenario's own plant step, applied last (the reference does not
+  // depend on them).
   ApplyPlantSection(spec, where, &sc);
   ApplyPlantStep(spec, where, &sc);
   return sc;
 }
 
+}  // namespace
+
+ResolvedScenario ResolveCar(const params::ScenarioParams& spec, const std::string& base_dir,
+                            const std::string& source) {
+  return ResolveScenario(spec, base_dir, source, false, nullptr);
+}
+
 ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& base_dir,
-                         const std::string& source) {
+                         const std::string& source, controller::planning::ReferenceCache* cache) {
   // A maneuver drives no track and follows no reference (tuning/maneuver/maneuver.h).
-  if (spec.kind == "maneuver") return ResolveCar(spec, base_dir, source);
-  ResolvedScenario sc;
-  sc.spec = spec;
-  sc.source = source;
-  const std::string where = Where(spec, source);
-
-  // Vehicle (with the scenario's grip factors).
-  params::VehicleParams nominal;
-  ResolveVehicle(spec, base_dir, where, &sc, &nominal);
-
-  // Track and reference line.
-  std::string track_key;
-  const std::shared_ptr<const plant::Track> track =
-      SharedTrack(ResolvePath(base_dir, spec.track), &track_key);
-  sc.track = track;
-  auto compute_line = [&]() -> plant::Track {
-    if (spec.motion.raceline == "centerline") return *track;
-    if (spec.motion.raceline == "optimal" || spec.motion.raceline.empty()) {
-      RacingLineOptions ro;
-      ro.margin = spec.motion.raceline_margin;
-      return OptimalLine(*track, track_key, ro);
-    }
-    return LoadRacingLine(ResolvePath(base_dir, spec.motion.raceline), *track).line;
-  };
-  // The line depends only on the track file and the line options: shared within the process.
-  static Memo<plant::Track> lines;
-  const std::string line_key = ResolvePath(base_dir, spec.track) + "|" + spec.motion.raceline +
-                               "|" + ResolvePath(base_dir, spec.motion.raceline) + "|" +
-                               params::FormatDouble(spec.motion.raceline_margin);
-  const plant::Track& line = *lines.Get(line_key, compute_line);
-  VelocityProfileOptions vo;
-  vo.gg_scale = spec.gg_scale * spec.limit_fraction;
-  const params::VehicleParams& planned = spec.plan_with_nominal_grip ? nominal : sc.vehicle;
-  const double brake_bias = spec.motion.longitudinal.brake_bias_front;
-  const std::string ggv_key = GgvKey(planned, brake_bias);
-  const auto ggv = PlantGgv(ggv_key, planned, brake_bias);
-  const ReferenceTrajectory ref = ComputeVelocityProfile(line, *ggv, vo);
-  sc.ggv = *ggv;
-  sc.path = ToPath(ref);
-  // Critical situations: a corner the track does not have is a configuration error now, not in
-  // the middle of a batch; late braking moves brake points of the reference the controller sees.
-  try {
-    const EventSchedule check(spec.events, *track);
-    if (!spec.events.late_braking.s.empty())
-      sc.path = std::make_shared<const controller::motion::Path>(
-          LateBrakingPath(*sc.path, spec.events.late_braking, *track));
-  } catch (const ConfigError& e) {
-    throw ConfigError(where, e.problems());
-  }
-  sc.ideal_lap_time = ref.lap_time;
-  // The full-limit lap depends only on the line and the table.
-  static Memo<double> limit_laps;
-  sc.limit_lap_time = *limit_laps.Get(ggv_key + "\n" + line_key, [&] {
-    return ComputeVelocityProfile(line, *ggv, VelocityProfileOptions{}).lap_time;
-  });
-
-  // Stability parameters: the car's file (or defaults) with the vehicle handler's constants.
-  ResolveStability(spec, base_dir, where, &sc);
-
-  // Motion control.
-  if (!spec.motion.params.empty())
-    sc.tracking = params::LoadRosFile<params::TrackingParams>(
-        ResolvePath(base_dir, spec.motion.params), params::kTrackingNodeKey);
-  sc.tracking.vehicle.min_angle = -sc.vehicle.steering.max_angle;
-  sc.tracking.vehicle.max_angle = sc.vehicle.steering.max_angle;
-  sc.longitudinal_model = LongitudinalModelFor(sc.vehicle);
-
-  // The simulated car and the scenario's own plant step, applied last (the memos above do not
-  // depend on them).
-  ApplyPlantSection(spec, where, &sc);
-  ApplyPlantStep(spec, where, &sc);
-  return sc;
+  return ResolveScenario(spec, base_dir, source, spec.kind != "maneuver", cache);
 }
 
 params::StabilityParams PrepareStability(const ResolvedScenario& sc, params::StabilityParams p) {

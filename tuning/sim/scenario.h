@@ -5,9 +5,10 @@
 //   vehicle   built-in EAV24-class car or a params/vehicles/*.yaml file; the scenario's grip
 //             factors multiply the vehicle's; the scenario's `plant` section (actuator model,
 //             brake dead time, ...) changes only the simulated car (plant_vehicle)
-//   reference minimum-curvature racing line (or centre line, or a given raceline file) with the
-//             forward–backward velocity profile from the plant's own steady-state g-g-v limits
-//             (scw vehicle gg) times the acceleration scaling GG
+//   reference controller::planning::PrepareReference (controller/planning/reference.h):
+//             minimum-curvature racing line (or centre line, or a given raceline file) with the
+//             forward–backward velocity profile from the plant's own g-g-v envelope times the
+//             acceleration scaling GG and the limit fraction, late braking applied
 //   stability the car's params file (or the built-in defaults); the vehicle constants the car's
 //             vehicle handler would inject (mass, yaw inertia, geometry, radii, ratios, aero,
 //             steering limits) are taken from the vehicle unless the file sets them
@@ -15,11 +16,12 @@
 //             longitudinal controller with its knowledge of the car from the vehicle
 // Relative file names in a scenario file are relative to that file's folder.
 //
-// Cache: the expensive steps are computed once per process and shared between scenarios (and
-// threads, which wait for a computation in flight): the racing line per track file and line
-// options, the g-g-v table per exact text of the planned vehicle's params and the brake bias (any
-// differing vehicle value, e.g. a grip factor, gives its own table), and the full-limit lap time
-// per line and table. Results are the same as without the cache, bit for bit.
+// Cache: the track and the reference go through the caller's ReferenceCache
+// (controller/planning/reference_cache.h): whoever resolves many scenarios (the batch evaluator,
+// a sweep) owns one and passes it, so the expensive steps are computed once per distinct input
+// and shared between scenarios and threads (which wait for a computation in flight). Without one,
+// a call prepares with a cache of its own over the process's disk cache (tuning/sim/prep_cache.h).
+// Results are the same with or without a cache, bit for bit.
 #pragma once
 
 #include <memory>
@@ -30,6 +32,7 @@
 #include "controller/motion/longitudinal.h"
 #include "controller/motion/path.h"
 #include "controller/planning/ggv.h"
+#include "controller/planning/reference_cache.h"
 #include "params/schema/scenario_params.h"
 #include "params/schema/stability_params.h"
 #include "params/schema/tracking_params.h"
@@ -65,10 +68,12 @@ params::ScenarioParams LoadScenario(const std::string& path,
 /// The built-in default scenario with `overrides` applied.
 params::ScenarioParams DefaultScenario(const std::vector<std::string>& overrides = {});
 
-/// Builds everything a run needs. `base_dir` resolves relative file names ("" = current folder).
-/// Throws ConfigError on bad files. A scenario of kind `maneuver` gets ResolveCar (no track).
+/// Builds everything a run needs. `base_dir` resolves relative file names ("" = current folder);
+/// `cache` (may be null) is the caller's preparation cache (see above). Throws ConfigError on bad
+/// files. A scenario of kind `maneuver` gets ResolveCar (no track).
 ResolvedScenario Resolve(const params::ScenarioParams& spec, const std::string& base_dir = "",
-                         const std::string& source = "built-in");
+                         const std::string& source = "built-in",
+                         controller::planning::ReferenceCache* cache = nullptr);
 
 /// The car of a scenario without a track or a reference: the vehicle (grip factors, sensor noise,
 /// plant_step), the stability base set (vehicle constants injected) and the longitudinal model,

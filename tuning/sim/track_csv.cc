@@ -58,4 +58,37 @@ Track LoadTrackCsv(const std::string& path, const TrackBuildOptions& options) {
   }
 }
 
+controller::planning::RacingLine LoadRacingLine(const std::string& path, const plant::Track& track,
+                                                double output_step) {
+  const io::CsvTable t = io::ReadCsvTable(path, {}, {"x_m", "y_m", "s_opt", "n_opt"});
+  const bool xy = t.Column("x_m") && t.Column("y_m");
+  const bool sn = t.Column("s_opt") && t.Column("n_opt");
+  if (!xy && !sn)
+    throw ConfigError(path, "line 1",
+                      "not a raceline: expected columns x_m,y_m (racetrack-database) or "
+                      "s_opt,n_opt (TUMRT global racing line)");
+  const std::size_t rows = t.lines.size();
+  if (rows < 8)
+    throw ConfigError(path, "", "too few rows for a closed raceline: " + std::to_string(rows));
+  controller::planning::RacelinePoints points;
+  points.cartesian = xy;
+  points.a = *t.Column(xy ? "x_m" : "s_opt");
+  points.b = *t.Column(xy ? "y_m" : "n_opt");
+  points.rows = t.lines;
+  return controller::planning::RacingLineThrough(track, points, path, output_step);
+}
+
+controller::planning::GgvTable LoadGgvCsv(const std::string& path, double exponent) {
+  const io::CsvTable t =
+      io::ReadCsvTable(path, {"v_mps", "ay_max_mps2", "ax_drive_max_mps2", "ax_brake_max_mps2"});
+  controller::planning::GgvTable g;
+  g.speed = *t.Column("v_mps");
+  g.ay_max = *t.Column("ay_max_mps2");
+  g.ax_drive_max = *t.Column("ax_drive_max_mps2");
+  g.ax_brake_max = *t.Column("ax_brake_max_mps2");
+  g.SetExponent(exponent);
+  g.Validate(path);
+  return g;
+}
+
 }  // namespace scw::tuning

@@ -10,12 +10,12 @@
 #include <iostream>
 #include <vector>
 
+#include "controller/planning/velocity_profile.h"
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "plant/track/builtin_tracks.h"
 #include "test/test_data.h"
 #include "tuning/sim/track_csv.h"
-#include "tuning/sim/trajectory/velocity_profile.h"
 
 namespace scw::plant {
 namespace {
@@ -150,9 +150,9 @@ TEST(Monza, FollowsThePublicCentreLine) {
   EXPECT_LT(rms, 2.5);
   EXPECT_LT(worst, 9.0);
 
-  const controller::planning::GgvTable ggv = tuning::RepresentativeGgv();
-  const double t_pub = tuning::ComputeVelocityProfile(pub, ggv).lap_time;
-  const double t_def = tuning::ComputeVelocityProfile(def, ggv).lap_time;
+  const controller::planning::GgvTable ggv = controller::planning::RepresentativeGgv();
+  const double t_pub = controller::planning::ComputeVelocityProfile(pub, ggv).lap_time;
+  const double t_def = controller::planning::ComputeVelocityProfile(def, ggv).lap_time;
   std::cout << "centre-line lap time: built-in " << t_def << " s, public " << t_pub << " s\n";
   // The OSM line's chicanes are tighter than the public radii we hold to (Rettifilo R 11 m, Roggia
   // R 17 m, Lesmo 2 R 38 m, Ascari lefts R 26-30 m): the built-in lap is about 5 % quicker.

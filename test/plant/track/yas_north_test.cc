@@ -7,11 +7,11 @@
 #include <cmath>
 #include <iostream>
 
+#include "controller/planning/velocity_profile.h"
 #include "params/io/load.h"
 #include "params/io/write.h"
 #include "test/test_data.h"
 #include "tuning/sim/track_csv.h"
-#include "tuning/sim/trajectory/velocity_profile.h"
 
 namespace scw::plant {
 namespace {
@@ -70,9 +70,9 @@ TEST(YasNorth, FollowsThePublicCentreLine) {
     EXPECT_NEAR(r_def / r_pub, 1.0, 0.15) << c.name;
   }
 
-  const controller::planning::GgvTable ggv = tuning::RepresentativeGgv();
-  const double t_pub = tuning::ComputeVelocityProfile(pub, ggv).lap_time;
-  const double t_def = tuning::ComputeVelocityProfile(def, ggv).lap_time;
+  const controller::planning::GgvTable ggv = controller::planning::RepresentativeGgv();
+  const double t_pub = controller::planning::ComputeVelocityProfile(pub, ggv).lap_time;
+  const double t_def = controller::planning::ComputeVelocityProfile(def, ggv).lap_time;
   std::cout << "centre-line lap time: built-in " << t_def << " s, public " << t_pub << " s\n";
   EXPECT_NEAR(t_def / t_pub, 1.0, 0.03);
 }

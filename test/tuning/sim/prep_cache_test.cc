@@ -14,8 +14,8 @@
 #include <limits>
 #include <string>
 
+#include "controller/planning/racing_line.h"
 #include "plant/track/track.h"
-#include "tuning/sim/trajectory/racing_line.h"
 
 namespace scw::tuning {
 namespace {
@@ -133,13 +133,15 @@ bool SameTrack(const plant::Track& a, const plant::Track& b) {
 TEST(RacingLineKnownOffset, TheLineFromKnownOffsetsIsTheOptimisedLineBitForBit) {
   params::TrackParams oval;  // the schema's default: a small oval
   const plant::Track track = plant::Track::FromDefinition(oval, "oval");
-  RacingLineOptions ro;
-  const RacingLine optimised = MinimumCurvatureLine(track, ro);
+  controller::planning::RacingLineOptions ro;
+  const controller::planning::RacingLine optimised =
+      controller::planning::MinimumCurvatureLine(track, ro);
   ASSERT_NE(optimised.status, "known");
   ASSERT_FALSE(optimised.offset.empty());
-  RacingLineOptions known = ro;
+  controller::planning::RacingLineOptions known = ro;
   known.known_offset = &optimised.offset;
-  const RacingLine rebuilt = MinimumCurvatureLine(track, known);
+  const controller::planning::RacingLine rebuilt =
+      controller::planning::MinimumCurvatureLine(track, known);
   EXPECT_EQ(rebuilt.status, "known");
   EXPECT_EQ(rebuilt.offset, optimised.offset);
   EXPECT_EQ(rebuilt.objective_final, optimised.objective_final);
@@ -147,11 +149,11 @@ TEST(RacingLineKnownOffset, TheLineFromKnownOffsetsIsTheOptimisedLineBitForBit) 
   // Offsets that do not fit (another node count, or outside the bounds) are not used.
   const std::vector<double> short_list(optimised.offset.begin(), optimised.offset.end() - 1);
   known.known_offset = &short_list;
-  EXPECT_NE(MinimumCurvatureLine(track, known).status, "known");
+  EXPECT_NE(controller::planning::MinimumCurvatureLine(track, known).status, "known");
   std::vector<double> outside = optimised.offset;
   outside[0] = 1e6;
   known.known_offset = &outside;
-  EXPECT_NE(MinimumCurvatureLine(track, known).status, "known");
+  EXPECT_NE(controller::planning::MinimumCurvatureLine(track, known).status, "known");
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
-// CSV loaders: both public formats load; bad cells fail naming file, line and column.
+// CSV loaders: both public track formats and a given raceline load; bad cells fail naming file,
+// line and column.
 #include "tuning/sim/track_csv.h"
 
 #include <gtest/gtest.h>
@@ -98,6 +99,18 @@ TEST(TrackCsvPublic, BothPublicFormatsLoad) {
   const Track m = LoadTrackCsv(monza);  // racetrack-database
   EXPECT_NEAR(m.length(), 5790.2, 10.0);
   EXPECT_NEAR(std::abs(m.total_turning()), 2 * 3.141592653589793, 1e-9);
+}
+
+TEST(RacingLine, GivenRacelineFileLoads) {
+  const std::string ref = test::SharedData(test::kYasSmoothed);
+  const std::string line =
+      test::SharedData("tracks/yas_north/global_racing_lines/yasnorth_3d_dallaraAV21_gg_0.1.csv");
+  if (ref.empty() || line.empty()) GTEST_SKIP() << "../shared/data/tracks/yas_north not present";
+  const plant::Track t = tuning::LoadTrackCsv(ref);
+  const controller::planning::RacingLine rl = tuning::LoadRacingLine(line, t);
+  EXPECT_NEAR(rl.line.length(), 2990.0, 60.0);
+  EXPECT_LT(controller::planning::SquaredCurvatureIntegral(rl.line),
+            controller::planning::SquaredCurvatureIntegral(t));
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "tuning/sim/parallel/mpi_backend.h"
 #include "tuning/sim/parallel/parallel_for.h"
 #include "tuning/sim/parallel/wire.h"
+#include "tuning/sim/prep_cache.h"
 #include "tuning/sim/scenario.h"
 #include "tuning/sim/sweep/sweep_processes.h"
 #include "tuning/sim/sweep/sweep_write.h"
@@ -29,12 +30,15 @@ namespace fs = std::filesystem;
 class Resolutions {
  public:
   explicit Resolutions(const SweepPlan& plan)
-      : plan_(plan), done_(plan.resolutions.size()), once_(plan.resolutions.size()) {}
+      : plan_(plan),
+        cache_(&PrepCache::Process()),
+        done_(plan.resolutions.size()),
+        once_(plan.resolutions.size()) {}
   const ResolvedScenario& Get(int k) {
     const auto at = static_cast<std::size_t>(k);
     std::call_once(once_[at], [&] {
       done_[at] = std::make_unique<ResolvedScenario>(
-          Resolve(plan_.resolutions[at], plan_.base_dir, plan_.source));
+          Resolve(plan_.resolutions[at], plan_.base_dir, plan_.source, &cache_));
     });
     return *done_[at];
   }
@@ -48,6 +52,7 @@ class Resolutions {
 
  private:
   const SweepPlan& plan_;
+  controller::planning::ReferenceCache cache_;  ///< shared by the resolutions
   std::vector<std::unique_ptr<ResolvedScenario>> done_;
   std::vector<std::once_flag> once_;
 };

@@ -1,4 +1,4 @@
-#include "tuning/sim/trajectory/racing_line.h"
+#include "controller/planning/racing_line.h"
 
 #include <nlopt.hpp>
 
@@ -7,10 +7,9 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "params/io/csv.h"
 #include "params/schema/field.h"
 
-namespace scw::tuning {
+namespace scw::controller::planning {
 namespace {
 
 struct LineProblem {
@@ -192,35 +191,27 @@ RacingLine MinimumCurvatureLine(const plant::Track& track, const RacingLineOptio
   return BuildLine(track, p, n, wl, wr, mu, o, std::move(out));
 }
 
-RacingLine LoadRacingLine(const std::string& path, const plant::Track& track, double output_step) {
-  const io::CsvTable t = io::ReadCsvTable(path, {}, {"x_m", "y_m", "s_opt", "n_opt"});
-  const bool xy = t.Column("x_m") && t.Column("y_m");
-  const bool sn = t.Column("s_opt") && t.Column("n_opt");
-  if (!xy && !sn)
-    throw ConfigError(path, "line 1",
-                      "not a raceline: expected columns x_m,y_m (racetrack-database) or "
-                      "s_opt,n_opt (TUMRT global racing line)");
-  const std::size_t rows = t.lines.size();
-  if (rows < 8)
-    throw ConfigError(path, "", "too few rows for a closed raceline: " + std::to_string(rows));
+RacingLine RacingLineThrough(const plant::Track& track, const RacelinePoints& points,
+                             const std::string& source, double output_step) {
+  const std::size_t rows = points.a.size();
   std::vector<double> x(rows), y(rows), wl(rows), wr(rows), mu(rows);
-  RacingLine out{track, {}, {}, 0, 0.0, 0.0, 0.0, "loaded from " + path};
+  RacingLine out{track, {}, {}, 0, 0.0, 0.0, 0.0, "loaded from " + source};
   out.s_centre.resize(rows);
   out.offset.resize(rows);
   Problems pr;
   double hint = plant::Track::kNoHint;
   for (std::size_t i = 0; i < rows; ++i) {
     double s, n;
-    if (xy) {
-      x[i] = (*t.Column("x_m"))[i];
-      y[i] = (*t.Column("y_m"))[i];
+    if (points.cartesian) {
+      x[i] = points.a[i];
+      y[i] = points.b[i];
       const plant::TrackProjection q = track.Project(x[i], y[i], 0.0, hint);
       s = q.s;
       n = q.n;
       hint = s;
     } else {
-      s = (*t.Column("s_opt"))[i];
-      n = (*t.Column("n_opt"))[i];
+      s = points.a[i];
+      n = points.b[i];
       track.ToCartesian(s, n, &x[i], &y[i]);
     }
     out.s_centre[i] = s;
@@ -229,13 +220,13 @@ RacingLine LoadRacingLine(const std::string& path, const plant::Track& track, do
     wr[i] = track.WidthRightAt(s) + n;
     mu[i] = track.FrictionAt(s);
     if (!(wl[i] > 0.0 && wr[i] > 0.0))
-      pr.Add("line " + std::to_string(t.lines[i]),
+      pr.Add("line " + std::to_string(points.rows[i]),
              "the raceline point is off the track (lateral offset " + params::FormatNumber(n) +
                  " m at s = " + params::FormatNumber(s) + " m)");
   }
-  if (!pr.empty()) throw ConfigError(path, pr.items());
-  out.line = LineTrack(x, y, wl, wr, mu, output_step, track.name() + " raceline", path);
+  if (!pr.empty()) throw ConfigError(source, pr.items());
+  out.line = LineTrack(x, y, wl, wr, mu, output_step, track.name() + " raceline", source);
   return out;
 }
 
-}  // namespace scw::tuning
+}  // namespace scw::controller::planning

@@ -13,8 +13,9 @@
 // which keeps the line evenly parameterised. The line is then a plant::Track (spline-resampled;
 // widths = distance to the original edges), ready for the velocity profile.
 //
-// Raceline file. `x_m,y_m` (racetrack-database racelines) or `s_opt,n_opt` (TUMRT global racing
-// lines: offset n from the reference line at its arc length s); header-detected.
+// Given line. The points of a raceline file (read by tuning/sim/track_csv.h: `x_m,y_m` of the
+// racetrack-database racelines or `s_opt,n_opt` of TUMRT's global racing lines, the offset n from
+// the reference line at its arc length s) placed on the track (RacingLineThrough).
 #pragma once
 
 #include <string>
@@ -22,7 +23,7 @@
 
 #include "plant/track/track.h"
 
-namespace scw::tuning {
+namespace scw::controller::planning {
 
 struct RacingLineOptions {
   double step = 3.0;    ///< node spacing of the optimisation [m]
@@ -53,12 +54,21 @@ struct RacingLine {
 /// track is narrower than 2·margin somewhere; std::runtime_error if NLopt fails outright.
 RacingLine MinimumCurvatureLine(const plant::Track& track, const RacingLineOptions& options = {});
 
-/// Loads a raceline file (see above) relative to `track`. Throws ConfigError naming file, line and
-/// column on bad input.
-RacingLine LoadRacingLine(const std::string& path, const plant::Track& track,
-                          double output_step = 1.0);
+/// The points of a given line, as read from a raceline file: either world coordinates (x, y) or
+/// curvilinear ones (s along the track's centre line, n > 0 left of it), one per file row.
+struct RacelinePoints {
+  bool cartesian = true;     ///< a = x, b = y [m]; otherwise a = s, b = n [m]
+  std::vector<double> a, b;  ///< equal lengths, ≥ 8 points
+  std::vector<int> rows;     ///< the file line of each point (for errors)
+};
+
+/// The line through `points` relative to `track` (widths = distance to the track's edges),
+/// resampled at `output_step`. Throws ConfigError(`source`, "line N", ...) for every point off the
+/// track.
+RacingLine RacingLineThrough(const plant::Track& track, const RacelinePoints& points,
+                             const std::string& source, double output_step = 1.0);
 
 /// Σ κ_i² ds over the nodes of a path [1/m]: the curvature measure compared in the tests.
 double SquaredCurvatureIntegral(const plant::Track& path);
 
-}  // namespace scw::tuning
+}  // namespace scw::controller::planning

@@ -2,7 +2,7 @@
 // (plant-and-track spec §6.1, TUM trajectory_planning_helpers; our own implementation).
 //
 // Path: the nodes of a plant::Track (uniform step ds, curvature κ_i, friction scale μ_i), usually
-// the racing line (tuning/sim/trajectory/racing_line.h) or a centre line. With g = gg_scale:
+// the racing line (controller/planning/racing_line.h) or a centre line. With g = gg_scale:
 //   1. Speed cap v_lim,i = the smallest v > 0 with v²|κ_i| = g·μ_i·ay_max(v) (first crossing,
 //      so downforce — ay_max growing with v — is handled exactly), clipped to v_max.
 //   2. Forward pass (accelerating): v_{i+1} = the largest w ≤ v_lim,{i+1} with
@@ -17,8 +17,8 @@
 // Outputs per node: a_x,i = (v_{i+1}² − v_i²)/(2 ds) (the acceleration of the segment that starts
 // at node i; the last node repeats the first on a closed path), a_y,i = v_i² κ_i, t by
 // Δt = 2 ds/(v_i + v_{i+1}). Lap time = t at the end of the last segment.
-// Drag: controller::planning::GgvTable' drive limit is net of drag and its braking limit includes
-// it (plant/track/ggv.h), so no extra drag term appears here.
+// Drag: GgvTable's drive limit is net of drag and its braking limit includes it
+// (controller/planning/ggv.h), so no extra drag term appears here.
 #pragma once
 
 #include <string>
@@ -27,7 +27,7 @@
 #include "controller/planning/ggv.h"
 #include "plant/track/track.h"
 
-namespace scw::tuning {
+namespace scw::controller::planning {
 
 struct VelocityProfileOptions {
   double gg_scale = 1.0;  ///< the paper's acceleration scaling GG (multiplies every limit) [-]
@@ -57,17 +57,12 @@ struct ReferenceTrajectory {
 };
 
 /// Velocity profile on the nodes of `path`. Throws ConfigError if `limits` are invalid.
-ReferenceTrajectory ComputeVelocityProfile(const plant::Track& path,
-                                           const controller::planning::GgvTable& limits,
+ReferenceTrajectory ComputeVelocityProfile(const plant::Track& path, const GgvTable& limits,
                                            const VelocityProfileOptions& options = {});
 
 /// A representative g-g-v table of the default car (AV-21/EAV class, spec §4.2/§4.4): lateral
 /// limit growing with downforce from 20 to 30 m/s², power-limited drive, braking 15 → 31 m/s²,
 /// p = 1.6. Used by `scw track line` when no table is given and by the tests.
-controller::planning::GgvTable RepresentativeGgv();
+GgvTable RepresentativeGgv();
 
-/// Reads a g-g-v table CSV with columns v_mps, ay_max_mps2, ax_drive_max_mps2, ax_brake_max_mps2
-/// (header line required); `exponent` sets p. Throws ConfigError naming file, line and column.
-controller::planning::GgvTable LoadGgvCsv(const std::string& path, double exponent);
-
-}  // namespace scw::tuning
+}  // namespace scw::controller::planning

@@ -1,14 +1,12 @@
-#include "tuning/sim/plant_envelope.h"
+#include "controller/planning/envelope.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "plant/vehicle/quasi_steady.h"
 
-namespace scw::tuning {
+namespace scw::controller::planning {
 namespace {
-
-using controller::planning::GgvTable;
 
 // Area under a_x(0) C(r, p) over r in [0, 1] per unit a_x(0) (midpoint rule, 200 cells).
 double UnitArea(double p) {
@@ -135,4 +133,4 @@ GgvTable PlantEnvelope(const params::VehicleParams& v, double brake_bias_front) 
   return g;
 }
 
-}  // namespace scw::tuning
+}  // namespace scw::controller::planning

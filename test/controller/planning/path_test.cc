@@ -1,4 +1,4 @@
-#include "controller/motion/path.h"
+#include "controller/planning/path.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 
 #include "params/schema/field.h"
 
-namespace scw::controller::motion {
+namespace scw::controller::planning {
 namespace {
 
 // Counter-clockwise circle of radius r around the origin, starting at (r, 0).
@@ -331,4 +331,4 @@ TEST(PathTest, WrapAngleIsBitIdenticalToTheRemainderForm) {
 }
 
 }  // namespace
-}  // namespace scw::controller::motion
+}  // namespace scw::controller::planning

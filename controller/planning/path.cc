@@ -1,4 +1,4 @@
-#include "controller/motion/path.h"
+#include "controller/planning/path.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include "params/schema/field.h"
 
-namespace scw::controller::motion {
+namespace scw::controller::planning {
 
 double WrapAngle(double a) noexcept {
   if (!std::isfinite(a)) return 0.0;
@@ -144,4 +144,4 @@ PathProjection Path::Project(double x, double y, double psi, double s_hint,
   return best;
 }
 
-}  // namespace scw::controller::motion
+}  // namespace scw::controller::planning

@@ -1,16 +1,15 @@
-#include "tuning/sim/trajectory/velocity_profile.h"
+#include "controller/planning/velocity_profile.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "params/io/csv.h"
 #include "params/schema/field.h"
 
-namespace scw::tuning {
+namespace scw::controller::planning {
 namespace {
 
 struct Limits {
-  const controller::planning::GgvTable& g;
+  const GgvTable& g;
   double scale;
   double AyLimit(double v, double mu) const { return scale * mu * g.AyMax(v); }
   // Largest forward acceleration at speed v on curvature k.
@@ -87,8 +86,7 @@ TrajectorySample ReferenceTrajectory::At(double sq) const noexcept {
   return r;
 }
 
-ReferenceTrajectory ComputeVelocityProfile(const plant::Track& path,
-                                           const controller::planning::GgvTable& limits,
+ReferenceTrajectory ComputeVelocityProfile(const plant::Track& path, const GgvTable& limits,
                                            const VelocityProfileOptions& o) {
   limits.Validate("g-g-v limits");
   if (!(o.gg_scale > 0.0) || !(o.v_max > o.v_min) || !(o.v_min > 0.0))
@@ -157,8 +155,8 @@ ReferenceTrajectory ComputeVelocityProfile(const plant::Track& path,
   return r;
 }
 
-controller::planning::GgvTable RepresentativeGgv() {
-  controller::planning::GgvTable g;
+GgvTable RepresentativeGgv() {
+  GgvTable g;
   g.speed = {0.0, 10.0, 30.0, 50.0, 70.0, 90.0};
   g.ay_max = {20.0, 20.0, 22.0, 25.0, 28.0, 30.0};
   g.ax_drive_max = {8.0, 8.0, 7.5, 6.0, 4.0, 2.0};
@@ -167,17 +165,4 @@ controller::planning::GgvTable RepresentativeGgv() {
   return g;
 }
 
-controller::planning::GgvTable LoadGgvCsv(const std::string& path, double exponent) {
-  const io::CsvTable t =
-      io::ReadCsvTable(path, {"v_mps", "ay_max_mps2", "ax_drive_max_mps2", "ax_brake_max_mps2"});
-  controller::planning::GgvTable g;
-  g.speed = *t.Column("v_mps");
-  g.ay_max = *t.Column("ay_max_mps2");
-  g.ax_drive_max = *t.Column("ax_drive_max_mps2");
-  g.ax_brake_max = *t.Column("ax_brake_max_mps2");
-  g.SetExponent(exponent);
-  g.Validate(path);
-  return g;
-}
-
-}  // namespace scw::tuning
+}  // namespace scw::controller::planning

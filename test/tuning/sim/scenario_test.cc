@@ -1,9 +1,10 @@
 // Issue 14, part 2 and prerequisite P2: the planner's g-g-v table comes from the plant's own
 // combined envelope, the reference planned at 100 % of it is quasi-steady feasible for the plant,
 // and the full-limit lap of Yas North is 60 s ± 3 % (public team targets 59.5 s real / 60.0 s sim).
-// Issue 18, part 4: Resolve's preparation cache shares a table only between equal vehicles and
-// gives, from any number of threads, what a computation from scratch gives.
-#include "tuning/sim/plant_envelope.h"
+// Issue 18, part 4 (issue 29: the cache is the caller's ReferenceCache): Resolve's preparation
+// cache shares a table only between equal vehicles and gives, from any number of threads, what a
+// computation from scratch gives.
+#include "tuning/sim/scenario.h"
 
 #include <gtest/gtest.h>
 
@@ -12,32 +13,17 @@
 #include <fstream>
 #include <vector>
 
+#include "controller/planning/envelope.h"
+#include "controller/planning/racing_line.h"
+#include "controller/planning/velocity_profile.h"
 #include "plant/track/yas_north.h"
 #include "plant/vehicle/quasi_steady.h"
 #include "tuning/sim/parallel/parallel_for.h"
-#include "tuning/sim/scenario.h"
-#include "tuning/sim/trajectory/racing_line.h"
-#include "tuning/sim/trajectory/velocity_profile.h"
 
 namespace scw::tuning {
 namespace {
 
-TEST(PlantEnvelope, FittedLawLiesInsideTheSampledEnvelope) {
-  const params::VehicleParams p;
-  const auto rows = SampleEnvelope(p, 0.58, {20.0, 40.0, 60.0});
-  const auto g = FitEnvelope(rows);
-  for (const EnvelopeRow& r : rows)
-    for (std::size_t j = 0; j < kEnvelopeLevels.size(); ++j) {
-      const double ay = kEnvelopeLevels[j] * r.ay_max;
-      EXPECT_LE(g.AxDriveMax(r.speed) * g.DriveFactor(ay, g.AyMax(r.speed), r.speed),
-                r.drive[j] + 1e-9);
-      EXPECT_LE(g.AxBrakeMax(r.speed) * g.BrakeFactor(ay, g.AyMax(r.speed), r.speed),
-                r.brake[j] + 1e-9);
-    }
-  // Both capacities fall with lateral load.
-  EXPECT_LT(rows[0].drive.back(), rows[0].drive.front());
-  EXPECT_LT(rows[0].brake.back(), rows[0].brake.front());
-}
+using controller::planning::ReferenceCache;
 
 TEST(PlantEnvelope, FullLimitLapOfYasNorthIsAbout60Seconds) {
   const ResolvedScenario sc = Resolve(DefaultScenario());
@@ -63,7 +49,7 @@ TEST(PlantEnvelope, ReferenceAtFullLimitsIsQuasiSteadyFeasible) {
   EXPECT_EQ(infeasible, 0) << "of " << checked << " reference points";
 }
 
-bool SamePath(const controller::motion::Path& a, const controller::motion::Path& b) {
+bool SamePath(const controller::planning::Path& a, const controller::planning::Path& b) {
   if (a.size() != b.size() || a.length() != b.length()) return false;
   for (std::size_t i = 0; i < a.size(); ++i) {
     const auto &p = a.points()[i], &q = b.points()[i];
@@ -75,12 +61,14 @@ bool SamePath(const controller::motion::Path& a, const controller::motion::Path&
 }
 
 TEST(PreparationCache, ScenariosWithTheSamePlannedVehicleShareTheTable) {
-  const ResolvedScenario a = Resolve(DefaultScenario());
+  ReferenceCache cache;
+  const ResolvedScenario a = Resolve(DefaultScenario(), "", "built-in", &cache);
   // Fewer laps, sensor noise (the envelope ignores it) and a slippery car planned with the
   // nominal grip all plan with the same vehicle.
-  const ResolvedScenario b = Resolve(DefaultScenario({"laps=1", "sensor_noise=true"}));
-  const ResolvedScenario c =
-      Resolve(DefaultScenario({"grip.mu=0.8", "plan_with_nominal_grip=true"}));
+  const ResolvedScenario b =
+      Resolve(DefaultScenario({"laps=1", "sensor_noise=true"}), "", "built-in", &cache);
+  const ResolvedScenario c = Resolve(
+      DefaultScenario({"grip.mu=0.8", "plan_with_nominal_grip=true"}), "", "built-in", &cache);
   for (const ResolvedScenario* r : {&b, &c}) {
     EXPECT_TRUE(r->ggv == a.ggv);
     EXPECT_TRUE(SamePath(*r->path, *a.path));
@@ -90,8 +78,9 @@ TEST(PreparationCache, ScenariosWithTheSamePlannedVehicleShareTheTable) {
 }
 
 TEST(PreparationCache, ATrackIsBuiltOncePerNameOrFileContent) {
-  const ResolvedScenario a = Resolve(DefaultScenario());
-  const ResolvedScenario b = Resolve(DefaultScenario({"laps=1", "seed=7"}));
+  ReferenceCache cache;
+  const ResolvedScenario a = Resolve(DefaultScenario(), "", "built-in", &cache);
+  const ResolvedScenario b = Resolve(DefaultScenario({"laps=1", "seed=7"}), "", "built-in", &cache);
   EXPECT_EQ(a.track.get(), b.track.get());  // Yas Marina North, built once
   // A track file is keyed by its bytes: the same path with other content is another track.
   const std::string file = testing::TempDir() + "scw_cache_track.yaml";
@@ -103,7 +92,8 @@ TEST(PreparationCache, ATrackIsBuiltOncePerNameOrFileContent) {
         << "width_left: [" << width << "]\nwidth_right: [" << width << "]\n";
   };
   const auto resolve = [&] {
-    return Resolve(DefaultScenario({"track=" + file, "motion.raceline=centerline", "laps=1"}));
+    return Resolve(DefaultScenario({"track=" + file, "motion.raceline=centerline", "laps=1"}), "",
+                   "built-in", &cache);
   };
   write("6, 6, 6, 6");
   const ResolvedScenario f1 = resolve();
@@ -117,32 +107,39 @@ TEST(PreparationCache, ATrackIsBuiltOncePerNameOrFileContent) {
 }
 
 TEST(PreparationCache, AnyOtherVehicleValueGetsItsOwnTable) {
-  const ResolvedScenario base = Resolve(DefaultScenario());
-  const ResolvedScenario wet = Resolve(DefaultScenario({"grip.mu=0.9"}));
+  ReferenceCache cache;
+  const ResolvedScenario base = Resolve(DefaultScenario(), "", "built-in", &cache);
+  const ResolvedScenario wet = Resolve(DefaultScenario({"grip.mu=0.9"}), "", "built-in", &cache);
   EXPECT_FALSE(wet.ggv == base.ggv);
   EXPECT_GT(wet.ideal_lap_time, base.ideal_lap_time + 0.5);
   EXPECT_GT(wet.limit_lap_time, base.limit_lap_time + 0.5);
-  const ResolvedScenario bias =
-      Resolve(DefaultScenario({"motion.longitudinal.brake_bias_front=0.62"}));
+  const ResolvedScenario bias = Resolve(
+      DefaultScenario({"motion.longitudinal.brake_bias_front=0.62"}), "", "built-in", &cache);
   EXPECT_FALSE(bias.ggv == base.ggv);
 }
 
 TEST(PreparationCache, ConcurrentResolutionGivesTheSerialResult) {
+  ReferenceCache cache;
   // A grip no other test plans with: the threads meet an empty cache for its table.
   const params::ScenarioParams spec = DefaultScenario({"grip.front_mu_y=0.95", "laps=1"});
   std::vector<ResolvedScenario> got(4);
-  ParallelFor(static_cast<int>(got.size()), static_cast<int>(got.size()),
-              [&](int i) { got[static_cast<std::size_t>(i)] = Resolve(spec); });
+  ParallelFor(static_cast<int>(got.size()), static_cast<int>(got.size()), [&](int i) {
+    got[static_cast<std::size_t>(i)] = Resolve(spec, "", "built-in", &cache);
+  });
   // Serial and without the cache: the line, the table and both profiles from scratch.
-  RacingLineOptions ro;
+  controller::planning::RacingLineOptions ro;
   ro.margin = spec.motion.raceline_margin;
-  const plant::Track line = MinimumCurvatureLine(plant::YasNorthTrack(), ro).line;
-  const auto table = PlantEnvelope(got[0].vehicle, spec.motion.longitudinal.brake_bias_front);
-  VelocityProfileOptions vo;
+  const plant::Track line =
+      controller::planning::MinimumCurvatureLine(plant::YasNorthTrack(), ro).line;
+  const auto table = controller::planning::PlantEnvelope(got[0].vehicle,
+                                                         spec.motion.longitudinal.brake_bias_front);
+  controller::planning::VelocityProfileOptions vo;
   vo.gg_scale = spec.gg_scale * spec.limit_fraction;
-  const double ideal = ComputeVelocityProfile(line, table, vo).lap_time;
-  const double limit = ComputeVelocityProfile(line, table, VelocityProfileOptions{}).lap_time;
-  const ResolvedScenario serial = Resolve(spec);
+  const double ideal = controller::planning::ComputeVelocityProfile(line, table, vo).lap_time;
+  const double limit = controller::planning::ComputeVelocityProfile(
+                           line, table, controller::planning::VelocityProfileOptions{})
+                           .lap_time;
+  const ResolvedScenario serial = Resolve(spec, "", "built-in", &cache);
   for (const ResolvedScenario& r : got) {
     EXPECT_TRUE(r.ggv == table);
     EXPECT_EQ(r.ideal_lap_time, ideal);

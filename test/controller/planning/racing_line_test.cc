@@ -1,17 +1,16 @@
 // Minimum-curvature racing line: within the bounds minus the margin, less curvature than the
-// centre line, converged; and a given raceline file loads.
-#include "tuning/sim/trajectory/racing_line.h"
+// centre line, converged; and a line through given points (a raceline file's) is placed on the
+// track.
+#include "controller/planning/racing_line.h"
 
 #include <gtest/gtest.h>
 
 #include <iostream>
 
+#include "controller/planning/velocity_profile.h"
 #include "plant/track/yas_north.h"
-#include "test/test_data.h"
-#include "tuning/sim/track_csv.h"
-#include "tuning/sim/trajectory/velocity_profile.h"
 
-namespace scw::tuning {
+namespace scw::controller::planning {
 namespace {
 
 TEST(RacingLine, YasNorthMinimumCurvatureLine) {
@@ -52,16 +51,33 @@ TEST(RacingLine, MarginWiderThanTheTrackIsAConfigError) {
   EXPECT_THROW(MinimumCurvatureLine(plant::YasNorthTrack(), o), ConfigError);
 }
 
-TEST(RacingLine, GivenRacelineFileLoads) {
-  const std::string ref = test::SharedData(test::kYasSmoothed);
-  const std::string line =
-      test::SharedData("tracks/yas_north/global_racing_lines/yasnorth_3d_dallaraAV21_gg_0.1.csv");
-  if (ref.empty() || line.empty()) GTEST_SKIP() << "../shared/data/tracks/yas_north not present";
-  const plant::Track t = tuning::LoadTrackCsv(ref);
-  const RacingLine rl = LoadRacingLine(line, t);
-  EXPECT_NEAR(rl.line.length(), 2990.0, 60.0);
-  EXPECT_LT(SquaredCurvatureIntegral(rl.line), SquaredCurvatureIntegral(t));
+TEST(RacingLine, ALineThroughGivenPointsFollowsThemAndNamesPointsOffTheTrack) {
+  const plant::Track t = plant::YasNorthTrack();
+  // Curvilinear points 1 m left of the centre line every 50 m: the line keeps that offset.
+  RacelinePoints points;
+  points.cartesian = false;
+  for (double s = 0.0; s < t.length() - 25.0; s += 50.0) {
+    points.a.push_back(s);
+    points.b.push_back(1.0);
+    points.rows.push_back(static_cast<int>(points.rows.size()) + 2);
+  }
+  const RacingLine rl = RacingLineThrough(t, points, "given.csv");
+  EXPECT_EQ(rl.status, "loaded from given.csv");
+  EXPECT_NEAR(rl.line.length(), t.length(), 0.01 * t.length());
+  ASSERT_EQ(rl.offset.size(), points.a.size());
+  EXPECT_EQ(rl.offset[3], 1.0);
+  // One point far outside: the error names the source and the point's file line.
+  points.b[4] = 40.0;
+  try {
+    RacingLineThrough(t, points, "given.csv");
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("given.csv"), std::string::npos) << what;
+    EXPECT_NE(what.find("line 6"), std::string::npos) << what;
+    EXPECT_NE(what.find("off the track"), std::string::npos) << what;
+  }
 }
 
 }  // namespace
-}  // namespace scw::tuning
+}  // namespace scw::controller::planning

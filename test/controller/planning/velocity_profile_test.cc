@@ -1,6 +1,6 @@
 // Forward-backward g-g-v velocity profile: limits respected at every node, periodic, monotone in
 // the acceleration scaling GG.
-#include "tuning/sim/trajectory/velocity_profile.h"
+#include "controller/planning/velocity_profile.h"
 
 #include <gtest/gtest.h>
 
@@ -8,12 +8,12 @@
 
 #include "plant/track/yas_north.h"
 
-namespace scw::tuning {
+namespace scw::controller::planning {
 namespace {
 
 // Every segment's mean a_x within the combined limit at both of its ends; a_y at every node.
-void ExpectWithinLimits(const ReferenceTrajectory& r, const plant::Track& path,
-                        const controller::planning::GgvTable& g, double gg) {
+void ExpectWithinLimits(const ReferenceTrajectory& r, const plant::Track& path, const GgvTable& g,
+                        double gg) {
   auto ay_lim = [&](std::size_t i) { return gg * path.friction()[i] * g.AyMax(r.v[i]); };
   auto comb = [&](std::size_t i) { return g.DriveFactor(std::abs(r.a_y[i]), ay_lim(i), r.v[i]); };
   int violations = 0;
@@ -41,7 +41,7 @@ TEST(VelocityProfile, ConstantRadiusCircleRunsAtTheLateralLimit) {
   def.curvature_start = def.curvature_end = {0.01, 0.01};
   def.width_left = def.width_right = {5.0, 5.0};
   const plant::Track circle = plant::Track::FromDefinition(def);
-  const auto g = controller::planning::GgvTable::Constant(16.0, 6.0, 12.0, 2.0);
+  const auto g = GgvTable::Constant(16.0, 6.0, 12.0, 2.0);
   const ReferenceTrajectory r = ComputeVelocityProfile(circle, g);
   for (std::size_t i = 0; i < r.size(); ++i) {
     EXPECT_NEAR(r.v[i], 40.0, 1e-6);
@@ -52,7 +52,7 @@ TEST(VelocityProfile, ConstantRadiusCircleRunsAtTheLateralLimit) {
 
 TEST(VelocityProfile, YasNorthRespectsLimitsAndIsPeriodic) {
   const plant::Track t = plant::YasNorthTrack();
-  const controller::planning::GgvTable g = RepresentativeGgv();
+  const GgvTable g = RepresentativeGgv();
   for (double gg : {0.8, 1.0, 1.3}) {
     VelocityProfileOptions o;
     o.gg_scale = gg;
@@ -66,7 +66,7 @@ TEST(VelocityProfile, YasNorthRespectsLimitsAndIsPeriodic) {
 
 TEST(VelocityProfile, ScalesUpMonotonicallyWithGg) {
   const plant::Track t = plant::YasNorthTrack();
-  const controller::planning::GgvTable g = RepresentativeGgv();
+  const GgvTable g = RepresentativeGgv();
   ReferenceTrajectory prev;
   for (double gg : {0.6, 0.8, 1.0, 1.2, 1.4}) {
     VelocityProfileOptions o;
@@ -89,10 +89,10 @@ TEST(VelocityProfile, InterpolationWrapsAndMatchesNodes) {
 }
 
 TEST(VelocityProfile, InvalidLimitsAreConfigErrors) {
-  controller::planning::GgvTable g = RepresentativeGgv();
+  GgvTable g = RepresentativeGgv();
   g.ay_max.pop_back();
   EXPECT_THROW(ComputeVelocityProfile(plant::YasNorthTrack(), g), ConfigError);
 }
 
 }  // namespace
-}  // namespace scw::tuning
+}  // namespace scw::controller::planning

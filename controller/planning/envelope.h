@@ -13,6 +13,11 @@
 // lying inside the plant's envelope at every level (the TUMRT diamond fit). So the planner never
 // asks for a combination the plant cannot hold in quasi-steady state, up to the linear
 // interpolation between speeds.
+//
+// Why planning includes the plant here: the envelope is the plant's own quasi-steady model
+// evaluated offline, at preparation time; planning runs nowhere else (scw::stability, the car's
+// controller, includes no planning), and an interface in between would repeat the model's five
+// limit functions without removing the dependency.
 #pragma once
 
 #include <array>
@@ -21,7 +26,7 @@
 #include "controller/planning/ggv.h"
 #include "params/schema/vehicle_params.h"
 
-namespace scw::tuning {
+namespace scw::controller::planning {
 
 inline constexpr std::array<double, 9> kEnvelopeLevels = {0.0,  0.25, 0.5,  0.65, 0.75,
                                                           0.85, 0.9,  0.95, 0.98};
@@ -37,13 +42,12 @@ std::vector<EnvelopeRow> SampleEnvelope(const params::VehicleParams& v, double b
                                         const std::vector<double>& speeds);
 
 /// Fits the planner's table to sampled rows (see the file comment).
-controller::planning::GgvTable FitEnvelope(const std::vector<EnvelopeRow>& rows);
+GgvTable FitEnvelope(const std::vector<EnvelopeRow>& rows);
 
 /// The planner's table: SampleEnvelope at 10, 20, …, 90 m/s and FitEnvelope give each speed's
 /// exponents and the fitted peaks' share of the pure limits; the pure limits (ay_max, drive and
 /// brake at a_y = 0) are sampled every 2 m/s, because the power limit (~1/v) and downforce
 /// (~v^2) make them too curved for 10 m/s steps. Deterministic; ~1.5 s.
-controller::planning::GgvTable PlantEnvelope(const params::VehicleParams& v,
-                                             double brake_bias_front);
+GgvTable PlantEnvelope(const params::VehicleParams& v, double brake_bias_front);
 
-}  // namespace scw::tuning
+}  // namespace scw::controller::planning
