@@ -20,6 +20,7 @@
 
 #include "controller/motion/motion_controller.h"
 #include "controller/motion/path.h"
+#include "controller/planning/corridor.h"
 #include "controller/planning/ggv.h"
 #include "params/schema/field.h"
 
@@ -29,10 +30,7 @@ namespace scw::controller::motion {
 using GgTable = planning::GgvTable;
 
 /// Lateral bounds around the path, one entry per Path station (see the file comment).
-struct Corridor {
-  std::vector<double> left;   ///< [m] ≥ 0, room to the left of the path
-  std::vector<double> right;  ///< [m] ≥ 0, room to the right of the path
-};
+using Corridor = planning::Corridor;
 
 /// The constructor checks both MPCs share: a path is given (key "path"), the limits are valid
 /// (GgvTable::Validate, keys under "limits."), the corridor has one entry per path station (keys

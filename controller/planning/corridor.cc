@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "plant/track/track.h"
+
 namespace scw::controller::planning {
 
 Corridor MakeCorridor(const plant::Track& track, const Path& path, double cap) {

@@ -8,7 +8,10 @@
 #include <vector>
 
 #include "controller/planning/path.h"
-#include "plant/track/track.h"
+
+namespace scw::plant {
+class Track;  // plant/track/track.h; only MakeCorridor needs it
+}  // namespace scw::plant
 
 namespace scw::controller::planning {
 

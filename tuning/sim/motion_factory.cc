@@ -26,9 +26,8 @@ cm::GgTable PlannerLimits(const ResolvedScenario& sc) {
 /// lateral-error abort threshold (the MPC never plans towards an abort; the reference keeps
 /// raceline_margin from the edges anyway).
 cm::Corridor MakeCorridor(const ResolvedScenario& sc) {
-  controller::planning::Corridor c = controller::planning::MakeCorridor(
-      *sc.track, *sc.path, 0.6 * sc.spec.abort.max_lateral_error);
-  return {std::move(c.left), std::move(c.right)};
+  return controller::planning::MakeCorridor(*sc.track, *sc.path,
+                                            0.6 * sc.spec.abort.max_lateral_error);
 }
 
 }  // namespace
