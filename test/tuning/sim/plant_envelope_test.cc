@@ -10,11 +10,11 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <thread>
 #include <vector>
 
 #include "plant/track/yas_north.h"
 #include "plant/vehicle/quasi_steady.h"
-#include "tuning/sim/parallel/parallel_for.h"
 #include "tuning/sim/scenario.h"
 #include "tuning/sim/trajectory/racing_line.h"
 #include "tuning/sim/trajectory/velocity_profile.h"
@@ -131,8 +131,10 @@ TEST(PreparationCache, ConcurrentResolutionGivesTheSerialResult) {
   // A grip no other test plans with: the threads meet an empty cache for its table.
   const params::ScenarioParams spec = DefaultScenario({"grip.front_mu_y=0.95", "laps=1"});
   std::vector<ResolvedScenario> got(4);
-  ParallelFor(static_cast<int>(got.size()), static_cast<int>(got.size()),
-              [&](int i) { got[static_cast<std::size_t>(i)] = Resolve(spec); });
+  std::vector<std::thread> pool;
+  for (std::size_t i = 0; i < got.size(); ++i)
+    pool.emplace_back([&, i] { got[i] = Resolve(spec); });
+  for (auto& t : pool) t.join();
   // Serial and without the cache: the line, the table and both profiles from scratch.
   RacingLineOptions ro;
   ro.margin = spec.motion.raceline_margin;
