@@ -355,7 +355,7 @@ void SolveFactor(ipfint* N, double* a, ipfint*, ipfint* iw, ipfint*, double* w, 
 // process therefore go through one lock (also those on the LDLᵀ, which itself would not need it:
 // Ipopt 3.11's own thread safety is not documented); runs with MPCs still execute in parallel
 // everywhere else (plant, stability controller), and results do not depend on the order. MPC
-// sweeps parallelise over processes instead (`scw sweep --processes`, tuning/sim/sweep/sweep.h).
+// sweeps parallelise over processes instead (`scw sweep --processes`, tuning/sweep/sweep.h).
 static std::mutex& IpoptMutex() {
   static std::mutex m;
   return m;

@@ -1,15 +1,15 @@
 // `scw replay` speed (issue 10): a 10-minute log at 100 Hz (60 000 rows of the synthetic lap of
-// test/tuning/sim/replay/log_stories.h, every subsystem intervening) read, stepped through the
+// test/tuning/replay/log_stories.h, every subsystem intervening) read, stepped through the
 // stability controller and its outputs written (atomically, with fsync) — the whole command
 // without the params loading. The log is written to a temporary file once. Reported: time per
 // replay of the full log. Run:
 //   build/<dir>/test/scw_benchmarks --benchmark_filter=Replay
 #include <benchmark/benchmark.h>
 
-#include "test/tuning/sim/replay/log_stories.h"
-#include "tuning/sim/replay/replay.h"
+#include "test/tuning/replay/log_stories.h"
+#include "tuning/replay/replay.h"
 
-namespace scw::tuning {
+namespace scw::tuning::replay {
 namespace {
 
 constexpr long kRows = 60000;  // 10 min at 100 Hz
@@ -84,4 +84,4 @@ void BM_ReadControllerLog10Min(benchmark::State& bench) {
 BENCHMARK(BM_ReadControllerLog10Min)->Unit(benchmark::kMillisecond);
 
 }  // namespace
-}  // namespace scw::tuning
+}  // namespace scw::tuning::replay

@@ -7,7 +7,7 @@
 
 #include "test/fuzz/fuzz_targets.h"
 #include "test/fuzz/fuzz_util.h"
-#include "tuning/sim/replay/controller_log.h"
+#include "tuning/replay/controller_log.h"
 
 using scw::ConfigError;
 
@@ -15,7 +15,7 @@ int scw::fuzz::FuzzReplayLog(const std::uint8_t* data, std::size_t size) {
   static scw::fuzz::MemFile file;
   const std::string& path = file.Write(data, size);
   try {
-    scw::tuning::ControllerLogReader reader(path);
+    scw::tuning::replay::ControllerLogReader reader(path);
     scw::controller::StabilityInput in;
     double last_t = -INFINITY;
     while (reader.Next(&in)) {

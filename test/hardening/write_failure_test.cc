@@ -24,7 +24,7 @@
 #include "params/io/write.h"
 #include "params/io/yaml_doc.h"
 #include "tuning/optim/tuner.h"
-#include "tuning/sim/replay/controller_log.h"
+#include "tuning/replay/controller_log.h"
 
 namespace scw::tuning {
 namespace {
@@ -215,7 +215,7 @@ controller::StabilityInput Row(int k) {
 
 TEST_F(WriteFailureTest, ControllerLogIntoAMissingFolderNamesThePath) {
   const std::string path = Path("missing/log.csv");
-  const std::string msg = Message([&] { ControllerLogWriter w(path); });
+  const std::string msg = Message([&] { replay::ControllerLogWriter w(path); });
   EXPECT_NE(msg.find(path), std::string::npos) << msg;
   EXPECT_TRUE(Listing().empty());
 }
@@ -223,7 +223,7 @@ TEST_F(WriteFailureTest, ControllerLogIntoAMissingFolderNamesThePath) {
 TEST_F(WriteFailureTest, ControllerLogOntoAFolderIsRefusedAtOnce) {
   const std::string path = Path("a_folder");
   fs::create_directory(path);
-  const std::string msg = Message([&] { ControllerLogWriter w(path); });
+  const std::string msg = Message([&] { replay::ControllerLogWriter w(path); });
   EXPECT_NE(msg.find(path + ": it is a folder"), std::string::npos) << msg;
   EXPECT_EQ(Listing(), std::set<std::string>{"a_folder"});
 }
@@ -235,7 +235,7 @@ TEST_F(WriteFailureTest, ControllerLogOnAFullDiskKeepsThePreviousFile) {
   {
     DiskFull full(16384);
     msg = Message([&] {
-      ControllerLogWriter w(path);
+      replay::ControllerLogWriter w(path);
       for (int k = 0; k < 20000; ++k) w.Write(Row(k));
       w.Commit();
     });

@@ -16,10 +16,10 @@
 #include "plant/vehicle/vehicle.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
+#include "tuning/exec/mpi_backend.h"
 #include "tuning/optim/evaluator.h"
 #include "tuning/optim/plant_step_check.h"
 #include "tuning/sim/closed_loop.h"
-#include "tuning/sim/parallel/mpi_backend.h"
 #include "tuning/sim/scenario.h"
 
 namespace scw::cli {
@@ -144,7 +144,7 @@ int BenchEvaluator(const BenchOptions& o) {
   std::vector<params::StabilityParams> sets(static_cast<std::size_t>(o.evaluations));
   for (std::size_t i = 0; i < sets.size(); ++i)
     sets[i].ESC.kp_psi_dot = 6.0 + static_cast<double>(i);  // distinct sets
-  const bool ranks = tuning::mpi::Launched();
+  const bool ranks = tuning::exec::mpi::Launched();
   const std::string step_note =
       o.plant_step > 0.0 ? " at plant step " + params::FormatDouble(o.plant_step) + " s" : "";
   double rate[2] = {0, 0};
@@ -165,7 +165,7 @@ int BenchEvaluator(const BenchOptions& o) {
     }
     rate[threads - 1] = static_cast<double>(sets.size()) / best;
     const std::string workers =
-        ranks ? std::to_string(tuning::mpi::Ranks()) + " MPI rank(s) x 1 thread"
+        ranks ? std::to_string(tuning::exec::mpi::Ranks()) + " MPI rank(s) x 1 thread"
               : std::to_string(threads) + " thread(s)";
     std::printf(
         "evaluator: %zu scenarios per evaluation%s, %s: %.3f evaluations/s "

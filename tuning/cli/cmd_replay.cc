@@ -12,8 +12,8 @@
 #include "params/schema/stability_params.h"
 #include "params/schema/vehicle_params.h"
 #include "tuning/cli/command.h"
-#include "tuning/sim/replay/log_setup.h"
-#include "tuning/sim/replay/replay.h"
+#include "tuning/replay/log_setup.h"
+#include "tuning/replay/replay.h"
 #include "tuning/sim/scenario.h"
 
 namespace scw::cli {
@@ -39,7 +39,7 @@ bool SameFile(const std::string& a, const std::string& b) {
 
 int RunReplay(const ReplayOptions& o) {
   if (o.columns) {
-    std::cout << tuning::ColumnsMarkdown();
+    std::cout << tuning::replay::ColumnsMarkdown();
     return kExitOk;
   }
   // Checked here rather than by CLI11 so that --columns works alone.
@@ -48,14 +48,14 @@ int RunReplay(const ReplayOptions& o) {
   if (!o.out.empty() && SameFile(o.out, o.log))
     throw ConfigError(o.out, "-o", "the output would overwrite the log; choose another file");
 
-  // What the recorded controller used besides its params file (tuning/sim/replay/log_setup.h).
-  const std::string setup_path = tuning::SetupPathFor(o.log);
+  // What the recorded controller used besides its params file (tuning/replay/log_setup.h).
+  const std::string setup_path = tuning::replay::SetupPathFor(o.log);
   std::error_code ec;
   const bool use_setup = !o.no_log_setup && std::filesystem::exists(setup_path, ec);
-  tuning::ControllerLogSetup setup;
+  tuning::replay::ControllerLogSetup setup;
   if (use_setup) {
-    setup = tuning::LoadSetup(setup_path);
-    tuning::CheckSetupMatchesLog(setup, setup_path, o.log);
+    setup = tuning::replay::LoadSetup(setup_path);
+    tuning::replay::CheckSetupMatchesLog(setup, setup_path, o.log);
   }
   params::VehicleParams vehicle;
   if (!o.vehicle.empty()) vehicle = params::LoadPlainFile<params::VehicleParams>(o.vehicle);
@@ -72,7 +72,7 @@ int RunReplay(const ReplayOptions& o) {
       tuning::InjectVehicleConstants(vehicle, report.present, &p);
       source += " with the vehicle constants of " + o.vehicle;
     } else if (use_setup) {
-      p = tuning::WithRecordedVehicle(std::move(p), report.present, setup);
+      p = tuning::replay::WithRecordedVehicle(std::move(p), report.present, setup);
       source += " with the vehicle constants of " + setup_path;
     }
     // release_compat is a controller option, not a key: ORed into the options above.
@@ -107,13 +107,13 @@ int RunReplay(const ReplayOptions& o) {
     if (sw.release_compat && !o.release_compat)
       std::cerr << "release_compat: on in the recorded run, and here\n";
   }
-  tuning::ReplayInputOptions input;
+  tuning::replay::ReplayInputOptions input;
   input.estimate_loads = o.estimate_loads;
 
   if (o.compare.empty()) {
-    const tuning::ReplaySummary s = tuning::ReplayLog(o.log, a, o.out, input);
+    const tuning::replay::ReplaySummary s = tuning::replay::ReplayLog(o.log, a, o.out, input);
     if (o.out.empty()) {
-      std::cout << tuning::FormatSummary(s);
+      std::cout << tuning::replay::FormatSummary(s);
       if (options.release_compat)
         std::cout << "(release_compat: long_fx ignored, TC cannot activate)\n";
     } else {
@@ -124,8 +124,9 @@ int RunReplay(const ReplayOptions& o) {
   }
 
   const controller::StabilityController b = load(o.compare);
-  const tuning::ComparisonSummary c = tuning::CompareOnLog(o.log, a, b, o.out, input);
-  std::cout << tuning::FormatComparison(c, o.params, o.compare);
+  const tuning::replay::ComparisonSummary c =
+      tuning::replay::CompareOnLog(o.log, a, b, o.out, input);
+  std::cout << tuning::replay::FormatComparison(c, o.params, o.compare);
   if (options.release_compat)
     std::cout << "(release_compat: long_fx ignored, TC cannot activate)\n";
   if (!o.out.empty()) std::cerr << "wrote " << o.out << " (outputs of " << o.params << ")\n";

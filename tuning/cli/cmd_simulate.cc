@@ -16,9 +16,9 @@
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
 #include "tuning/cli/progress.h"
+#include "tuning/replay/controller_log.h"
+#include "tuning/replay/log_setup.h"
 #include "tuning/sim/closed_loop.h"
-#include "tuning/sim/replay/controller_log.h"
-#include "tuning/sim/replay/log_setup.h"
 #include "tuning/sim/run_summary.h"
 #include "tuning/sim/scenario.h"
 
@@ -101,7 +101,8 @@ int RunSimulate(const SimulateOptions& o) {
        {"--summary", o.summary},
        {"--controller-log", o.controller_log},
        {"--controller-log (its .setup.yaml)",
-        o.controller_log.empty() ? std::string() : tuning::SetupPathFor(o.controller_log)}});
+        o.controller_log.empty() ? std::string()
+                                 : tuning::replay::SetupPathFor(o.controller_log)}});
   params::ScenarioParams spec = o.scenario.empty() ? tuning::DefaultScenario(o.overrides)
                                                    : tuning::LoadScenario(o.scenario, o.overrides);
   const std::string base =
@@ -119,9 +120,9 @@ int RunSimulate(const SimulateOptions& o) {
   const auto t1 = std::chrono::steady_clock::now();
   std::unique_ptr<io::CsvWriter> trace;
   if (!o.trace.empty()) trace = std::make_unique<io::CsvWriter>(o.trace, tuning::TraceHeader());
-  std::unique_ptr<tuning::ControllerLogWriter> log;
+  std::unique_ptr<tuning::replay::ControllerLogWriter> log;
   if (!o.controller_log.empty())
-    log = std::make_unique<tuning::ControllerLogWriter>(o.controller_log);
+    log = std::make_unique<tuning::replay::ControllerLogWriter>(o.controller_log);
   tuning::RunOptions ro;
   ro.trace = trace.get();
   controller::StabilityInput log_row;  // written with the loads the controller used
@@ -165,7 +166,9 @@ int RunSimulate(const SimulateOptions& o) {
       io::WriteFileAtomic(o.trace + std::string(kTraceMetaSuffix),
                           TraceMeta(o, spec, tuning::RunSummaryYaml(spec.name, m)));
   }
-  if (log && tuning::CommitWithSetup(*log, tuning::ClosedLoopSetup(sc, sc.stability)).empty())
+  if (log &&
+      tuning::replay::CommitWithSetup(*log, tuning::replay::ClosedLoopSetup(sc, sc.stability))
+          .empty())
     std::cerr << "note: no setup file for a controller log written to " << o.controller_log
               << " (scw replay needs --vehicle FILE to reproduce the run's vehicle constants)\n";
   if (!o.summary.empty()) io::WriteFileAtomic(o.summary, tuning::RunSummaryYaml(spec.name, m));

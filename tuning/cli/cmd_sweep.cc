@@ -1,5 +1,5 @@
 // scw sweep — a scenario over a grid of overrides and named configurations
-// (tuning/sim/sweep/sweep.h).
+// (tuning/sweep/sweep.h).
 #include <algorithm>
 #include <chrono>
 #include <iomanip>
@@ -12,7 +12,7 @@
 #include "tuning/cli/options.h"
 #include "tuning/cli/progress.h"
 #include "tuning/sim/motion_factory.h"
-#include "tuning/sim/sweep/sweep.h"
+#include "tuning/sweep/sweep.h"
 
 namespace scw::cli {
 namespace {
@@ -30,39 +30,43 @@ int RunSweepCommand(const SweepOptions& o) {
     for (const auto& name : tuning::MotionControllerNames()) std::cout << name << '\n';
     return kExitOk;
   }
+  // A worker process of --processes: the definition comes with the task (tuning/exec/processes.h).
+  if (o.worker_fd > 0)
+    return tuning::exec::ServeWorkerProcess({{"sweep", &tuning::sweep::MakeSweepWorkerTask}}, 0,
+                                            o.worker_fd);
   RefuseRepeatedKeys("scw sweep", "--set", o.overrides);
-  tuning::SweepArguments a;
+  tuning::sweep::SweepArguments a;
   a.scenario = o.scenario;
   a.overrides = o.overrides;
   a.stability = o.stability;
   a.vary = o.vary;
   a.configs = o.configs;
   a.stop_at_first_abort = o.stop_at_first_abort;
-  const tuning::SweepDefinition d = tuning::ParseSweepArguments(a);
-  if (o.worker_fd > 0) return tuning::RunSweepWorker(tuning::ExpandSweep(d), 0, o.worker_fd);
-  tuning::SweepTraceOptions to;
+  const tuning::sweep::SweepDefinition d = tuning::sweep::ParseSweepArguments(a);
+  tuning::sweep::SweepTraceOptions to;
   to.dir = o.trace_dir;
   to.at = o.trace_at;
   if (to.dir.empty() && !to.at.empty())
     throw ConfigError("scw sweep", "--trace-at", "needs --trace-dir DIR (where to write)");
 
   const auto t0 = std::chrono::steady_clock::now();
-  tuning::SweepExecution exec;
+  tuning::sweep::SweepExecution exec;
   exec.threads = o.threads;
   exec.processes = o.processes;
   exec.worker_command = {"/proc/self/exe", "sweep"};
   ProgressLine progress(o.progress);
   if (progress.enabled())
-    exec.on_progress = [&progress](const tuning::SweepProgress& p) {
+    exec.on_progress = [&progress](const tuning::sweep::SweepProgress& p) {
       progress.Update({p.phase == "run" ? "sweep" : p.phase, static_cast<double>(p.done),
                        static_cast<double>(p.total), "runs", "", -1.0});
     };
-  const tuning::SweepResult r = tuning::RunSweep(tuning::ExpandSweep(d), exec, to);
+  const tuning::sweep::SweepResult r =
+      tuning::sweep::RunSweep(tuning::sweep::ExpandSweep(d), exec, to);
   progress.Finish();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (!o.out.empty()) tuning::WriteSweepCsv(o.out, r);
+  if (!o.out.empty()) tuning::sweep::WriteSweepCsv(o.out, r);
 
-  std::cout << tuning::SweepTable(r) << std::flush;
+  std::cout << tuning::sweep::SweepTable(r) << std::flush;
   const auto reported =
       std::count_if(r.runs.begin(), r.runs.end(), [](const auto& run) { return run.reported; });
   std::ostringstream wall_s;

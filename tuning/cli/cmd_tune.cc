@@ -25,10 +25,10 @@
 #include "tuning/cli/options.h"
 #include "tuning/cli/progress.h"
 #include "tuning/cli/tune_plots.h"
+#include "tuning/exec/mpi_backend.h"
 #include "tuning/optim/space.h"
 #include "tuning/optim/tune_study.h"
 #include "tuning/optim/tuner.h"
-#include "tuning/sim/parallel/mpi_backend.h"
 #include "tuning/sim/scenario_set.h"
 
 namespace scw::cli {
@@ -464,12 +464,12 @@ int RunTune(const TuneOptions& o) {
   std::cerr << "scw tune: " << study.space().size() << " parameters, " << set.training.size()
             << " training and " << set.held_out.size() << " held-out scenarios; output in " << dir
             << "\n";
-  if (tuning::mpi::Ranks() > 1) {
+  if (tuning::exec::mpi::Ranks() > 1) {
     const std::string log = (fs::path(dir) / "evaluations.csv").string();
-    tuning::mpi::SetTerminationNote("scw tune: " + log +
-                                    " holds every finished evaluation; continue the run with "
-                                    "the same options and --resume " +
-                                    log + " (with or without mpirun)\n");
+    tuning::exec::mpi::SetTerminationNote("scw tune: " + log +
+                                          " holds every finished evaluation; continue the run with "
+                                          "the same options and --resume " +
+                                          log + " (with or without mpirun)\n");
   }
   for (const auto& g : study.grown()) std::cerr << "  note: " << g << "\n";
 

@@ -11,9 +11,9 @@
 #include "params/schema/field.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
+#include "tuning/exec/mpi_backend.h"
 #include "tuning/optim/evaluator.h"
-#include "tuning/sim/parallel/mpi_backend.h"
-#include "tuning/sim/sweep/sweep.h"
+#include "tuning/sweep/sweep.h"
 
 namespace scw::cli {
 namespace {
@@ -196,7 +196,7 @@ namespace {
 
 int RunCommand(int argc, char** argv) {
   using namespace scw::cli;
-  namespace mpi = scw::tuning::mpi;
+  namespace mpi = scw::tuning::exec::mpi;
   g_command_line.assign(argv, argv + argc);
   CLI::App app{
       "scw - stability-control workspace: design, tune and export the stability control\n"
@@ -272,7 +272,7 @@ int RunCommand(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  namespace mpi = scw::tuning::mpi;
+  namespace mpi = scw::tuning::exec::mpi;
   // Ctrl-C or a kill in any command removes the temporary files of unfinished outputs (the
   // targets keep their previous content), then ends the program by that signal.
   scw::io::InstallTemporaryFileCleanup();
@@ -285,7 +285,7 @@ int main(int argc, char** argv) {
   const int code = mpi::Rank() == 0
                        ? RunCommand(argc, argv)
                        : mpi::RunWorker({{"evaluate", &scw::tuning::MakeEvaluatorWorkerTask},
-                                         {"sweep", &scw::tuning::MakeSweepWorkerTask}});
+                                         {"sweep", &scw::tuning::sweep::MakeSweepWorkerTask}});
   mpi::Finalize();
   return code;
 }

@@ -8,11 +8,11 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "tuning/exec/executor.h"
+#include "tuning/exec/parallel_for.h"
+#include "tuning/exec/wire.h"
 #include "tuning/maneuver/maneuver.h"
 #include "tuning/sim/closed_loop.h"
-#include "tuning/sim/parallel/mpi_backend.h"
-#include "tuning/sim/parallel/parallel_for.h"
-#include "tuning/sim/parallel/wire.h"
 #include "tuning/sim/prep_cache.h"
 
 namespace scw::tuning {
@@ -63,11 +63,11 @@ void RunJob(const ResolvedScenario& sc, const params::StabilityParams& set, cons
   }
 }
 
-// --- What travels to the other ranks (tuning/sim/parallel/wire.h).
+// --- What travels to the other ranks (tuning/exec/wire.h, tuning/exec/executor.h).
 
 std::string EncodeSetup(const std::vector<ScenarioEntry>& entries, const std::string& base_dir,
                         const params::CostWeights& cost) {
-  WireWriter w;
+  exec::WireWriter w;
   w.Int(static_cast<std::int64_t>(entries.size()));
   for (const auto& e : entries) {
     w.String(e.name);
@@ -82,7 +82,7 @@ std::string EncodeSetup(const std::vector<ScenarioEntry>& entries, const std::st
 }
 
 std::string EncodeSets(const std::vector<params::StabilityParams>& sets) {
-  WireWriter w;
+  exec::WireWriter w;
   w.Int(static_cast<std::int64_t>(sets.size()));
   for (const auto& s : sets) w.Params(s);
   return w.Take();
@@ -110,12 +110,12 @@ void DecodeResult(std::string_view bytes, RunMetrics* m, double* wall, std::stri
   *invalid = std::string(after + 1);
 }
 
-class EvaluatorWorkerTask final : public mpi::WorkerTask {
+class EvaluatorWorkerTask final : public exec::WorkerTask {
  public:
   EvaluatorWorkerTask(std::string_view setup, int threads) : ev_(Decode(setup, threads)) {}
 
   void StartBatch(std::string_view payload) override {
-    WireReader r(payload);
+    exec::WireReader r(payload);
     const std::int64_t n = r.Int();
     if (n < 0 || n > 1000000) throw std::runtime_error("malformed batch");
     sets_.assign(static_cast<std::size_t>(n), params::StabilityParams{});
@@ -136,7 +136,7 @@ class EvaluatorWorkerTask final : public mpi::WorkerTask {
 
  private:
   static BatchEvaluator Decode(std::string_view setup, int threads) {
-    WireReader r(setup);
+    exec::WireReader r(setup);
     std::vector<ScenarioEntry> entries(static_cast<std::size_t>(r.Int()));
     for (auto& e : entries) {
       e.name = r.String();
@@ -176,7 +176,8 @@ BatchEvaluator::BatchEvaluator(std::vector<ResolvedScenario> scenarios, std::vec
     : scenarios_(std::move(scenarios)),
       weights_(std::move(weights)),
       cost_(cost),
-      threads_(ResolveThreads(threads)),
+      threads_(exec::ResolveThreads(threads)),
+      exec_(std::make_shared<const exec::Executor>(threads)),
       lengths_(std::make_shared<JobLengths>()) {
   weights_.resize(scenarios_.size(), 1.0);
   for (const auto& sc : scenarios_)
@@ -188,15 +189,17 @@ BatchEvaluator BatchEvaluator::FromEntries(const std::vector<ScenarioEntry>& ent
                                            const params::CostWeights& cost, int threads,
                                            const BatchProgress& progress) {
   // The other ranks (MPI) resolve the same scenarios meanwhile.
-  auto remote = mpi::MaybeRemote(
-      "evaluate", [&] { return EncodeSetup(entries, base_dir, cost); }, ResolveThreads(threads));
+  exec::Options where;
+  where.threads = threads;
+  auto executor = std::make_shared<const exec::Executor>(
+      where, "evaluate", [&] { return EncodeSetup(entries, base_dir, cost); });
   std::vector<ResolvedScenario> resolved(entries.size());
   std::vector<double> weights;
   for (const auto& e : entries) weights.push_back(e.weight);
   ProgressCounter counter(progress, static_cast<int>(entries.size()));
   // One preparation cache for the set: scenarios on one track and car share line and table.
   controller::planning::ReferenceCache cache(&PrepCache::Process());
-  ParallelFor(static_cast<int>(entries.size()), threads, [&](int i) {
+  exec::ParallelFor(static_cast<int>(entries.size()), threads, [&](int i) {
     const ScenarioEntry& e = entries[static_cast<std::size_t>(i)];
     const params::ScenarioParams spec = LoadEntry(e, base_dir);
     std::string dir = base_dir;
@@ -211,7 +214,7 @@ BatchEvaluator BatchEvaluator::FromEntries(const std::vector<ScenarioEntry>& ent
     counter.JobDone();
   });
   BatchEvaluator ev(std::move(resolved), std::move(weights), cost, threads);
-  ev.remote_ = std::move(remote);
+  ev.exec_ = std::move(executor);
   return ev;
 }
 
@@ -233,25 +236,25 @@ std::vector<SetEvaluation> BatchEvaluator::Evaluate(
           lengths_->length[static_cast<std::size_t>(j % n_sc)];
     order = LongestFirst(job_length);
   }
-  const auto job = [&](int j) {
+  exec::Batch batch;
+  batch.jobs = n_jobs;
+  batch.order = std::move(order);
+  batch.local = [&](int j) {
     const auto t0 = std::chrono::steady_clock::now();
     RunJob(scenarios_[static_cast<std::size_t>(j % n_sc)], sets[static_cast<std::size_t>(j / n_sc)],
            ro, &slots[static_cast<std::size_t>(j)], &invalid[static_cast<std::size_t>(j)]);
     wall[static_cast<std::size_t>(j)] = Seconds(t0);
     counter.JobDone();
   };
-  if (remote_) {
-    remote_->Run(
-        EncodeSets(sets), n_jobs, job,
-        [&](int j, std::string_view bytes) {
-          const auto k = static_cast<std::size_t>(j);
-          DecodeResult(bytes, &slots[k], &wall[k], &invalid[k]);
-          counter.JobDone();
-        },
-        order);
-  } else {
-    ParallelFor(n_jobs, threads_, [&](int p) { job(order[static_cast<std::size_t>(p)]); });
+  if (exec_->backend() != exec::Backend::kThreads) {
+    batch.payload = EncodeSets(sets);
+    batch.remote = [&](int j, std::string_view bytes) {
+      const auto k = static_cast<std::size_t>(j);
+      DecodeResult(bytes, &slots[k], &wall[k], &invalid[k]);
+      counter.JobDone();
+    };
   }
+  exec_->Run(batch);
   if (n_jobs > 0) {  // this call's lengths order the next call's jobs
     const std::lock_guard<std::mutex> lock(lengths_->mutex);
     std::fill(lengths_->length.begin(), lengths_->length.end(), 0.0);
@@ -279,7 +282,7 @@ SetEvaluation BatchEvaluator::Evaluate(const params::StabilityParams& set) const
   return Evaluate(std::vector<params::StabilityParams>{set}).front();
 }
 
-std::unique_ptr<mpi::WorkerTask> MakeEvaluatorWorkerTask(std::string_view setup, int threads) {
+std::unique_ptr<exec::WorkerTask> MakeEvaluatorWorkerTask(std::string_view setup, int threads) {
   return std::make_unique<EvaluatorWorkerTask>(setup, threads);
 }
 

@@ -8,10 +8,11 @@
 // Thread safety: an evaluator is immutable after construction; Evaluate may be called from one
 // thread at a time (it owns the worker threads of its call).
 //
-// MPI (tuning/sim/parallel/mpi_backend.h): on rank 0 of a run with more than one rank, FromEntries
-// also sends the entries to every other rank, which resolves the same scenarios; Evaluate then
-// sends the sets and hands the jobs out to all ranks (rank 0 included, `threads` each). Results
-// travel bit for bit into the same slots, so they equal those of one process.
+// Execution (tuning/exec/executor.h): the jobs run through the execution layer. On rank 0 of an
+// MPI run with more than one rank, FromEntries also sends the entries to every other rank (task
+// kind "evaluate"), which resolves the same scenarios; Evaluate then sends the sets and hands the
+// jobs out to all ranks (rank 0 included, `threads` each). Results travel bit for bit into the
+// same slots, so they equal those of one process. Otherwise the jobs run on threads.
 //
 // Order of the jobs: longest first (a batch ends when its last job ends, so a long job started
 // last leaves the other workers idle). The length of a scenario's job is its wall time in the
@@ -39,10 +40,10 @@
 
 namespace scw::tuning {
 
-namespace mpi {
-class RemoteTask;
+namespace exec {
+class Executor;
 class WorkerTask;
-}  // namespace mpi
+}  // namespace exec
 
 struct SetEvaluation {
   std::vector<RunMetrics> runs;      ///< per scenario
@@ -80,7 +81,7 @@ class BatchEvaluator {
   std::vector<double> weights_;
   params::CostWeights cost_;
   int threads_;
-  std::shared_ptr<const mpi::RemoteTask> remote_;  ///< the other ranks' copies (MPI), or null
+  std::shared_ptr<const exec::Executor> exec_;  ///< runs the jobs (threads, or MPI ranks)
   struct JobLengths;
   std::shared_ptr<JobLengths> lengths_;  ///< per scenario, for the job order (see above)
 };
@@ -88,7 +89,7 @@ class BatchEvaluator {
 /// Longest first: the job indices [0, lengths.size()) sorted by decreasing length, ties by index.
 std::vector<int> LongestFirst(const std::vector<double>& lengths);
 
-/// The other ranks' side of an evaluator under MPI (main registers it as task kind "evaluate").
-std::unique_ptr<mpi::WorkerTask> MakeEvaluatorWorkerTask(std::string_view setup, int threads);
+/// The remote side of an evaluator (task kind "evaluate"; scw's main registers it for MPI ranks).
+std::unique_ptr<exec::WorkerTask> MakeEvaluatorWorkerTask(std::string_view setup, int threads);
 
 }  // namespace scw::tuning

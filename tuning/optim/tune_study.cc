@@ -16,8 +16,8 @@
 #include "params/io/sha256.h"
 #include "params/io/stability_lint.h"
 #include "params/io/write.h"
+#include "tuning/exec/mpi_backend.h"
 #include "tuning/optim/set_check.h"
-#include "tuning/sim/parallel/mpi_backend.h"
 #include "tuning/sim/prep_cache.h"
 
 namespace scw::tuning {
@@ -533,7 +533,7 @@ TuneReport TuneStudy::Run(TuneObserver& observer) const {
       observer.OnJobs(TunePhase::kPrepare, done, n_prepare);
   }
   report.threads = training.threads();
-  report.ranks = mpi::Ranks();
+  report.ranks = exec::mpi::Ranks();
   observer.OnPhaseEnd(TunePhase::kPrepare, report);
 
   // The optimiser's evaluator: the search step's where its check passed.

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "tuning/optim/evaluator.h"
-#include "tuning/sim/sweep/sweep.h"
+#include "tuning/sweep/sweep.h"
 
 namespace scw::tuning {
 namespace {
@@ -64,21 +64,21 @@ TEST(ProgressCallbackTest, EvaluatorReportsEveryJobAndResultsDoNotChange) {
 }
 
 TEST(ProgressCallbackTest, SweepReportsItsRunsAndResultsDoNotChange) {
-  SweepDefinition d;
+  sweep::SweepDefinition d;
   d.base_overrides = {"laps=1"};
-  d.axes = {ParseVary("gg_scale=1.0,1.1")};
-  SweepExecution exec;
+  d.axes = {sweep::ParseVary("gg_scale=1.0,1.1")};
+  sweep::SweepExecution exec;
   exec.threads = 2;
-  std::vector<SweepProgress> calls;
+  std::vector<sweep::SweepProgress> calls;
   std::atomic<int> inside{0};
   bool overlapped = false;
-  exec.on_progress = [&](const SweepProgress& p) {
+  exec.on_progress = [&](const sweep::SweepProgress& p) {
     if (inside.fetch_add(1) != 0) overlapped = true;
     calls.push_back(p);
     inside.fetch_sub(1);
   };
-  const SweepResult with = RunSweep(d, exec);
-  const SweepResult without = RunSweep(d, 1);
+  const sweep::SweepResult with = sweep::RunSweep(d, exec);
+  const sweep::SweepResult without = sweep::RunSweep(d, 1);
 
   EXPECT_FALSE(overlapped);
   ASSERT_EQ(calls.size(), 3u);  // the start, then one call per run

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <set>
 #include <string>
 
@@ -91,6 +93,43 @@ TEST(RunMetricsSchemaTest, YamlSummaryHasOneLinePerSummaryKey) {
     EXPECT_NE(yaml.find("\n" + std::string(key) + ": "), std::string::npos) << key;
   EXPECT_EQ(yaml.find("laps_planned"), std::string::npos);  // bookkeeping, not in the summary
   EXPECT_NE(yaml.find("\nstatus: completed\n"), std::string::npos);
+}
+
+// What travels between processes (the execution layer, tuning/exec): the exact text of a run's
+// metrics.
+bool SameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+TEST(WireTest, RunMetricsTextRoundTripsBitForBit) {
+  RunMetrics m;
+  m.status = RunStatus::kWheelLock;
+  m.lap_times = {71.99600000000001, 1.0 / 3.0};
+  m.laps_planned = 3;
+  m.time = 143.99;
+  m.distance = std::nextafter(5000.0, 0.0);
+  m.distance_planned = 15000.0;
+  m.end_s = -0.0;
+  m.end_lap = 2;
+  m.max_abs_sideslip = std::numeric_limits<double>::denorm_min();
+  m.max_slip_front = 1e300;
+  m.esc_count = 7;
+  m.tc_count = -1;
+  m.tc_throttle_cut = 0.1 + 0.2;
+  m.max_speed = 83.33333333333333;
+  const std::string text = EncodeRunMetrics(m);
+  EXPECT_EQ(text.find('\n'), std::string::npos);
+  RunMetrics got;
+  const char* end = DecodeRunMetrics(text.c_str(), &got);
+  ASSERT_NE(end, nullptr);
+  EXPECT_EQ(*end, '\0');
+  EXPECT_EQ(EncodeRunMetrics(got), text);
+  EXPECT_EQ(got.status, m.status);
+  EXPECT_EQ(got.lap_times, m.lap_times);
+  EXPECT_TRUE(SameBits(got.end_s, -0.0));
+  EXPECT_TRUE(SameBits(got.max_abs_sideslip, m.max_abs_sideslip));
+  EXPECT_TRUE(SameBits(got.tc_throttle_cut, m.tc_throttle_cut));
+  EXPECT_EQ(got.tc_count, -1);
+  EXPECT_EQ(DecodeRunMetrics(" 99 0", &got), nullptr);   // no such status
+  EXPECT_EQ(DecodeRunMetrics(" 0 1 x", &got), nullptr);  // not a number
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <thread>
 #include <vector>
 
 #include "controller/planning/envelope.h"
@@ -18,7 +19,6 @@
 #include "controller/planning/velocity_profile.h"
 #include "plant/track/yas_north.h"
 #include "plant/vehicle/quasi_steady.h"
-#include "tuning/sim/parallel/parallel_for.h"
 
 namespace scw::tuning {
 namespace {
@@ -123,9 +123,10 @@ TEST(PreparationCache, ConcurrentResolutionGivesTheSerialResult) {
   // A grip no other test plans with: the threads meet an empty cache for its table.
   const params::ScenarioParams spec = DefaultScenario({"grip.front_mu_y=0.95", "laps=1"});
   std::vector<ResolvedScenario> got(4);
-  ParallelFor(static_cast<int>(got.size()), static_cast<int>(got.size()), [&](int i) {
-    got[static_cast<std::size_t>(i)] = Resolve(spec, "", "built-in", &cache);
-  });
+  std::vector<std::thread> pool;
+  for (std::size_t i = 0; i < got.size(); ++i)
+    pool.emplace_back([&, i] { got[i] = Resolve(spec, "", "built-in", &cache); });
+  for (auto& t : pool) t.join();
   // Serial and without the cache: the line, the table and both profiles from scratch.
   controller::planning::RacingLineOptions ro;
   ro.margin = spec.motion.raceline_margin;
