@@ -15,6 +15,8 @@ namespace scw::controller::planning {
 
 struct PathPoint {
   double s = 0.0, x = 0.0, y = 0.0, psi = 0.0, kappa = 0.0, v = 0.0, a_x = 0.0;
+  /// Exact, member by member (bit-for-bit comparisons of prepared references).
+  bool operator==(const PathPoint&) const = default;
 };
 
 struct PathProjection {

@@ -37,14 +37,7 @@ const plant::Track& Oval() {
 }
 
 bool SamePath(const Path& a, const Path& b) {
-  if (a.size() != b.size() || a.length() != b.length()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    const auto &p = a.points()[i], &q = b.points()[i];
-    if (p.s != q.s || p.x != q.x || p.y != q.y || p.psi != q.psi || p.kappa != q.kappa ||
-        p.v != q.v || p.a_x != q.a_x)
-      return false;
-  }
-  return true;
+  return a.length() == b.length() && a.points() == b.points();
 }
 
 TEST(PrepareReference, ComputesEachStepOncePerInputAndKeepsItThroughTheStore) {
