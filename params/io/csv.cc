@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
@@ -326,6 +327,15 @@ CsvTable ReadCsvTable(const std::string& path, const std::vector<std::string>& r
         "cannot open the file for reading" +
             (error != 0 ? " (" + std::string(std::strerror(error)) + ")" : std::string()));
   }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return ParseCsvTable(text.str(), path, required, optional);
+}
+
+CsvTable ParseCsvTable(const std::string& text, const std::string& path,
+                       const std::vector<std::string>& required,
+                       const std::vector<std::string>& optional) {
+  std::istringstream in(text);
   std::string line;
   int line_no = 0;
   std::vector<std::string> header;

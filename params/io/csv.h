@@ -16,9 +16,9 @@
 // row that does not fit is cut off again (the file always holds whole rows).
 //
 // Reading: ParseCsv (whole text, quoted fields may span lines), SplitCsvLine (one line, for
-// streaming readers), CsvRowReader (a log row by row, as it is replayed) and ReadCsvTable (numeric
-// columns by name from a file with a header, comment and blank lines) share one tokenizer.
-// Blank = ' ', '\t', '\r' (params/io/text.h).
+// streaming readers), CsvRowReader (a log row by row, as it is replayed) and ReadCsvTable /
+// ParseCsvTable (numeric columns by name from a file, or its text, with a header, comment and blank
+// lines) share one tokenizer. Blank = ' ', '\t', '\r' (params/io/text.h).
 #pragma once
 
 #include <cstddef>
@@ -184,5 +184,9 @@ struct CsvTable {
 /// per missing column, or per malformed line.
 CsvTable ReadCsvTable(const std::string& path, const std::vector<std::string>& required,
                       const std::vector<std::string>& optional = {});
+/// ReadCsvTable of a file's `text` already read; `path` names it in errors.
+CsvTable ParseCsvTable(const std::string& text, const std::string& path,
+                       const std::vector<std::string>& required,
+                       const std::vector<std::string>& optional = {});
 
 }  // namespace scw::io

@@ -159,6 +159,11 @@ Track Track::FromPoints(const std::vector<double>& x_in, const std::vector<doubl
                         const std::vector<double>& mu_in, const TrackBuildOptions& opt,
                         const std::string& name, const std::string& source) {
   Problems pr;
+  // Where a problem is: the file's line of input point k when the points are rows.
+  const std::vector<int>& lines = opt.source_lines;
+  auto at = [&](std::size_t k) {
+    return k < lines.size() ? "line " + std::to_string(lines[k]) : "point " + std::to_string(k);
+  };
   std::size_t m = x_in.size();
   if (y_in.size() != m || wl_in.size() != m || wr_in.size() != m ||
       (!mu_in.empty() && mu_in.size() != m))
@@ -169,11 +174,11 @@ Track Track::FromPoints(const std::vector<double>& x_in, const std::vector<doubl
   for (std::size_t i = 0; i < m; ++i) {
     const double vals[] = {x_in[i], y_in[i], wl_in[i], wr_in[i], mu_in.empty() ? 1.0 : mu_in[i]};
     if (!std::all_of(std::begin(vals), std::end(vals), [](double v) { return std::isfinite(v); }))
-      pr.Add("point " + std::to_string(i), "values must be finite");
+      pr.Add(at(i), "values must be finite");
     else if (!(wl_in[i] > 0.0 && wr_in[i] > 0.0))
-      pr.Add("point " + std::to_string(i), "widths must be positive");
+      pr.Add(at(i), "widths must be positive");
     else if (!(vals[4] > 0.0))
-      pr.Add("point " + std::to_string(i), "friction scale must be positive");
+      pr.Add(at(i), "friction scale must be positive");
   }
   if (!pr.empty()) throw ConfigError(source, pr.items());
 
@@ -194,14 +199,16 @@ Track Track::FromPoints(const std::vector<double>& x_in, const std::vector<doubl
                       "too few points for a closed track: " + std::to_string(m) + " (need ≥ 8)");
   const double tol = opt.closure_tolerance >= 0.0 ? opt.closure_tolerance : 5.0 * median;
   if (!duplicated_end && gaps[m - 1] > tol)
-    throw ConfigError(source, "",
-                      "the loop does not close: the last point is " + Num(gaps[m - 1]) +
-                          " m from the first (accepted: " + Num(tol) +
-                          " m); give a closed centre line");
+    throw ConfigError(
+        source,
+        lines.empty() ? std::string()
+                      : "line " + std::to_string(lines.back()) + " (last row) vs line " +
+                            std::to_string(lines.front()) + " (first row)",
+        "the loop does not close: the last point is " + Num(gaps[m - 1]) +
+            " m from the first (accepted: " + Num(tol) + " m); give a closed centre line");
   for (std::size_t i = 0; i < m; ++i)
     if (!(gaps[i] > 1e-6 * median))
-      throw ConfigError(source, "point " + std::to_string(i + 1),
-                        "repeats the previous point; remove duplicates");
+      throw ConfigError(source, at(i + 1), "repeats the previous point; remove duplicates");
 
   const double sigma_idx = opt.smoothing > 0.0 ? opt.smoothing / median : 0.0;
   const std::vector<double> xs =
@@ -242,7 +249,7 @@ Track Track::FromPoints(const std::vector<double>& x_in, const std::vector<doubl
   if (!(length <= kMaxLength) || !(length / opt.step <= 1e7)) {
     const std::size_t far = static_cast<std::size_t>(
         std::max_element(gaps.begin(), gaps.begin() + static_cast<long>(m)) - gaps.begin());
-    throw ConfigError(source, "point " + std::to_string((far + 1) % m),
+    throw ConfigError(source, at((far + 1) % m),
                       "the centre line would be " + Num(length) + " m long (at most " +
                           Num(kMaxLength) + " m); the largest step, " + Num(gaps[far]) +
                           " m, ends here (a stray point, or coordinates not in metres?)");

@@ -49,6 +49,9 @@ struct TrackBuildOptions {
   /// Largest accepted gap between the last and the first input point [m]; negative: 5 × the
   /// median input spacing.
   double closure_tolerance = -1.0;
+  /// The source line (1-based) of each input point, when the points are a file's rows: problems
+  /// then name `line L` instead of `point K`, and an open loop names its last and first rows.
+  std::vector<int> source_lines;
 };
 
 /// Curvilinear coordinates of a point (see the header comment).

@@ -9,11 +9,7 @@
 #include "params/io/load.h"
 #include "params/io/override.h"
 #include "params/io/write.h"
-#include "params/io/yaml_doc.h"
 #include "params/schema/grip_scaling.h"
-#include "params/schema/track_params.h"
-#include "plant/track/builtin_tracks.h"
-#include "plant/track/yas_north.h"
 #include "tuning/sim/events.h"
 #include "tuning/sim/plant_variation.h"
 #include "tuning/sim/prep_cache.h"
@@ -27,42 +23,6 @@ namespace fs = std::filesystem;
 std::string ResolvePath(const std::string& base_dir, const std::string& file) {
   if (file.empty() || base_dir.empty() || fs::path(file).is_absolute()) return file;
   return (fs::path(base_dir) / file).lexically_normal().string();
-}
-
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-plant::Track LoadTrack(const std::string& file) {
-  if (file.empty()) return plant::YasNorthTrack();
-  // A built-in name has no extension; a scenario file's directory may have been put before it.
-  if (const fs::path path(file); !path.has_extension()) {
-    if (auto track = plant::BuiltInTrack(path.filename().string())) return *std::move(track);
-    throw ConfigError(file, "track",
-                      "unknown built-in track (known: " + plant::BuiltInTrackNames() +
-                          "); a track file needs the extension .csv, .yaml or .yml");
-  }
-  if (EndsWith(file, ".csv")) return tuning::LoadTrackCsv(file);
-  if (EndsWith(file, ".yaml") || EndsWith(file, ".yml"))
-    return plant::Track::FromDefinition(params::LoadPlainFile<params::TrackParams>(file), file);
-  throw ConfigError(file, "track", "unknown track file type (expected .csv, .yaml or .yml)");
-}
-
-/// The track of a scenario, shared through the cache: a built-in track is a pure function of its
-/// name, a track file's of the file's bytes (the loader's key: the file is read anyway). A file
-/// that cannot be read gets LoadTrack's error.
-std::shared_ptr<const plant::Track> SharedTrack(const std::string& file,
-                                                controller::planning::ReferenceCache& cache) {
-  std::string key = "built-in:" + file;
-  if (fs::path(file).has_extension()) {
-    try {
-      key = "file:" + file + "\n" + params::ReadTextFile(file);
-    } catch (const std::exception&) {
-      return std::make_shared<const plant::Track>(LoadTrack(file));
-    }
-  }
-  return cache.Track(key, [&] { return LoadTrack(file); });
 }
 
 }  // namespace
@@ -216,15 +176,17 @@ void ResolveReference(const params::ScenarioParams& spec, const std::string& bas
                       const std::string& where, const params::VehicleParams& planned,
                       controller::planning::ReferenceCache& cache, ResolvedScenario* sc) {
   namespace planning = controller::planning;
-  sc->track = SharedTrack(ResolvePath(base_dir, spec.track), cache);
   planning::ReferenceOptions o;
   const std::string& line = spec.motion.raceline;
   o.line = line == "centerline"                ? planning::LineKind::kCentreLine
            : line == "optimal" || line.empty() ? planning::LineKind::kOptimal
                                                : planning::LineKind::kGiven;
-  if (o.line == planning::LineKind::kGiven)
-    o.given_line = std::make_shared<const plant::Track>(
-        LoadRacingLine(ResolvePath(base_dir, line), *sc->track).line);
+  // The files first, read once into the track and the given line; then the planning on them.
+  const ScenarioTrack files = LoadScenarioTrack(
+      ResolvePath(base_dir, spec.track),
+      o.line == planning::LineKind::kGiven ? ResolvePath(base_dir, line) : std::string(), cache);
+  sc->track = files.track;
+  o.given_line = files.given_line;
   o.line_margin = spec.motion.raceline_margin;
   o.limit_scale = spec.gg_scale * spec.limit_fraction;
   o.brake_bias_front = spec.motion.longitudinal.brake_bias_front;

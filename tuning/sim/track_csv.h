@@ -1,7 +1,8 @@
-// The CSV readers of the track and its planning inputs (plain text, no YAML; file I/O lives here,
-// not in the plant or the planner), read through the one table reader io::ReadCsvTable
-// (params/io/csv.h): the track's centre line in the two public formats of ../shared/data/tracks
-// (README there), a given raceline and a g-g-v table.
+// The readers of the track files and their planning inputs (file I/O lives here, not in the plant
+// or the planner): a scenario's track (built-in, CSV centre line or YAML definition) with its given
+// raceline, read once at the top of the preparation (LoadScenarioTrack); the CSV tables go through
+// the one table reader (params/io/csv.h): the track's centre line in the two public formats of
+// ../shared/data/tracks (README there), a given raceline and a g-g-v table.
 //
 //   racetrack-database:  `# x_m,y_m,w_tr_right_m,w_tr_left_m` (both widths positive)
 //   TUMRT Track3D:       `s_m,x_m,y_m,z_m,theta_rad,…,w_tr_right_m,w_tr_left_m,…`
@@ -16,17 +17,35 @@
 // loop that does not close.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "controller/planning/ggv.h"
 #include "controller/planning/racing_line.h"
+#include "controller/planning/reference_cache.h"
 #include "plant/track/track.h"
 
 namespace scw::tuning {
 
 /// Loads a closed centre line with widths in either public format.
 plant::Track LoadTrackCsv(const std::string& path, const plant::TrackBuildOptions& options = {});
+
+/// The track and the given raceline a scenario names, read once at the top of its preparation.
+struct ScenarioTrack {
+  std::shared_ptr<const plant::Track> track;
+  std::shared_ptr<const plant::Track> given_line;  ///< null without a given line file
+};
+
+/// The scenario's files: `track_file` "" = Yas Marina North, a name without extension = a built-in
+/// track (plant/track/builtin_tracks.h; a directory before it is ignored), *.csv = a centre line
+/// (LoadTrackCsv), *.yaml / *.yml = a piecewise definition (params/schema/track_params.h). The kind
+/// is decided by the name before the file is read; the file is read once and its reader builds
+/// the track, shared through `cache` under the name and the file's text (a built-in under its
+/// name). A non-empty `line_file` is then read as LoadRacingLine on that track. Errors in this
+/// order: the track's name, the track file, the line file (ConfigError naming file, line, column).
+ScenarioTrack LoadScenarioTrack(const std::string& track_file, const std::string& line_file,
+                                controller::planning::ReferenceCache& cache);
 
 /// Loads a raceline file relative to `track`: columns `x_m,y_m` (racetrack-database racelines) or
 /// `s_opt,n_opt` (TUMRT global racing lines), header-detected, at least 8 rows; the line through
