@@ -1,6 +1,5 @@
 #include "tuning/sim/plant_variation.h"
 
-#include <charconv>
 #include <cmath>
 #include <string>
 
@@ -13,15 +12,7 @@ namespace {
 // Response times are whole numbers of steps; compare them with a small tolerance.
 bool NotLater(double t, double limit, double h) { return t <= limit + 1e-6 * h; }
 
-// The numbers of this file's messages, formatted here where they are computed: the shortest text
-// that reads back to exactly `x` (the schema's params::FormatNumber), and seconds to 0.1 ms.
-std::string Num(double x) {
-  char buf[64];
-  const auto res = std::to_chars(buf, buf + sizeof(buf), x);
-  return std::string(buf, res.ptr);
-}
-
-std::string Ms(double seconds) { return Num(std::round(seconds * 1e4) / 1e4); }
+std::string Ms(double seconds) { return params::FormatNumber(std::round(seconds * 1e4) / 1e4); }
 
 // The largest fall-off shape factor C admits: 1 / (1 - sin(C pi/2)) (the sliding force reaches 0).
 double FalloffLimit(double c) { return 1.0 / (1.0 - std::sin(c * M_PI / 2.0)); }
@@ -82,8 +73,9 @@ params::BrakeParams BrakesWithDeadTime(const params::BrakeParams& brakes, double
     throw ConfigError("", "plant.brake_dead_time",
                       Ms(dead_time) + " s is outside the feasible range 0-" + Ms(range.max) +
                           " s: the brakes' total response (63 % of an 80 bar step) is " +
-                          Ms(total) + " s, and the rate limit of " + Num(brakes.rate_limit) +
-                          " bar/s alone needs " + Ms(total - range.max) + " s");
+                          Ms(total) + " s, and the rate limit of " +
+                          params::FormatNumber(brakes.rate_limit) + " bar/s alone needs " +
+                          Ms(total - range.max) + " s");
   // Smallest lag that reaches T, then smallest lag that is later than T: the middle of the two
   // gives T itself (the response time is a whole number of steps).
   auto first_lag = [&](auto later) {
@@ -113,16 +105,17 @@ params::Mf52Params WithFalloff(const params::Mf52Params& tire, double falloff) {
                         "needs a rear tyre whose " + std::string(name) +
                             " lies in (1, 2) (a force peak and a positive sliding force); the "
                             "vehicle's is " +
-                            Num(c) + ", so only 1 is accepted");
+                            params::FormatNumber(c) + ", so only 1 is accepted");
   const bool lateral_tighter = FalloffLimit(tire.pcy1) <= FalloffLimit(tire.pcx1);
   const auto& [name, c] = shapes[lateral_tighter ? 0 : 1];
   const double limit = FalloffLimit(c);
   if (!(falloff >= 0.0 && falloff < limit))
     throw ConfigError("", "plant.rear_tire_falloff",
-                      Num(falloff) + " is outside the feasible range 0 <= falloff < " +
-                          Num(std::floor(limit * 100.0) / 100.0) +
-                          " (the sliding force of the rear tyre's " + name + " = " + Num(c) +
-                          " would fall to zero or below)");
+                      params::FormatNumber(falloff) +
+                          " is outside the feasible range 0 <= falloff < " +
+                          params::FormatNumber(std::floor(limit * 100.0) / 100.0) +
+                          " (the sliding force of the rear tyre's " + name + " = " +
+                          params::FormatNumber(c) + " would fall to zero or below)");
   params::Mf52Params t = tire;
   t.pcy1 = FalloffShape(tire.pcy1, falloff);
   t.pcx1 = FalloffShape(tire.pcx1, falloff);
