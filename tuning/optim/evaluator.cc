@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <mutex>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 
 #include "tuning/exec/executor.h"
@@ -187,7 +188,8 @@ BatchEvaluator::BatchEvaluator(std::vector<ResolvedScenario> scenarios, std::vec
 BatchEvaluator BatchEvaluator::FromEntries(const std::vector<ScenarioEntry>& entries,
                                            const std::string& base_dir,
                                            const params::CostWeights& cost, int threads,
-                                           const BatchProgress& progress) {
+                                           const BatchProgress& progress,
+                                           controller::planning::ReferenceCache* cache) {
   // The other ranks (MPI) resolve the same scenarios meanwhile.
   exec::Options where;
   where.threads = threads;
@@ -197,8 +199,10 @@ BatchEvaluator BatchEvaluator::FromEntries(const std::vector<ScenarioEntry>& ent
   std::vector<double> weights;
   for (const auto& e : entries) weights.push_back(e.weight);
   ProgressCounter counter(progress, static_cast<int>(entries.size()));
-  // One preparation cache for the set: scenarios on one track and car share line and table.
-  controller::planning::ReferenceCache cache(&PrepCache::Process());
+  // One preparation cache for the set at least: scenarios on one track and car share line and
+  // table.
+  std::optional<controller::planning::ReferenceCache> own;
+  if (cache == nullptr) cache = &own.emplace(&PrepCache::Process());
   exec::ParallelFor(static_cast<int>(entries.size()), threads, [&](int i) {
     const ScenarioEntry& e = entries[static_cast<std::size_t>(i)];
     const params::ScenarioParams spec = LoadEntry(e, base_dir);
@@ -210,7 +214,7 @@ BatchEvaluator BatchEvaluator::FromEntries(const std::vector<ScenarioEntry>& ent
       dir = f.parent_path().string();
     }
     resolved[static_cast<std::size_t>(i)] =
-        Resolve(spec, dir, e.file.empty() ? "built-in" : e.file, &cache);
+        Resolve(spec, dir, e.file.empty() ? "built-in" : e.file, cache);
     counter.JobDone();
   });
   BatchEvaluator ev(std::move(resolved), std::move(weights), cost, threads);

@@ -61,10 +61,12 @@ class BatchEvaluator {
                  params::CostWeights cost, int threads = 0);
 
   /// Resolves the entries of a set (training or held-out) in parallel; `progress` counts the
-  /// resolved scenarios.
+  /// resolved scenarios. `cache` (the caller's, shared by its evaluators) holds the prepared
+  /// references; null: one of this call's own over the disk store.
   static BatchEvaluator FromEntries(const std::vector<ScenarioEntry>& entries,
                                     const std::string& base_dir, const params::CostWeights& cost,
-                                    int threads = 0, const BatchProgress& progress = {});
+                                    int threads = 0, const BatchProgress& progress = {},
+                                    controller::planning::ReferenceCache* cache = nullptr);
 
   /// Every set on every scenario (sets.size() × scenarios jobs); `progress` counts the runs.
   std::vector<SetEvaluation> Evaluate(const std::vector<params::StabilityParams>& sets,

@@ -302,7 +302,7 @@ std::string KeptRelation(const SpaceEntry& e, const params::StabilityParams& bas
 /// The best point decoded, and the base and tuned sets compared on the training and held-out
 /// scenarios (the phase kCompare up to the files).
 void Compare(const TuneStudy& study, const BatchEvaluator& training, TuneObserver& observer,
-             TuneReport* report) {
+             controller::planning::ReferenceCache* cache, TuneReport* report) {
   const TuneStudyOptions& o = study.options();
   const ScenarioSet& set = study.scenarios();
   const params::StabilityParams& base = study.base();
@@ -341,7 +341,7 @@ void Compare(const TuneStudy& study, const BatchEvaluator& training, TuneObserve
     const int n_held = static_cast<int>(set.held_out.size());
     const auto held =
         BatchEvaluator::FromEntries(set.held_out, set.base_dir, set.cost, o.threads,
-                                    Jobs(observer, TunePhase::kCompare, n_train, total));
+                                    Jobs(observer, TunePhase::kCompare, n_train, total), cache);
     report->held_out =
         held.Evaluate(both, Jobs(observer, TunePhase::kCompare, n_train + n_held, total));
     md += ComparisonMarkdown("Held-out scenarios (not used for tuning)", held, labels,
@@ -508,15 +508,17 @@ TuneReport TuneStudy::Run(TuneObserver& observer) const {
   const double step = options_.search_plant_step;
   const int n_prepare = step > 0.0 ? 4 * n_training : n_training;
   observer.OnPhaseBegin(TunePhase::kPrepare, n_prepare);
+  // One preparation cache for every evaluator of the run (training, the search step's, held-out).
+  controller::planning::ReferenceCache cache(&PrepCache::Process());
   const BatchEvaluator training =
       BatchEvaluator::FromEntries(set.training, set.base_dir, set.cost, options_.threads,
-                                  Jobs(observer, TunePhase::kPrepare, 0, n_prepare));
+                                  Jobs(observer, TunePhase::kPrepare, 0, n_prepare), &cache);
   std::optional<BatchEvaluator> coarse;
   report.plant_step.step = step;
   if (step > 0.0 && StepDiffers(training, step)) {
     coarse.emplace(BatchEvaluator::FromEntries(
         WithPlantStep(set.training, step), set.base_dir, set.cost, options_.threads,
-        Jobs(observer, TunePhase::kPrepare, n_training, n_prepare)));
+        Jobs(observer, TunePhase::kPrepare, n_training, n_prepare), &cache));
     const SetEvaluation fine_base =
         training.Evaluate({base_}, Jobs(observer, TunePhase::kPrepare, 2 * n_training, n_prepare))
             .front();
@@ -655,7 +657,7 @@ TuneReport TuneStudy::Run(TuneObserver& observer) const {
     observer.OnPhaseEnd(TunePhase::kSensitivity, report);
   }
 
-  Compare(*this, training, observer, &report);
+  Compare(*this, training, observer, &cache, &report);
   ComposeTunedFiles(*this, &report);
   observer.OnPhaseEnd(TunePhase::kCompare, report);
   return report;
@@ -676,11 +678,12 @@ std::string TuneStudy::CheckSet(const BatchProgress& progress) const {
       "; activations ESC/CS/ABS/TC with the base set; a subsystem decides a scenario when "
       "switching it off turns a completed run into an abort (or the reverse) or changes the "
       "scenario's cost by 5 % or more\n\n";
+  controller::planning::ReferenceCache cache(&PrepCache::Process());  // both groups
   for (const auto* group : {&set.training, &set.held_out}) {
     if (group->empty()) continue;
     const int n = static_cast<int>(group->size());
     const auto ev = BatchEvaluator::FromEntries(*group, set.base_dir, set.cost, options_.threads,
-                                                Offset(progress, done, total));
+                                                Offset(progress, done, total), &cache);
     done += n;
     const auto check = tuning::CheckSet(ev, base_, 0.05, Offset(progress, done, total));
     done += 5 * n;
@@ -794,11 +797,12 @@ SetsEvaluation EvaluateSets(const ScenarioSet& scenarios,
   int done = 0;
   SetsEvaluation out;
   bool header = true;
+  controller::planning::ReferenceCache cache(&PrepCache::Process());  // both groups
   for (const auto* group : {&set.training, &set.held_out}) {
     if (group->empty()) continue;
     const int n = static_cast<int>(group->size());
     const auto ev = BatchEvaluator::FromEntries(*group, set.base_dir, set.cost, threads,
-                                                Offset(progress, done, total));
+                                                Offset(progress, done, total), &cache);
     done += n;
     const auto res = ev.Evaluate(sets, Offset(progress, done, total));
     done += n * static_cast<int>(sets.size());
