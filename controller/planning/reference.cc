@@ -17,7 +17,8 @@ std::shared_ptr<const plant::Track> LineOf(const plant::Track& track, const Refe
       return std::make_shared<const plant::Track>(track);
     case LineKind::kGiven:
       if (!o.given_line) throw ConfigError(o.source, "motion.raceline", "no given line");
-      return o.given_line;
+      return std::make_shared<const plant::Track>(
+          RacingLineThrough(track, *o.given_line, o.given_source).line);
     case LineKind::kOptimal:
       break;
   }

@@ -2,8 +2,8 @@
 // before any run (the tuner then runs many stability parameter sets on it).
 //
 //   line      the minimum-curvature racing line within the track's bounds, `line_margin` from the
-//             edges (racing_line.h), or the centre line, or a given line (a raceline file, read
-//             by the caller: tuning/sim/track_csv.h)
+//             edges (racing_line.h), or the centre line, or the line through given points
+//             (RacingLineThrough; a raceline file's, read by the caller: tuning/sim/track_csv.h)
 //   ggv       the plant's own combined g-g-v envelope of `vehicle` with the front brake bias
 //             (envelope.h), unscaled
 //   path      the forward–backward velocity profile on the line at the table × `limit_scale`
@@ -24,8 +24,9 @@
 // velocity profile at limit_scale and late braking are recomputed each call (a few ms).
 //
 // Errors: scw::ConfigError from the racing line (e.g. a track narrower than twice the margin,
-// source "racing line") and the g-g-v table as they come; a late-braking event placed at a corner
-// the track does not have names `options.source` and `events.late_braking.corner`.
+// source "racing line"; a given point off the track, source `given_source`) and the g-g-v table
+// as they come; a late-braking event placed at a corner the track does not have names
+// `options.source` and `events.late_braking.corner`.
 //
 // Why planning may include the plant: it plans on the track's geometry (plant/track) and on the
 // plant's quasi-steady limits (plant/vehicle/quasi_steady.h), offline, at preparation time; it
@@ -34,10 +35,12 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "controller/planning/ggv.h"
 #include "controller/planning/path.h"
+#include "controller/planning/racing_line.h"
 #include "controller/planning/reference_cache.h"
 #include "params/schema/event_params.h"
 #include "params/schema/vehicle_params.h"
@@ -50,8 +53,10 @@ enum class LineKind { kOptimal, kCentreLine, kGiven };
 struct ReferenceOptions {
   LineKind line = LineKind::kOptimal;
   double line_margin = 2.0;  ///< kOptimal: distance kept from each edge [m]
-  /// kGiven: the line to follow (e.g. LoadRacingLine of a raceline file); must be set.
-  std::shared_ptr<const plant::Track> given_line;
+  /// kGiven: the points of the line to follow (e.g. a raceline file's), must be set; the line is
+  /// RacingLineThrough them on the track, and its errors name `given_source`.
+  std::optional<RacelinePoints> given_line;
+  std::string given_source;
   double limit_scale = 1.0;  ///< factor on every limit of the table (GG × limit_fraction) [-]
   double brake_bias_front = 0.58;    ///< the car's front share of brake pressure [-]
   params::LateBraking late_braking;  ///< brake points moved later (late_braking.h)

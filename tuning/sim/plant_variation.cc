@@ -1,6 +1,7 @@
 #include "tuning/sim/plant_variation.h"
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "params/schema/field.h"
@@ -55,27 +56,85 @@ DeadTimeRange FeasibleBrakeDeadTimes(const params::BrakeParams& brakes, double h
   return r;
 }
 
-params::BrakeParams BrakesWithDeadTime(const params::BrakeParams& brakes, double h,
-                                       double dead_time) {
-  // The actuator's own dead time keeps its own lag: the vehicle file's split bit for bit.
-  if (dead_time == brakes.delay) return brakes;
-  const DeadTimeRange range = FeasibleBrakeDeadTimes(brakes, h);
-  const double total = range.total;
+namespace {
+
+constexpr double kMaxLag = 1.0;  // the schema's bound of brakes.time_constant
+
+// The total response of `brakes` with dead time d, as a function of the lag.
+auto ResponseOfLag(const params::BrakeParams& brakes, double h, double d) {
   params::BrakeParams b = brakes;
-  b.delay = dead_time;
-  auto response = [&](double tau) {
+  b.delay = d;
+  return [b, h](double tau) mutable {
     b.time_constant = tau;
     return BrakeTotalResponse(b, h);
   };
-  const double kMaxLag = 1.0;  // the schema's bound of brakes.time_constant
-  if (!(dead_time >= 0.0) || !NotLater(response(0.0), total, h) ||
-      NotLater(response(kMaxLag), total - 0.5 * h, h))
-    throw ConfigError("", "plant.brake_dead_time",
-                      Ms(dead_time) + " s is outside the feasible range 0-" + Ms(range.max) +
-                          " s: the brakes' total response (63 % of an 80 bar step) is " +
-                          Ms(total) + " s, and the rate limit of " +
-                          params::FormatNumber(brakes.rate_limit) + " bar/s alone needs " +
-                          Ms(total - range.max) + " s");
+}
+
+// Whether some lag in [0, kMaxLag] keeps the total response of `brakes` with dead time d.
+bool DeadTimeFeasible(const params::BrakeParams& brakes, double h, double d) {
+  const double total = BrakeTotalResponse(brakes, h);
+  auto response = ResponseOfLag(brakes, h, d);
+  return d >= 0.0 && NotLater(response(0.0), total, h) &&
+         !NotLater(response(kMaxLag), total - 0.5 * h, h);
+}
+
+// The rear tyre's shape factor the fall-off is bounded by (the tighter of PCY1 and PCX1), or the
+// first one without a force peak.
+struct FalloffBound {
+  const char* name = "";
+  double c = 0.0;
+  bool has_peak = true;
+  double limit = 0.0;  // feasible: 0 <= falloff < limit
+};
+FalloffBound FalloffBoundOf(const params::Mf52Params& tire) {
+  const FalloffBound shapes[] = {{"PCY1", tire.pcy1}, {"PCX1", tire.pcx1}};
+  for (FalloffBound b : shapes)
+    if (!(b.c > 1.0 && b.c < 2.0)) return {b.name, b.c, false, 0.0};
+  FalloffBound b = shapes[FalloffLimit(tire.pcy1) <= FalloffLimit(tire.pcx1) ? 0 : 1];
+  b.limit = FalloffLimit(b.c);
+  return b;
+}
+
+// Every violation of a brake dead time and a rear-tyre fall-off, listed together (STYLE §6);
+// an absent value is not checked, nor the brakes' own dead time or a fall-off of 1 (no change).
+Problems CheckSplitAndFalloff(const params::BrakeParams& brakes, double h,
+                              std::optional<double> dead_time_or_none,
+                              const params::Mf52Params& rear, double falloff) {
+  Problems pr;
+  const double dead_time = dead_time_or_none.value_or(brakes.delay);
+  if (dead_time != brakes.delay && !DeadTimeFeasible(brakes, h, dead_time)) {
+    const DeadTimeRange range = FeasibleBrakeDeadTimes(brakes, h);
+    pr.Add("plant.brake_dead_time",
+           Ms(dead_time) + " s is outside the feasible range 0-" + Ms(range.max) +
+               " s: the brakes' total response (63 % of an 80 bar step) is " + Ms(range.total) +
+               " s, and the rate limit of " + params::FormatNumber(brakes.rate_limit) +
+               " bar/s alone needs " + Ms(range.total - range.max) + " s");
+  }
+  const FalloffBound bound = FalloffBoundOf(rear);
+  if (falloff != 1.0 && !bound.has_peak)
+    pr.Add("plant.rear_tire_falloff",
+           "needs a rear tyre whose " + std::string(bound.name) +
+               " lies in (1, 2) (a force peak and a positive sliding force); the vehicle's is " +
+               params::FormatNumber(bound.c) + ", so only 1 is accepted");
+  else if (falloff != 1.0 && !(falloff >= 0.0 && falloff < bound.limit))
+    pr.Add("plant.rear_tire_falloff",
+           params::FormatNumber(falloff) + " is outside the feasible range 0 <= falloff < " +
+               params::FormatNumber(std::floor(bound.limit * 100.0) / 100.0) +
+               " (the sliding force of the rear tyre's " + bound.name + " = " +
+               params::FormatNumber(bound.c) + " would fall to zero or below)");
+  return pr;
+}
+
+void ThrowIfAny(const Problems& pr) {
+  if (!pr.empty()) throw ConfigError("", pr.items());
+}
+
+// The split of a feasible dead time (checked before).
+params::BrakeParams SplitAt(const params::BrakeParams& brakes, double h, double dead_time) {
+  // The actuator's own dead time keeps its own lag: the vehicle file's split bit for bit.
+  if (dead_time == brakes.delay) return brakes;
+  const double total = BrakeTotalResponse(brakes, h);
+  auto response = ResponseOfLag(brakes, h, dead_time);
   // Smallest lag that reaches T, then smallest lag that is later than T: the middle of the two
   // gives T itself (the response time is a whole number of steps).
   auto first_lag = [&](auto later) {
@@ -89,55 +148,55 @@ params::BrakeParams BrakesWithDeadTime(const params::BrakeParams& brakes, double
   };
   const double reaches = first_lag([&](double t) { return !NotLater(t, total - 0.5 * h, h); });
   const double exceeds = first_lag([&](double t) { return !NotLater(t, total, h); });
+  params::BrakeParams b = brakes;
+  b.delay = dead_time;
   b.time_constant = 0.5 * (reaches + exceeds);
   return b;
 }
 
-params::Mf52Params WithFalloff(const params::Mf52Params& tire, double falloff) {
+// The fall-off of a tyre with a force peak and a feasible fall-off (checked before).
+params::Mf52Params FalloffAt(const params::Mf52Params& tire, double falloff) {
   if (falloff == 1.0) return tire;
-  const struct {
-    const char* name;
-    double c;
-  } shapes[] = {{"PCY1", tire.pcy1}, {"PCX1", tire.pcx1}};
-  for (const auto& [name, c] : shapes)
-    if (!(c > 1.0 && c < 2.0))
-      throw ConfigError("", "plant.rear_tire_falloff",
-                        "needs a rear tyre whose " + std::string(name) +
-                            " lies in (1, 2) (a force peak and a positive sliding force); the "
-                            "vehicle's is " +
-                            params::FormatNumber(c) + ", so only 1 is accepted");
-  const bool lateral_tighter = FalloffLimit(tire.pcy1) <= FalloffLimit(tire.pcx1);
-  const auto& [name, c] = shapes[lateral_tighter ? 0 : 1];
-  const double limit = FalloffLimit(c);
-  if (!(falloff >= 0.0 && falloff < limit))
-    throw ConfigError("", "plant.rear_tire_falloff",
-                      params::FormatNumber(falloff) +
-                          " is outside the feasible range 0 <= falloff < " +
-                          params::FormatNumber(std::floor(limit * 100.0) / 100.0) +
-                          " (the sliding force of the rear tyre's " + name + " = " +
-                          params::FormatNumber(c) + " would fall to zero or below)");
   params::Mf52Params t = tire;
   t.pcy1 = FalloffShape(tire.pcy1, falloff);
   t.pcx1 = FalloffShape(tire.pcx1, falloff);
   return t;
 }
 
+}  // namespace
+
+params::BrakeParams BrakesWithDeadTime(const params::BrakeParams& brakes, double h,
+                                       double dead_time) {
+  ThrowIfAny(CheckSplitAndFalloff(brakes, h, dead_time, params::Mf52Params{}, 1.0));
+  return SplitAt(brakes, h, dead_time);
+}
+
+params::Mf52Params WithFalloff(const params::Mf52Params& tire, double falloff) {
+  ThrowIfAny(CheckSplitAndFalloff(params::BrakeParams{}, 0.001, std::nullopt, tire, falloff));
+  return FalloffAt(tire, falloff);
+}
+
 params::VehicleParams ApplyPlantVariation(const params::VehicleParams& vehicle,
                                           const params::PlantVariationParams& plant) {
   params::VehicleParams v = vehicle;
+  const double h = v.simulation.time_step;
+  // Check everything first, every violation listed; then apply, in the documented order.
+  Problems pr;
+  const bool known = plant.actuators == "vehicle" || plant.actuators == "paper_sim";
+  if (!known)
+    pr.Add("plant.actuators", "'" + plant.actuators + "' is not one of vehicle|paper_sim");
   if (plant.actuators == "paper_sim") {
     v.brakes = PaperSimBrakes(v.brakes);
     v.steering = PaperSimSteering(v.steering);
-  } else if (plant.actuators != "vehicle") {
-    throw ConfigError("", "plant.actuators",
-                      "'" + plant.actuators + "' is not one of vehicle|paper_sim");
   }
-  const double h = v.simulation.time_step;
-  if (plant.brake_dead_time >= 0.0)
-    v.brakes = BrakesWithDeadTime(v.brakes, h, plant.brake_dead_time);
+  // The dead time is judged on the selected actuator only (an unknown one has no total response).
+  std::optional<double> dead_time;
+  if (known && plant.brake_dead_time >= 0.0) dead_time = plant.brake_dead_time;
+  pr.Append(CheckSplitAndFalloff(v.brakes, h, dead_time, v.tires.rear, plant.rear_tire_falloff));
+  ThrowIfAny(pr);
+  if (plant.brake_dead_time >= 0.0) v.brakes = SplitAt(v.brakes, h, plant.brake_dead_time);
   if (plant.steering_delay >= 0.0) v.steering.delay = plant.steering_delay;
-  if (plant.rear_tire_falloff != 1.0)
-    v.tires.rear = WithFalloff(v.tires.rear, plant.rear_tire_falloff);
+  v.tires.rear = FalloffAt(v.tires.rear, plant.rear_tire_falloff);
   if (plant.yaw_inertia_scale != 1.0) v.chassis.yaw_inertia *= plant.yaw_inertia_scale;
   return v;
 }

@@ -26,7 +26,8 @@
 // stiffness K and the peak D stay; the slip at the peak moves (outwards for s < 1). C <= 1 has
 // no peak (only s = 1 is accepted then); s with 1 - s (1 - sin(C pi/2)) <= 0 would need C' >= 2.
 //
-// Errors are ConfigError with the path `plant.<key>` and the feasible range.
+// Errors are ConfigError with the path `plant.<key>` and the feasible range. ApplyPlantVariation
+// checks the whole section before it changes anything and lists every violation at once.
 #pragma once
 
 #include "params/schema/plant_variation_params.h"
@@ -72,8 +73,9 @@ params::BrakeParams BrakesWithDeadTime(const params::BrakeParams& brakes, double
 /// not 1, or where the falloff would need C >= 2.
 params::Mf52Params WithFalloff(const params::Mf52Params& tire, double falloff);
 
-/// The simulated car: `vehicle` with `plant` applied (see above). The result is not validated
-/// here (the caller validates it as a vehicle).
+/// The simulated car: `vehicle` with `plant` applied (see above). Throws one ConfigError listing
+/// every problem of `plant` (unknown actuators, infeasible dead time, infeasible fall-off) before
+/// anything is applied. The result is not validated as a vehicle here (the caller does).
 params::VehicleParams ApplyPlantVariation(const params::VehicleParams& vehicle,
                                           const params::PlantVariationParams& plant);
 

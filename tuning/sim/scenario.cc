@@ -187,6 +187,7 @@ void ResolveReference(const params::ScenarioParams& spec, const std::string& bas
       o.line == planning::LineKind::kGiven ? ResolvePath(base_dir, line) : std::string(), cache);
   sc->track = files.track;
   o.given_line = files.given_line;
+  o.given_source = files.line_file;
   o.line_margin = spec.motion.raceline_margin;
   o.limit_scale = spec.gg_scale * spec.limit_fraction;
   o.brake_bias_front = spec.motion.longitudinal.brake_bias_front;

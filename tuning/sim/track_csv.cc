@@ -97,13 +97,14 @@ ScenarioTrack LoadScenarioTrack(const std::string& track_file, const std::string
   } else {
     out.track = ReadTrackFile(track_file, kind, {}, &cache);
   }
-  if (!line_file.empty())
-    out.given_line = std::make_shared<const Track>(LoadRacingLine(line_file, *out.track).line);
+  if (!line_file.empty()) {
+    out.given_line = ReadRacelinePoints(line_file);
+    out.line_file = line_file;
+  }
   return out;
 }
 
-controller::planning::RacingLine LoadRacingLine(const std::string& path, const plant::Track& track,
-                                                double output_step) {
+controller::planning::RacelinePoints ReadRacelinePoints(const std::string& path) {
   const io::CsvTable t = io::ReadCsvTable(path, {}, {"x_m", "y_m", "s_opt", "n_opt"});
   const bool xy = t.Column("x_m") && t.Column("y_m");
   const bool sn = t.Column("s_opt") && t.Column("n_opt");
@@ -119,7 +120,13 @@ controller::planning::RacingLine LoadRacingLine(const std::string& path, const p
   points.a = *t.Column(xy ? "x_m" : "s_opt");
   points.b = *t.Column(xy ? "y_m" : "n_opt");
   points.rows = t.lines;
-  return controller::planning::RacingLineThrough(track, points, path, output_step);
+  return points;
+}
+
+controller::planning::RacingLine LoadRacingLine(const std::string& path, const plant::Track& track,
+                                                double output_step) {
+  return controller::planning::RacingLineThrough(track, ReadRacelinePoints(path), path,
+                                                 output_step);
 }
 
 controller::planning::GgvTable LoadGgvCsv(const std::string& path, double exponent) {

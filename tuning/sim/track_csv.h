@@ -18,6 +18,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,10 +32,12 @@ namespace scw::tuning {
 /// Loads a closed centre line with widths in either public format.
 plant::Track LoadTrackCsv(const std::string& path, const plant::TrackBuildOptions& options = {});
 
-/// The track and the given raceline a scenario names, read once at the top of its preparation.
+/// The track and the given raceline's points a scenario names, read once at the top of its
+/// preparation; the line through the points is planned on the track by PrepareReference.
 struct ScenarioTrack {
   std::shared_ptr<const plant::Track> track;
-  std::shared_ptr<const plant::Track> given_line;  ///< null without a given line file
+  std::optional<controller::planning::RacelinePoints> given_line;  ///< none without a line file
+  std::string line_file;  ///< the given line's file (named in its errors)
 };
 
 /// The scenario's files: `track_file` "" = Yas Marina North, a name without extension = a built-in
@@ -42,10 +45,16 @@ struct ScenarioTrack {
 /// (LoadTrackCsv), *.yaml / *.yml = a piecewise definition (params/schema/track_params.h). The kind
 /// is decided by the name before the file is read; the file is read once and its reader builds
 /// the track, shared through `cache` under the name and the file's text (a built-in under its
-/// name). A non-empty `line_file` is then read as LoadRacingLine on that track. Errors in this
-/// order: the track's name, the track file, the line file (ConfigError naming file, line, column).
+/// name). A non-empty `line_file` is then read as ReadRacelinePoints. Errors in this order: the
+/// track's name, the track file, the line file (ConfigError naming file, line, column); a point
+/// of the line off the track is PrepareReference's error, naming the line file.
 ScenarioTrack LoadScenarioTrack(const std::string& track_file, const std::string& line_file,
                                 controller::planning::ReferenceCache& cache);
+
+/// A raceline file's points: columns `x_m,y_m` (racetrack-database racelines) or `s_opt,n_opt`
+/// (TUMRT global racing lines), header-detected, at least 8 rows. Throws ConfigError naming file,
+/// line and column on bad input.
+controller::planning::RacelinePoints ReadRacelinePoints(const std::string& path);
 
 /// Loads a raceline file relative to `track`: columns `x_m,y_m` (racetrack-database racelines) or
 /// `s_opt,n_opt` (TUMRT global racing lines), header-detected, at least 8 rows; the line through

@@ -92,6 +92,22 @@ TEST(PlantVariationTest, InfeasibleDeadTimeNamesTheKeyAndTheRange) {
                        "plant.brake_dead_time: 0.01 s is outside the feasible range 0-0 s"));
 }
 
+TEST(PlantVariationTest, EveryProblemOfTheSectionIsListedBeforeAnythingIsApplied) {
+  params::PlantVariationParams p;
+  p.brake_dead_time = 0.13;
+  p.rear_tire_falloff = 40.0;
+  const std::string e = ErrorOf([&] { ApplyPlantVariation(params::VehicleParams{}, p); });
+  EXPECT_TRUE(Contains(e, "plant.brake_dead_time: 0.13 s is outside")) << e;
+  EXPECT_TRUE(Contains(e, "plant.rear_tire_falloff: 40 is outside the feasible range")) << e;
+  EXPECT_LT(e.find("plant.brake_dead_time"), e.find("plant.rear_tire_falloff")) << e;
+  // An unknown actuator model is named; the dead time is not judged against a model it lacks.
+  p.actuators = "ocd";
+  const std::string u = ErrorOf([&] { ApplyPlantVariation(params::VehicleParams{}, p); });
+  EXPECT_TRUE(Contains(u, "plant.actuators: 'ocd' is not one of vehicle|paper_sim")) << u;
+  EXPECT_FALSE(Contains(u, "plant.brake_dead_time")) << u;
+  EXPECT_TRUE(Contains(u, "plant.rear_tire_falloff")) << u;
+}
+
 TEST(PlantVariationTest, PaperSimAppliesTheDocumentedValues) {
   const params::VehicleParams v;
   params::PlantVariationParams p;

@@ -142,5 +142,51 @@ TEST(PreparationCache, ConcurrentResolutionGivesTheSerialResult) {
   }
 }
 
+// A given raceline file: its points are read with the track, and the line through them is planned
+// on the track (PrepareReference); a point off the track names the line file and its line.
+TEST(GivenRaceline, IsPlannedOnTheTrackAndItsErrorsNameTheLineFile) {
+  const std::string dir = testing::TempDir();
+  const std::string track = dir + "scw_given_track.csv", line = dir + "scw_given_line.csv";
+  std::ofstream t(track), l(line);
+  t << "# x_m,y_m,w_tr_right_m,w_tr_left_m\n";
+  l << "x_m,y_m\n";
+  for (int i = 0; i < 24; ++i) {
+    const double a = 2 * M_PI * i / 24;
+    t << 60 * std::cos(a) << "," << 60 * std::sin(a) << ",6,6\n";
+    // 2 m inside the centre line; line 9 of the file (the 8th point) is 20 m off.
+    const double r = i == 7 ? 80.0 : 58.0;
+    l << r * std::cos(a) << "," << r * std::sin(a) << "\n";
+  }
+  t.close();
+  l.close();
+  const auto resolve = [&](const std::string& line_file) {
+    return Resolve(DefaultScenario({"track=" + track, "motion.raceline=" + line_file, "laps=1"}),
+                   "", "given.yaml", nullptr);
+  };
+  try {
+    resolve(line);
+    ADD_FAILURE() << "a point 20 m off the track was accepted";
+  } catch (const ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(line), std::string::npos) << what;
+    EXPECT_NE(what.find("line 9"), std::string::npos) << what;
+  }
+  // The same file with the point on the track: the path runs 2 m inside the centre line.
+  std::ofstream ok(line);
+  ok << "x_m,y_m\n";
+  for (int i = 0; i < 24; ++i) {
+    const double a = 2 * M_PI * i / 24;
+    ok << 58 * std::cos(a) << "," << 58 * std::sin(a) << "\n";
+  }
+  ok.close();
+  const ResolvedScenario sc = resolve(line);
+  for (double s = 0.0; s < sc.path->length(); s += 25.0) {
+    const auto p = sc.path->Sample(s);
+    EXPECT_NEAR(std::hypot(p.x, p.y), 58.0, 0.5) << "s = " << s;
+  }
+  std::remove(track.c_str());
+  std::remove(line.c_str());
+}
+
 }  // namespace
 }  // namespace scw::tuning
