@@ -26,8 +26,10 @@
 // problem's own data live in the caller's preallocated workspace.
 #pragma once
 
+#include <algorithm>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace scw::controller::motion {
 
@@ -62,6 +64,36 @@ class SparseNlp {
   /// Optional: the multipliers of the last iterate, called right after Solution.
   virtual void SolutionMultipliers(const double* /*z_l*/, const double* /*z_u*/,
                                    const double* /*lambda*/) {}
+};
+
+/// A SparseNlp whose sizes, bounds, start, sparsity structure and last iterate are stored
+/// vectors: the problem (the MPCs' workspaces) fills them once and supplies the values.
+struct StoredSparseNlp : SparseNlp {
+  NlpSizes Sizes() const override {
+    return {nv, m, static_cast<int>(jr.size()), static_cast<int>(hr.size())};
+  }
+  void Bounds(double* z_l, double* z_u, double* g_l, double* g_u) const override {
+    std::copy(zl.begin(), zl.end(), z_l);
+    std::copy(zu.begin(), zu.end(), z_u);
+    std::copy(gl.begin(), gl.end(), g_l);
+    std::copy(gu.begin(), gu.end(), g_u);
+  }
+  void Start(double* out) const override { std::copy(z0.begin(), z0.end(), out); }
+  void JacobianStructure(int* rows, int* cols) const override {
+    std::copy(jr.begin(), jr.end(), rows);
+    std::copy(jc.begin(), jc.end(), cols);
+  }
+  void HessianStructure(int* rows, int* cols) const override {
+    std::copy(hr.begin(), hr.end(), rows);
+    std::copy(hc.begin(), hc.end(), cols);
+  }
+  void Solution(const double* v) override { std::copy(v, v + nv, z.begin()); }
+
+  int nv = 0;                              ///< variables
+  int m = 0;                               ///< constraints
+  std::vector<double> zl, zu, gl, gu, z0;  ///< bounds of z and g, the start
+  std::vector<double> z;                   ///< the last iterate (Solution)
+  std::vector<int> jr, jc, hr, hc;         ///< Jacobian and Hessian structure (rows, columns)
 };
 
 struct NlpSolverOptions {

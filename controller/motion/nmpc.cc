@@ -223,7 +223,7 @@ SingleTrackModel::StateVec SingleTrackModel::Discrete(const SingleTrackParams& p
 // ---------------------------------------------------------------------------------------------
 // The NLP: z = [x_0 u_0 | x_1 u_1 | … | x_{N−1} u_{N−1} | x_N | ε_1 … ε_N].
 // Rows: dynamics 5N (x_{k+1} − Φ_k = 0), g-g ellipse N, steering rate N−1, corridor 2N.
-struct SingleTrackMpc::Workspace final : SparseNlp {
+struct SingleTrackMpc::Workspace final : StoredSparseNlp {
   Workspace(const NmpcOptions& o, const SingleTrackParams& model)
       : N(o.horizon_steps), opt(o), p(model), solver([&] {
           NlpSolverOptions so;
@@ -321,16 +321,6 @@ struct SingleTrackMpc::Workspace final : SparseNlp {
   }
 
   // Objective: Σ qdiag_i (z_i − qref_i)² + Σ pairs r (z_a − z_b)² + lin·z.
-  NlpSizes Sizes() const override {
-    return {nv, m, static_cast<int>(jr.size()), static_cast<int>(hr.size())};
-  }
-  void Bounds(double* z_l, double* z_u, double* g_l, double* g_u) const override {
-    std::copy(zl.begin(), zl.end(), z_l);
-    std::copy(zu.begin(), zu.end(), z_u);
-    std::copy(gl.begin(), gl.end(), g_l);
-    std::copy(gu.begin(), gu.end(), g_u);
-  }
-  void Start(double* out) const override { std::copy(z0.begin(), z0.end(), out); }
   double PairWeight(int j) const { return j == M::kDelta ? opt.r_ddelta : opt.r_da; }
   double Objective(const double* v) const override {
     double f = 0.0;
@@ -372,10 +362,6 @@ struct SingleTrackMpc::Workspace final : SparseNlp {
       g[CorRow(k) + 1] = v[Z(k) + M::kN] + v[E(k)];
     }
   }
-  void JacobianStructure(int* rows, int* cols) const override {
-    std::copy(jr.begin(), jr.end(), rows);
-    std::copy(jc.begin(), jc.end(), cols);
-  }
   void JacobianValues(const double* v, double* val) override {
     std::size_t e = 0;
     for (int k = 0; k < N; ++k) {
@@ -402,10 +388,6 @@ struct SingleTrackMpc::Workspace final : SparseNlp {
       val[e++] = 1.0;
       val[e++] = 1.0;
     }
-  }
-  void HessianStructure(int* rows, int* cols) const override {
-    std::copy(hr.begin(), hr.end(), rows);
-    std::copy(hc.begin(), hc.end(), cols);
   }
   // Gradient over z_k of the stage's constraint terms Σ λ_i g_i (dynamics: −λᵀΦ, ellipse).
   M::Row StageGradient(const M::StateVec& x, const M::InputVec& u, int k, const double* lambda) {
@@ -483,14 +465,11 @@ struct SingleTrackMpc::Workspace final : SparseNlp {
     const int per = M::kNz * (M::kNz + 1) / 2;
     return static_cast<std::size_t>(k * per + i * (i + 1) / 2 + i);
   }
-  void Solution(const double* v) override { std::copy(v, v + nv, z.begin()); }
 
   int N;
   NmpcOptions opt;
   SingleTrackParams p;
-  int nv = 0, m = 0;
-  std::vector<double> zl, zu, gl, gu, z0, z, kappa, ax_lim, ay_lim, qdiag, qref, lin;
-  std::vector<int> jr, jc, hr, hc;
+  std::vector<double> kappa, ax_lim, ay_lim, qdiag, qref, lin;
   NlpSolver solver;
 };
 

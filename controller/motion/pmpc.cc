@@ -47,7 +47,7 @@ void PointMassModel::Jacobians(const StateVec& x, const InputVec&, double kappa,
 // ---------------------------------------------------------------------------------------------
 // The QP: z = [x_0 .. x_N (n, w, v), u_0 .. u_{N-1} (a_t, a_n), ε_1 .. ε_N],
 // min ½ zᵀHz + lᵀz, rows: dynamics (3N, equalities), corridor (2N), g-g polygon (4·S·N).
-struct PointMassMpc::Workspace final : SparseNlp {
+struct PointMassMpc::Workspace final : StoredSparseNlp {
   Workspace(const PmpcOptions& o, int segments)
       : N(o.horizon_steps), S(segments), solver([&] {
           NlpSolverOptions so;
@@ -122,16 +122,6 @@ struct PointMassMpc::Workspace final : SparseNlp {
     lin[static_cast<std::size_t>(i)] -= 2.0 * weight * ref;
   }
 
-  NlpSizes Sizes() const override {
-    return {nv, m, static_cast<int>(jr.size()), static_cast<int>(hr.size())};
-  }
-  void Bounds(double* z_l, double* z_u, double* g_l, double* g_u) const override {
-    std::copy(zl.begin(), zl.end(), z_l);
-    std::copy(zu.begin(), zu.end(), z_u);
-    std::copy(gl.begin(), gl.end(), g_l);
-    std::copy(gu.begin(), gu.end(), g_u);
-  }
-  void Start(double* out) const override { std::copy(z0.begin(), z0.end(), out); }
   double Objective(const double* x) const override {
     double f = 0.0;
     for (std::size_t e = 0; e < hr.size(); ++e) {
@@ -152,21 +142,12 @@ struct PointMassMpc::Workspace final : SparseNlp {
     std::fill(g, g + m, 0.0);
     for (std::size_t e = 0; e < jr.size(); ++e) g[jr[e]] += jv[e] * x[jc[e]];
   }
-  void JacobianStructure(int* rows, int* cols) const override {
-    std::copy(jr.begin(), jr.end(), rows);
-    std::copy(jc.begin(), jc.end(), cols);
-  }
   void JacobianValues(const double*, double* values) override {
     std::copy(jv.begin(), jv.end(), values);
-  }
-  void HessianStructure(int* rows, int* cols) const override {
-    std::copy(hr.begin(), hr.end(), rows);
-    std::copy(hc.begin(), hc.end(), cols);
   }
   void HessianValues(const double*, double obj_factor, const double*, double* values) override {
     for (std::size_t e = 0; e < hv.size(); ++e) values[e] = obj_factor * hv[e];
   }
-  void Solution(const double* x) override { std::copy(x, x + nv, z.begin()); }
 
   // Warm start: the multipliers of the plan in use, shifted in time like the primal start
   // (stage k of the new problem takes stage k + mult_shift of the old one, interpolated linearly
@@ -206,9 +187,8 @@ struct PointMassMpc::Workspace final : SparseNlp {
     std::copy(lambda, lambda + m, new_g_mult.begin());
   }
 
-  int N, S, nv = 0, m = 0;
-  std::vector<double> zl, zu, gl, gu, z0, z, lin;
-  std::vector<int> jr, jc, hr, hc;
+  int N, S;
+  std::vector<double> lin;
   std::vector<double> jv, hv;
   // Multipliers of the plan in use and of the last solve; shift of the next warm start in steps
   // (< 0: cold start).
