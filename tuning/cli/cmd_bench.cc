@@ -20,6 +20,7 @@
 #include "tuning/optim/evaluator.h"
 #include "tuning/optim/plant_step_check.h"
 #include "tuning/sim/closed_loop.h"
+#include "tuning/sim/prep_cache.h"
 #include "tuning/sim/scenario.h"
 
 namespace scw::cli {
@@ -148,11 +149,14 @@ int BenchEvaluator(const BenchOptions& o) {
   const std::string step_note =
       o.plant_step > 0.0 ? " at plant step " + params::FormatDouble(o.plant_step) + " s" : "";
   double rate[2] = {0, 0};
+  // One preparation cache for both evaluators, as a tune's evaluators share one: the second
+  // evaluator's preparation time is then that of a warm cache.
+  controller::planning::ReferenceCache cache(&tuning::PrepCache::Process());
   for (int threads : {1, 2}) {
     if (ranks && threads > 1) break;
     const auto t_prep = std::chrono::steady_clock::now();
-    const auto ev =
-        tuning::BatchEvaluator::FromEntries(set.training, set.base_dir, set.cost, threads);
+    const auto ev = tuning::BatchEvaluator::FromEntries(set.training, set.base_dir, set.cost,
+                                                        threads, {}, &cache);
     const double prep =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t_prep).count();
     if (threads == 1 && !o.job_times.empty()) WriteJobTimes(ev, o.job_times);
