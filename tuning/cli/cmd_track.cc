@@ -9,12 +9,9 @@
 #include "controller/planning/racing_line.h"
 #include "controller/planning/velocity_profile.h"
 #include "params/io/atomic_file.h"
-#include "params/io/load.h"
 #include "params/io/write.h"
-#include "params/schema/track_params.h"
 #include "plant/track/builtin_tracks.h"
 #include "plant/track/corners.h"
-#include "plant/track/yas_north.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
 #include "tuning/sim/track_csv.h"
@@ -36,23 +33,8 @@ std::string Fixed(double x, int digits) {
   return s.str();
 }
 
-bool EndsWith(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() &&
-         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-/// Empty: the built-in Yas North; a built-in name (plant/track/builtin_tracks.h); *.yaml/*.yml: a
-/// piecewise definition; otherwise a CSV centre line.
-plant::Track LoadTrack(const std::string& path) {
-  if (path.empty()) return plant::YasNorthTrack();
-  if (auto track = plant::BuiltInTrack(path)) return *std::move(track);
-  if (EndsWith(path, ".yaml") || EndsWith(path, ".yml"))
-    return plant::Track::FromDefinition(params::LoadPlainFile<params::TrackParams>(path), path);
-  return tuning::LoadTrackCsv(path);
-}
-
 int Info(const TrackOptions& o) {
-  const plant::Track t = LoadTrack(o.track);
+  const plant::Track t = tuning::LoadTrackFile(o.track);
   double wmin = 1e9, wmax = 0.0;
   for (std::size_t i = 0; i < t.size(); ++i) {
     const double w = t.width_left()[i] + t.width_right()[i];
@@ -79,7 +61,7 @@ int Info(const TrackOptions& o) {
 }
 
 int Line(const TrackOptions& o) {
-  const plant::Track t = LoadTrack(o.track);
+  const plant::Track t = tuning::LoadTrackFile(o.track);
   const controller::planning::GgvTable ggv = o.ggv.empty()
                                                  ? controller::planning::RepresentativeGgv()
                                                  : tuning::LoadGgvCsv(o.ggv, o.ggv_exponent);

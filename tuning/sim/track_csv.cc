@@ -104,6 +104,11 @@ ScenarioTrack LoadScenarioTrack(const std::string& track_file, const std::string
   return out;
 }
 
+plant::Track LoadTrackFile(const std::string& track_file) {
+  controller::planning::ReferenceCache cache;
+  return *LoadScenarioTrack(track_file, "", cache).track;
+}
+
 controller::planning::RacelinePoints ReadRacelinePoints(const std::string& path) {
   const io::CsvTable t = io::ReadCsvTable(path, {}, {"x_m", "y_m", "s_opt", "n_opt"});
   const bool xy = t.Column("x_m") && t.Column("y_m");

@@ -51,6 +51,10 @@ struct ScenarioTrack {
 ScenarioTrack LoadScenarioTrack(const std::string& track_file, const std::string& line_file,
                                 controller::planning::ReferenceCache& cache);
 
+/// A track named as in a scenario's `track` key, read as LoadScenarioTrack reads it (the same
+/// rule for the kind, the same readers and errors), without a line; for `scw track`.
+plant::Track LoadTrackFile(const std::string& track_file);
+
 /// A raceline file's points: columns `x_m,y_m` (racetrack-database racelines) or `s_opt,n_opt`
 /// (TUMRT global racing lines), header-detected, at least 8 rows. Throws ConfigError naming file,
 /// line and column on bad input.

@@ -118,6 +118,22 @@ TEST_F(CliTest, NumbersThatAreNotNumbersOrAreNegativeSeedsAreBadInput) {
   EXPECT_NE(r.err.find("--gg-scale: 'x' is not a number"), std::string::npos) << r.err;
 }
 
+// `scw track` reads --track by the scenario's rule (tuning/sim/track_csv.h LoadScenarioTrack):
+// a name without extension is a built-in track, a file needs .csv, .yaml or .yml.
+TEST_F(CliTest, TrackCommandsReadTheTrackAsAScenarioDoes) {
+  Result r = Scw("track info --track monza");
+  EXPECT_EQ(r.code, 0) << r.all();
+  EXPECT_NE(r.out.find("(built-in)"), std::string::npos) << r.out;
+  std::ofstream(Path("oval.txt")) << "x\n";
+  r = Scw("track info --track " + Path("oval.txt"));
+  EXPECT_NE(r.code, 0) << r.all();
+  EXPECT_NE(r.err.find("unknown track file type (expected .csv, .yaml or .yml)"), std::string::npos)
+      << r.err;
+  r = Scw("track info --track nurburgring");
+  EXPECT_NE(r.code, 0) << r.all();
+  EXPECT_NE(r.err.find("unknown built-in track (known: "), std::string::npos) << r.err;
+}
+
 TEST_F(CliTest, MissingFilesAndFoldersAreNamedWithoutFilesystemErrorText) {
   const std::string missing = Path("missing.yaml");
   const std::string not_a_folder = Path("plain_file");
