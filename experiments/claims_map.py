@@ -2,7 +2,8 @@
 """A map of what decides each claim (issue 25 part 2): the unknowns of the plant varied one at a
 time and pairwise within stated, plausible ranges, each claim (a)-(d) evaluated on one
 perturbation per study (study 1: sensor-noise seed 1; study 2: rear μy 0.80), the car's shipped
-stability set (or --stability), 3 laps, the studies' GG axis with the first abort bisected.
+stability set (or --stability: a map per set, in claims_map_<set>/), 3 laps, the studies' GG axis
+with the first abort bisected.
 
 The unknowns and their ranges (docs/plant-calibration.md, docs/scenarios.md `plant:`):
 - brake dead time at the vehicle's fixed 150 ms total response: 0, 40, 80, 116 (the vehicle
@@ -68,6 +69,12 @@ NO_DYN = "no brake dynamics (no dead time, 1 ms lag, 100 000 bar/s)"
 # the heat map's columns: the brake dead times at the fixed 150 ms response, then no dynamics
 COLUMNS = BRAKES + ["nodyn"]
 QUICK = [("brake_steer", "brake dead time (quick)", ["plant.brake_dead_time=0.0,0.116"])]
+
+
+def map_study(set_label):
+    """The results folder of the map of one set: claims_map for the shipped set,
+    claims_map_<set> for any other (report.py reads every claims_map* folder)."""
+    return STUDY if set_label == "shipped" else f"{STUDY}_{set_label}"
 
 
 def no_brake_dynamics_vehicle(scw, path):
@@ -143,7 +150,7 @@ def pack(rows_by_cfg, names, refined=True):
     return out
 
 
-def heat_map(variants, path):
+def heat_map(variants, path, set_label="shipped"):
     claims = ("a", "b", "c", "d")
     fig, axes = plt.subplots(1, 4, figsize=(16, 4.2))
     for ax, k in zip(axes, claims):
@@ -173,16 +180,16 @@ def heat_map(variants, path):
         if k == "a":
             ax.set_ylabel("steering dead time [ms]")
         ax.set_title(f"claim ({k}): margin = {MARGIN_NAMES[k]}", fontsize=9)
-    fig.suptitle("Claims map: pass (green) / fail (red) with the margin; brake dead time within "
-                 "the fixed 150 ms response, 'none': no brake dynamics; real car's actuators "
-                 "otherwise (study 1 seed 1, study 2 rear μy 0.80)", fontsize=10)
+    fig.suptitle(f"Claims map, {set_label} set: pass (green) / fail (red) with the margin; brake "
+                 "dead time within the fixed 150 ms response, 'none': no brake dynamics; real "
+                 "car's actuators otherwise (study 1 seed 1, study 2 rear μy 0.80)", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
 
 
-def bars(variants, path):
+def bars(variants, path, set_label="shipped"):
     claims = ("a", "b", "c", "d")
     fig, axes = plt.subplots(1, 4, figsize=(17, 0.45 * len(variants) + 1.8), sharey=True)
     labels = [v["label"] for v in variants]
@@ -196,8 +203,8 @@ def bars(variants, path):
     axes[0].set_yticks(range(len(variants)))
     axes[0].set_yticklabels(labels, fontsize=8)
     axes[0].invert_yaxis()
-    fig.suptitle("Claims map, one at a time: margin per claim (green: claim holds; dotted: the "
-                 "criterion's threshold)", fontsize=10)
+    fig.suptitle(f"Claims map, {set_label} set, one at a time: margin per claim (green: claim "
+                 "holds; dotted: the criterion's threshold)", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -237,7 +244,9 @@ def main(argv=None):
     args = p.parse_args(argv)
     scwexp.apply_common_args(args)
     scw = scwexp.find_scw()
-    out = scwexp.results_dir(STUDY)
+    set_label = scwexp.column_info(args)["set_label"]
+    study = map_study(set_label)
+    out = scwexp.results_dir(study)
     timer = scwexp.Timer()
     names = [n for n, _ in CONFIGS]
     configs = [f"{n}:{o}" for n, o in CONFIGS]
@@ -306,11 +315,11 @@ def main(argv=None):
                          "series": {**s1, **s2}})
     figures = []
     if any("grid" in v for v in variants):
-        figures.append(os.path.relpath(heat_map(variants, os.path.join(out, "claims_map.png")),
-                                       out))
+        heat = heat_map(variants, os.path.join(out, "claims_map.png"), set_label)
+        figures.append(os.path.relpath(heat, out))
     one = [v for v in variants if "grid" not in v or v["grid"][1] == 0.03]
-    figures.append(os.path.relpath(bars(one, os.path.join(out, "claims_map_one_at_a_time.png")),
-                                   out))
+    one_path = bars(one, os.path.join(out, "claims_map_one_at_a_time.png"), set_label)
+    figures.append(os.path.relpath(one_path, out))
     table = ["| variant | (a) | (b) | (c) | (d) |", "|---|---|---|---|---|"]
     for v in variants:
         cells = []
@@ -323,19 +332,19 @@ def main(argv=None):
         table.append(f"| {v['label']} | " + " | ".join(cells) + " |")
     holds = {k: [v["label"] for v in variants if v["claims"][k]["ok"]] for k in "abcd"}
     text = ("One perturbation per study (study 1 sensor-noise seed 1, study 2 rear μy 0.80), "
-            f"the {'given' if args.stability else 'shipped'} stability set, 3 laps, GG "
+            f"the {set_label} stability set, {args.laps} laps, GG "
             f"{args.gg} with the first abort bisected; every other plant value as the vehicle "
             "file. Margins: " + "; ".join(f"({k}) {MARGIN_NAMES[k]} (criterion ≥ {THRESH[k]})"
                                           for k in "abcd") + ". A claim holds only with its "
             "whole criterion (P5 included). Holds with: " +
             "; ".join(f"({k}) " + (", ".join(holds[k]) or "no variant") for k in "abcd") + ".")
-    summary = {"study": STUDY, "commands": commands, "variants": variants, "table": table,
+    summary = {"study": study, "set_label": set_label, "commands": commands, "variants": variants, "table": table,
                "text": text, "figures": figures, "wall_time_s": timer.seconds(),
                "reused": [os.path.basename(x) for x in scwexp.REUSED],
                "cpu_time_s": timer.cpu_seconds()}
-    scwexp.write_summary(STUDY, summary)
+    scwexp.write_summary(study, summary)
     print("\n".join(table))
-    print(f"{STUDY}: {timer.seconds():.0f} s wall, {timer.cpu_seconds():.0f} s CPU")
+    print(f"{study}: {timer.seconds():.0f} s wall, {timer.cpu_seconds():.0f} s CPU")
     report.update(args)
     return 0
 

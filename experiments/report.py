@@ -1085,10 +1085,24 @@ def findings_all(cols):
     return ["## Findings per column (computed from all scored runs)", ""] + out if out else []
 
 
+def claims_maps(root):
+    """Every claims map under `root`: the shipped set's (claims_map/) first, then one per other
+    set (claims_map_<set>/), each with its folder name under "dir"."""
+    names = sorted(d for d in os.listdir(root) if d.startswith("claims_map")) \
+        if os.path.isdir(root) else []
+    names.sort(key=lambda d: d != "claims_map")
+    maps = []
+    for d in names:
+        cm = read_summary_in(root, d)
+        if cm:
+            maps.append(dict(cm, dir=d, set_label=cm.get("set_label", "shipped")))
+    return maps
+
+
 def goal_section(results, cols):
     """Each of (a)-(d): reproduced where (with its credited subsystem acting, P5 being part of
-    every criterion), else what the claims map shows flips it."""
-    cm = read_summary_in(scwexp.ROOT_RESULTS, "claims_map")
+    every criterion), else what the claims maps (one per parameter set) show flips it."""
+    maps = claims_maps(scwexp.ROOT_RESULTS)
     out = ["## Where each claim reproduces", ""]
     for k in ("a", "b", "c", "d"):
         yes = [col_title(c) for c in cols if results.get((k, c[0]))]
@@ -1098,27 +1112,34 @@ def goal_section(results, cols):
                      "criterion), in: " + ", ".join(yes) + ".")
         else:
             line += "reproduced in no scored column."
-            if cm:
-                flips = [v for v in cm.get("variants", []) if v["claims"].get(k, {}).get("ok")]
-                if flips:
-                    v = flips[0]
-                    line += (" The claims map (one perturbation, the shipped set, everything "
-                             "else as the vehicle file) finds it holding with: " +
-                             "; ".join(f"{x['label']}" for x in flips[:8]) + ". The run that "
-                             f"shows it, {v['label']}: " + "; ".join(
-                                 f"{n} ({'yes' if o else 'no'}: {t})"
-                                 for n, o, t in v["claims"][k]["items"]) +
-                             (f" (sweep: `{rel(v['command'])}`)" if v.get("command") else ""))
-                else:
-                    vs = [x for x in cm.get("variants", [])
-                          if not math.isnan(x["claims"][k].get("margin", math.nan))]
-                    best = max(vs, key=lambda x: x["claims"][k]["margin"]) if vs else None
-                    line += (" No variant of the claims map makes it hold either" + (
-                        f"; the closest is {best['label']} (margin "
-                        f"{best['claims'][k]['margin']:+.3f}; fails on: "
-                        f"{', '.join(best['claims'][k]['failed'])})" if best else "") + ".")
-            if cm:
-                line += map_blockers(cm, k)
+            flips = [(cm, v) for cm in maps for v in cm.get("variants", [])
+                     if v["claims"].get(k, {}).get("ok")]
+            if flips:
+                cm, v = flips[0]
+                line += (" The claims maps (one perturbation, everything else as the vehicle "
+                         "file) find it holding with: " +
+                         "; ".join(f"{x['label']} ({m['set_label']} set)"
+                                   for m, x in flips[:8]) + ". The run that shows it, "
+                         f"{v['label']}, {cm['set_label']} set: " + "; ".join(
+                             f"{n} ({'yes' if o else 'no'}: {t})"
+                             for n, o, t in v["claims"][k]["items"]) +
+                         (f" (sweep: `{rel(v['command'])}`)" if v.get("command") else ""))
+            elif maps:
+                vs = [(cm, x) for cm in maps for x in cm.get("variants", [])
+                      if not math.isnan(x["claims"][k].get("margin", math.nan))]
+                best = max(vs, key=lambda p: p[1]["claims"][k]["margin"]) if vs else None
+                line += (f" No variant of the claims map{'s' if len(maps) > 1 else ''} ("
+                         + ", ".join(f"{m['set_label']} set" for m in maps)
+                         + ") makes it hold either" + (
+                             f"; the closest is {best[1]['label']}, {best[0]['set_label']} set "
+                             f"(margin {best[1]['claims'][k]['margin']:+.3f}; fails on: "
+                             f"{', '.join(best[1]['claims'][k]['failed'])})" if best else "")
+                         + ".")
+            for cm in maps:
+                blockers = map_blockers(cm, k)
+                if blockers:
+                    line += (f" {cm['set_label'].capitalize()} set's map:" if len(maps) > 1
+                             else "") + blockers
         out.append(line)
     return out + [""]
 
@@ -1239,17 +1260,19 @@ def knife_edge_section(cols, root):
 
 
 def claims_map_section(root):
-    cm = read_summary_in(root, "claims_map")
-    if not cm:
-        return []
-    out = ["## Claims map: what decides each claim (issue 25 part 2)", "",
-           cm.get("text", ""), "", f"Wall time {cm['wall_time_s'] / 60:.1f} min, "
-           f"CPU {cm.get('cpu_time_s', 0) / 60:.1f} min; sweeps: {len(cm.get('commands', []))}"
-           + (f", of which {len(cm['reused'])} read from an earlier run of the same commands "
-              "(`--reuse`; their cost is not in these times: experiments/README.md)"
-              if cm.get("reused") else "") + ".", ""]
-    out += figs([os.path.join("claims_map", x) for x in cm.get("figures", [])]) + [""]
-    out += cm.get("table", []) + [""]
+    out = []
+    for cm in claims_maps(root):
+        title = "## Claims map: what decides each claim (issue 25 part 2)" \
+            if cm["dir"] == "claims_map" else \
+            f"## Claims map with the {cm['set_label']} set"
+        out += [title, "", cm.get("text", ""), "", f"Wall time {cm['wall_time_s'] / 60:.1f} min, "
+                f"CPU {cm.get('cpu_time_s', 0) / 60:.1f} min; sweeps: "
+                f"{len(cm.get('commands', []))}"
+                + (f", of which {len(cm['reused'])} read from an earlier run of the same commands "
+                   "(`--reuse`; their cost is not in these times: experiments/README.md)"
+                   if cm.get("reused") else "") + ".", ""]
+        out += figs([os.path.join(cm["dir"], x) for x in cm.get("figures", [])]) + [""]
+        out += cm.get("table", []) + [""]
     return out
 
 

@@ -14,7 +14,9 @@
 # Environment: ACTUATORS (default "vehicle paper_sim"), STUDY3_CONTROLLERS (default
 # pure_pursuit,pmpc; add nmpc for the nonlinear MPC, ~5 min per column), SENSITIVITY=1 (also the
 # unscored sensitivity runs, shipped set and vehicle actuators only), PROCESSES (default 2),
-# CLAIMS_MAP=1 (also experiments/claims_map.py, the map of what decides each claim, ~30 min),
+# CLAIMS_MAP=1 (also experiments/claims_map.py, the map of what decides each claim: ~30 min for
+# the shipped set with every family, and for each given set its actuator families, brake x
+# steering dead time, no brake dynamics and the paper's simulator's actuators, ~15 min each),
 # STUDY_ARGS (extra options of every study, e.g. "--gg 1.0,1.05 --laps 1" for a quick check).
 # Shipped + one tuned set, both actuator models: see experiments/README.md for the measured time.
 # To refresh the committed reference copy afterwards:
@@ -59,6 +61,10 @@ for set in "${sets[@]}"; do
 done
 if [ "${CLAIMS_MAP:-0}" = 1 ]; then
   "$py" "$here/claims_map.py" --no-report --processes "$procs"
+  for f in "$@"; do
+    "$py" "$here/claims_map.py" --no-report --processes "$procs" --stability "$f" \
+      --families brake_steer,no_brake_dyn,paper_sim
+  done
 fi
 "$py" "$here/compare.py" --no-report "$here/../params/stability/default.yaml" "$@"
 "$py" "$here/report.py"

@@ -2,7 +2,8 @@
 """Fast checks of the experiment scripts' logic on synthetic data (no scw runs): the bisection of
 first aborts (scwexp.refine_first_aborts, with a stand-in for the sweep), the margin of a series
 and claim (c) (report.py), the side-by-side verdict table, the rear tyre's peak slip angle and the
-knife-edge analysis of a trace (knife_edge.py) and the studies' common end (scwexp.finish_study). Exit 77 (skipped) without numpy/matplotlib.
+knife-edge analysis of a trace (knife_edge.py), the claims maps of several sets in the report and
+the studies' common end (scwexp.finish_study). Exit 77 (skipped) without numpy/matplotlib.
 
     python3 test/experiments/studies_test.py EXPERIMENTS_DIR WORK_DIR
 """
@@ -141,6 +142,42 @@ class VerdictTable(unittest.TestCase):
         self.assertFalse(results[("b", "shipped__vehicle")])
         self.assertFalse(results[("b", "tuned__paper_sim")])
         self.assertIn("none 1.05", lines[3])
+
+
+class ClaimsMaps(unittest.TestCase):
+    def test_a_map_per_set_and_the_goal_judged_over_all_of_them(self):
+        import json
+        root = os.path.join(WORK, "maps")
+
+        def write(name, label, b_holds):
+            os.makedirs(os.path.join(root, name), exist_ok=True)
+            claims = {k: {"ok": k == "b" and b_holds, "margin": 0.05 if k == "b" and b_holds
+                          else 0.0, "failed": [] if k == "b" and b_holds else ["item"],
+                          "items": [["item", k == "b" and b_holds, "numbers"]], "acts": ""}
+                      for k in "abcd"}
+            v = {"label": "brake dead time 0 ms", "claims": claims, "series": {}}
+            with open(os.path.join(root, name, "summary.json"), "w") as f:
+                json.dump({"set_label": label, "variants": [v], "text": f"map of {label}",
+                           "table": ["| variant |"], "figures": ["claims_map.png"],
+                           "wall_time_s": 60, "commands": []}, f)
+        write("claims_map_tuned", "tuned", True)
+        write("claims_map", "shipped", False)
+        maps = report.claims_maps(root)
+        self.assertEqual([m["set_label"] for m in maps], ["shipped", "tuned"])
+        section = "\n".join(report.claims_map_section(root))
+        self.assertIn("## Claims map: what decides each claim", section)
+        self.assertIn("## Claims map with the tuned set", section)
+        self.assertIn("(claims_map_tuned/claims_map.png)", section)
+        old = scwexp.ROOT_RESULTS
+        scwexp.ROOT_RESULTS = root
+        try:
+            goal = report.goal_section({}, [])
+        finally:
+            scwexp.ROOT_RESULTS = old
+        b = [x for x in goal if x.startswith("- **(b)**")][0]
+        self.assertIn("holding with: brake dead time 0 ms (tuned set)", b)
+        c = [x for x in goal if x.startswith("- **(c)**")][0]
+        self.assertIn("No variant of the claims maps (shipped set, tuned set)", c)
 
 
 class FinishStudy(unittest.TestCase):
