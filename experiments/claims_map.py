@@ -71,6 +71,13 @@ COLUMNS = BRAKES + ["nodyn"]
 QUICK = [("brake_steer", "brake dead time (quick)", ["plant.brake_dead_time=0.0,0.116"])]
 
 
+def against_none(name):
+    """Claim (b)'s P5: each study-2 configuration of a variant (`esc#3`) is run at its `none`'s
+    first-abort GG (`none#3`; scwexp.refine_first_aborts, probe)."""
+    base, _, i = name.partition("#")
+    return f"none#{i}" if base in ("esc", "cs", "esc+cs") else None
+
+
 def map_study(set_label):
     """The results folder of the map of one set: claims_map for the shipped set,
     claims_map_<set> for any other (report.py reads every claims_map* folder)."""
@@ -283,7 +290,7 @@ def main(argv=None):
         if scwexp.REFINE_LEVELS > 0:
             sub, rc = scwexp.refine_first_aborts(scw, args, sets, cfgs, sub, None, csv_path,
                                                  os.path.join(out, f"scw_{tag}.log"),
-                                                 reuse=args.reuse)
+                                                 reuse=args.reuse, probe=against_none)
             commands += rc
         allrows = []
         for r in sub:

@@ -268,10 +268,11 @@ def perturbed_series(rows, configs, pert_key, pert_values):
 
 
 def study_sweep(scw, args, sets, configs, out_csv, log, pert=None, mpc=True, gg=None,
-                extra=(), refine=True):
+                extra=(), refine=True, probe=None):
     """One scw sweep of a study: gg_scale (first, the series' key) and optionally a
     perturbation key (pert = (key, [values])); MPC sweeps go to --processes workers. Returns
-    (command, rows). refine: bisect each series' first abort (refine_first_aborts)."""
+    (command, rows). refine: bisect each series' first abort (refine_first_aborts, with its
+    `probe`)."""
     vary = [f"gg_scale={gg or args.gg}"]
     if pert:
         vary.append(f"{pert[0]}=" + ",".join(str(v) for v in pert[1]))
@@ -286,8 +287,9 @@ def study_sweep(scw, args, sets, configs, out_csv, log, pert=None, mpc=True, gg=
     rows = read_csv(out_csv)
     if refine and REFINE_LEVELS > 0:
         rows, rcmds = refine_first_aborts(scw, args, sets, configs, rows, pert, out_csv, log,
-                                          mpc=mpc)
-        cmd = cmd + [f"(+ {len(rcmds)} bisection sweep(s) of the first aborts)"] if rcmds else cmd
+                                          mpc=mpc, probe=probe)
+        cmd = cmd + [f"(+ {len(rcmds)} bisection and probe sweep(s) of the first aborts)"] \
+            if rcmds else cmd
     return cmd, rows
 
 
@@ -304,6 +306,12 @@ def _series_bounds(rows):
     return done[-1]["gg_scale"], ab["gg_scale"]
 
 
+def _first_abort_gg(rows):
+    """The GG of a series' first abort, or None."""
+    ab = [float(r["gg_scale"]) for r in rows if r["status"] != "completed"]
+    return min(ab) if ab else None
+
+
 def cut_at_first_abort(rows):
     """A series' rows in GG order up to and including its first abort."""
     out = []
@@ -315,14 +323,18 @@ def cut_at_first_abort(rows):
 
 
 def refine_first_aborts(scw, args, sets, configs, rows, pert, out_csv, log, mpc=True,
-                        levels=None, reuse=False):
+                        levels=None, reuse=False, probe=None):
     """Resolves each series' first abort finer (issue 25 part 6): `levels` rounds of bisection
     between the last completed GG and the first abort, all series of a round in one `scw sweep`
     (one named configuration per bisected run: the series' overrides plus gg_scale and the
     perturbation). Returns the merged rows, each series cut at its (new) first abort; bisected
     rows carry refined=1 and the sweep's config name replaced by the series' own. reuse: read
     a bisection sweep's table from a previous run with the same command instead of running it
-    (reuse_or_run)."""
+    (reuse_or_run). probe: a function from a configuration's name to the name of the series it
+    is judged against (e.g. ESC against `none`), or None; after the bisection every such series
+    that has no run at its reference's first-abort GG, and had not aborted below it, is run there
+    (one more sweep, `_probe`), so that a criterion asking what a subsystem did at that GG (P5)
+    is decided by a run, not by a missing one."""
     levels = REFINE_LEVELS if levels is None else levels
     pkey, pvals = pert if pert else (None, [None])
     overrides = dict(c.split(":", 1) if ":" in c else (c, "") for c in configs)
@@ -330,31 +342,28 @@ def refine_first_aborts(scw, args, sets, configs, rows, pert, out_csv, log, mpc=
     base = [x for x in sets if not x.startswith("laps=")]
     rows = [dict(r, refined=r.get("refined", 0)) for r in rows]
     commands = []
-    for level in range(levels):
-        jobs = []
-        for name in overrides:
-            for pv in pvals:
-                sel = [r for r in rows if r["config"] == name and
-                       (pkey is None or abs(float(r[pkey]) - float(pv)) < 1e-9)]
-                b = _series_bounds(sel)
-                if b:
-                    jobs.append((name, pv, round((b[0] + b[1]) / 2, 6)))
-        if not jobs:
-            break
+
+    def series(name, pv, rows_=None):
+        return [r for r in (rows if rows_ is None else rows_) if r["config"] == name and
+                (pkey is None or abs(float(r[pkey]) - float(pv)) < 1e-9)]
+
+    def run_jobs(jobs, suffix):
+        """Runs (series, perturbation, GG) jobs in one sweep; returns all rows with the new ones
+        merged, every series cut again at its first abort."""
         cfgs = []
         for i, (name, pv, gg) in enumerate(jobs):
             ov = [x for x in overrides[name].split(",") if x] + [f"gg_scale={gg:g}"]
             if pkey is not None:
                 ov.append(f"{pkey}={pv}")
             cfgs.append(f"r{i}:" + ",".join(ov))
-        csv_path = f"{out_csv[:-4]}_refine{level + 1}.csv"
+        csv_path = f"{out_csv[:-4]}{suffix}.csv"
         vary = [f"laps={laps}"]
         if mpc:
             cmd = mpc_sweep_cmd(scw, args, base, vary, cfgs, csv_path,
                                 processes=getattr(args, "processes", None))
         else:
             cmd = sweep_cmd(scw, args, base, vary, cfgs, csv_path)
-        reuse_or_run(cmd, csv_path, f"{log[:-4]}_refine{level + 1}.log", reuse)
+        reuse_or_run(cmd, csv_path, f"{log[:-4]}{suffix}.log", reuse)
         commands.append(" ".join(cmd))
         new = read_csv(csv_path)
         for r in new:
@@ -362,15 +371,36 @@ def refine_first_aborts(scw, args, sets, configs, rows, pert, out_csv, log, mpc=
             r["config"], r["gg_scale"], r["refined"] = name, gg, 1
             if pkey is not None:
                 r[pkey] = float(pv)
-        rows += new
-        # every series again up to and including its first abort
-        kept = []
+        merged = rows + new
+        return [r for name in overrides for pv in pvals
+                for r in cut_at_first_abort(series(name, pv, merged))]
+
+    for level in range(levels):
+        jobs = []
         for name in overrides:
             for pv in pvals:
-                sel = [r for r in rows if r["config"] == name and
-                       (pkey is None or abs(float(r[pkey]) - float(pv)) < 1e-9)]
-                kept += cut_at_first_abort(sel)
-        rows = kept
+                b = _series_bounds(series(name, pv))
+                if b:
+                    jobs.append((name, pv, round((b[0] + b[1]) / 2, 6)))
+        if not jobs:
+            break
+        rows = run_jobs(jobs, f"_refine{level + 1}")
+    if probe:
+        jobs = []
+        for name in overrides:
+            ref = probe(name)
+            if ref is None or ref not in overrides:
+                continue
+            for pv in pvals:
+                ab = _first_abort_gg(series(ref, pv))
+                own = series(name, pv)
+                if ab is None or any(abs(float(r["gg_scale"]) - ab) < 1e-9 for r in own):
+                    continue
+                mine = _first_abort_gg(own)
+                if mine is None or mine > ab:
+                    jobs.append((name, pv, ab))
+        if jobs:
+            rows = run_jobs(jobs, "_probe")
     return rows, commands
 
 

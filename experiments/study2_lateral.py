@@ -45,6 +45,12 @@ CONFIGS = [
 TOP = [("max_abs_sideslip_deg", None, "")]
 
 
+def against_none(name):
+    """Claim (b)'s P5 asks what each configuration did at `none`'s first-abort GG: each is run
+    there (scwexp.refine_first_aborts, probe)."""
+    return "none" if name != "none" else None
+
+
 def figure(per_pert, path, title):
     panels = [(f"rear μy {v}", per_pert[v]) for v in per_pert]
     lines = [(n, label, color, "-") for n, _, label, color in CONFIGS]
@@ -71,7 +77,8 @@ def main(argv=None):
     configs = [f"{n}:{o}" for n, o, _, _ in CONFIGS]
     names = [n for n, *_ in CONFIGS]
     cmd, rows = scwexp.study_sweep(scw, args, sets, configs, os.path.join(out, "sweep.csv"),
-                                   os.path.join(out, "scw.log"), pert=pert, mpc=mpc)
+                                   os.path.join(out, "scw.log"), pert=pert, mpc=mpc,
+                                   probe=against_none)
     main_wall = timer.seconds()
     per_pert = scwexp.perturbed_series(rows, names, *pert)
     png = figure(per_pert, os.path.join(out, f"{STUDY}.png"),
@@ -176,7 +183,7 @@ def main(argv=None):
             scmd, srows = scwexp.study_sweep(scw, args, vsets, configs,
                                              os.path.join(out, f"sweep_{tag}.csv"),
                                              os.path.join(out, f"scw_{tag}.log"), pert=one,
-                                             mpc=vmpc)
+                                             mpc=vmpc, probe=against_none)
             sp = scwexp.perturbed_series(srows, names, *one)
             spng = figure(sp, os.path.join(out, f"study2_{tag}.png"),
                           f"Study 2, sensitivity (unscored): {label}")

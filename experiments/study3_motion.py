@@ -65,8 +65,10 @@ def run_controllers(scw, args, out, controllers, pert, extra_sets, tag):
             continue
         crow = scwexp.read_csv(csv_path)
         if scwexp.REFINE_LEVELS > 0:
-            crow, rcmds = scwexp.refine_first_aborts(scw, args, sets, configs, crow, pert,
-                                                     csv_path, log, mpc=mpc)
+            # claim (e)'s P5: the SC run at the unprotected series' first-abort GG
+            crow, rcmds = scwexp.refine_first_aborts(
+                scw, args, sets, configs, crow, pert, csv_path, log, mpc=mpc,
+                probe=lambda n, c=ctrl: f"{c}_off" if n == f"{c}_sc" else None)
             commands += rcmds
         walls[ctrl] = t.seconds()
         rows += crow

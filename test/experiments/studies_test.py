@@ -89,6 +89,65 @@ class Refine(unittest.TestCase):
         self.assertTrue(all(r["refined"] == 1 for r in out if r["gg_scale"] in (1.075, 1.1125)))
 
 
+class Probe(unittest.TestCase):
+    def test_each_configuration_is_run_at_the_reference_first_abort(self):
+        limit = {"none": 1.08, "esc": 1.3, "cs": 1.02}   # a series completes below its limit
+        calls = []
+
+        def fake_run(cmd, log=None, check=True):
+            calls.append(cmd)
+            out = cmd[cmd.index("-o") + 1]
+            cfgs = [cmd[i + 1] for i, x in enumerate(cmd) if x == "--config"]
+            with open(out, "w", newline="") as f:
+                w = csv.writer(f)
+                w.writerow(["config", "laps", "status", "mean_lap_time_s"])
+                for c in cfgs:
+                    name, ov = c.split(":", 1)
+                    kv = dict(x.split("=") for x in ov.split(","))
+                    gg = float(kv["gg_scale"])
+                    ok = gg < limit[kv["series"]]
+                    w.writerow([name, 3, "completed" if ok else "sideslip", 70 - gg])
+        rows = []
+        for s in limit:
+            for gg in (1.0, 1.05, 1.1, 1.15):
+                st = "completed" if gg < limit[s] else "sideslip"
+                rows.append({"config": s, "gg_scale": gg, "status": st})
+                if st != "completed":
+                    break
+        saved = scwexp.run
+        scwexp.run = fake_run
+        try:
+            out, cmds = scwexp.refine_first_aborts(
+                "scw", type("A", (), {"threads": 1, "processes": 2})(), ["laps=3"],
+                ["none:series=none", "esc:series=esc", "cs:series=cs"], rows, None,
+                os.path.join(WORK, "probe.csv"), os.path.join(WORK, "probe.log"), levels=1,
+                probe=lambda n: "none" if n != "none" else None)
+        finally:
+            scwexp.run = saved
+        # none: 1.05 ok, 1.1 aborts -> 1.075 ok; first abort stays 1.1 (on the grid): esc has a
+        # run there, cs aborted below it: nothing to probe
+        self.assertEqual(len(cmds), 1)
+        limit["none"] = 1.07
+        rows2 = [dict(r) for r in rows]
+        scwexp.run = fake_run
+        try:
+            out, cmds = scwexp.refine_first_aborts(
+                "scw", type("A", (), {"threads": 1, "processes": 2})(), ["laps=3"],
+                ["none:series=none", "esc:series=esc", "cs:series=cs"], rows2, None,
+                os.path.join(WORK, "probe2.csv"), os.path.join(WORK, "probe2.log"), levels=1,
+                probe=lambda n: "none" if n != "none" else None)
+        finally:
+            scwexp.run = saved
+        # none now aborts at the bisected 1.075: esc (no run there, no abort below) is run at
+        # 1.075 in a probe sweep; cs aborted at 1.05, below it, and is not
+        self.assertEqual(len(cmds), 2)
+        self.assertIn("_probe.csv", " ".join(calls[-1]))
+        esc = [(r["gg_scale"], r["status"]) for r in out if r["config"] == "esc"]
+        self.assertIn((1.075, "completed"), esc)
+        self.assertEqual(sorted(g for g, _ in esc), [1.0, 1.05, 1.075, 1.1, 1.15])
+        self.assertNotIn(1.075, [r["gg_scale"] for r in out if r["config"] == "cs"])
+
+
 class Margin(unittest.TestCase):
     def series(self, runs):
         return scwexp.pack_series(runs)
