@@ -824,7 +824,9 @@ def method_section(cols):
            f"resolved by {info[0].get('refine_levels', scwexp.REFINE_LEVELS) if info else 1} "
            "round(s) of bisection between the last completed GG and the abort (0.025). A "
            "bisected run belongs to its series like any other; the claims' thresholds (0.05 "
-           "GG, 0.05 s, …) are those written before the numbers.",
+           "GG, 0.05 s, …) are those written before the numbers. Where P5 asks what a "
+           "configuration did at another series' bisected first abort, the configuration is "
+           "run at that GG too (a probe run), unless it aborted below it.",
            "- **Actuator models**: each study is scored twice, with the vehicle file's actuators "
            "(*real car*: brake 116 ms dead time + 32 ms lag + 1800 bar/s, steering 30 ms + 30 ms) "
            "and with `plant.actuators=paper_sim` (*paper's simulator*: Open-Car-Dynamics' "
