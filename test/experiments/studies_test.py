@@ -38,26 +38,36 @@ def run_row(gg, status="completed", lap=70.0, esc=0, **kw):
     return r
 
 
+def fake_sweep(limit, key, calls, verify=None):
+    """A stand-in for scwexp.run of a bisection sweep: each --config's run completes below
+    limit[its value of `key`] and aborts (sideslip) at or above it; `calls` collects the
+    commands, `verify` sees every configuration's overrides."""
+    def fake_run(cmd, log=None, check=True):
+        calls.append(cmd)
+        out = cmd[cmd.index("-o") + 1]
+        cfgs = [cmd[i + 1] for i, x in enumerate(cmd) if x == "--config"]
+        with open(out, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(["config", "laps", "status", "mean_lap_time_s"])
+            for c in cfgs:
+                name, ov = c.split(":", 1)
+                kv = dict(x.split("=") for x in ov.split(","))
+                if verify:
+                    verify(kv)
+                gg = float(kv["gg_scale"])
+                ok = gg < limit[kv[key]]
+                w.writerow([name, 3, "completed" if ok else "sideslip", 70 - gg])
+    return fake_run
+
+
 class Refine(unittest.TestCase):
     def test_bisects_between_last_completed_and_first_abort(self):
         limit = {"a": 1.08, "b": 1.12}   # a series completes below its limit
         calls = []
 
-        def fake_run(cmd, log=None, check=True):
-            calls.append(cmd)
-            out = cmd[cmd.index("-o") + 1]
-            cfgs = [cmd[i + 1] for i, x in enumerate(cmd) if x == "--config"]
-            with open(out, "w", newline="") as f:
-                w = csv.writer(f)
-                w.writerow(["config", "laps", "status", "mean_lap_time_s"])
-                for c in cfgs:
-                    name, ov = c.split(":", 1)
-                    kv = dict(x.split("=") for x in ov.split(","))
-                    series = kv["subsystems.esc"]
-                    gg = float(kv["gg_scale"])
-                    self.assertEqual(kv["grip.rear_mu_y"], "0.8")
-                    ok = gg < limit[series]
-                    w.writerow([name, 3, "completed" if ok else "sideslip", 70 - gg])
+        def check(kv):
+            self.assertEqual(kv["grip.rear_mu_y"], "0.8")
+        fake_run = fake_sweep(limit, "subsystems.esc", calls, check)
         rows = []
         for s in ("a", "b"):
             for gg in (1.0, 1.05, 1.1, 1.15):
@@ -93,20 +103,6 @@ class Probe(unittest.TestCase):
     def test_each_configuration_is_run_at_the_reference_first_abort(self):
         limit = {"none": 1.08, "esc": 1.3, "cs": 1.02}   # a series completes below its limit
         calls = []
-
-        def fake_run(cmd, log=None, check=True):
-            calls.append(cmd)
-            out = cmd[cmd.index("-o") + 1]
-            cfgs = [cmd[i + 1] for i, x in enumerate(cmd) if x == "--config"]
-            with open(out, "w", newline="") as f:
-                w = csv.writer(f)
-                w.writerow(["config", "laps", "status", "mean_lap_time_s"])
-                for c in cfgs:
-                    name, ov = c.split(":", 1)
-                    kv = dict(x.split("=") for x in ov.split(","))
-                    gg = float(kv["gg_scale"])
-                    ok = gg < limit[kv["series"]]
-                    w.writerow([name, 3, "completed" if ok else "sideslip", 70 - gg])
         rows = []
         for s in limit:
             for gg in (1.0, 1.05, 1.1, 1.15):
@@ -114,32 +110,27 @@ class Probe(unittest.TestCase):
                 rows.append({"config": s, "gg_scale": gg, "status": st})
                 if st != "completed":
                     break
-        saved = scwexp.run
-        scwexp.run = fake_run
-        try:
-            out, cmds = scwexp.refine_first_aborts(
-                "scw", type("A", (), {"threads": 1, "processes": 2})(), ["laps=3"],
-                ["none:series=none", "esc:series=esc", "cs:series=cs"], rows, None,
-                os.path.join(WORK, "probe.csv"), os.path.join(WORK, "probe.log"), levels=1,
-                probe=lambda n: "none" if n != "none" else None)
-        finally:
-            scwexp.run = saved
+
+        def refine(name):
+            saved = scwexp.run
+            scwexp.run = fake_sweep(limit, "series", calls)
+            try:
+                return scwexp.refine_first_aborts(
+                    "scw", type("A", (), {"threads": 1, "processes": 2})(), ["laps=3"],
+                    ["none:series=none", "esc:series=esc", "cs:series=cs"],
+                    [dict(r) for r in rows], None, os.path.join(WORK, f"{name}.csv"),
+                    os.path.join(WORK, f"{name}.log"), levels=1,
+                    probe=lambda n: "none" if n != "none" else None)
+            finally:
+                scwexp.run = saved
         # none: 1.05 ok, 1.1 aborts -> 1.075 ok; first abort stays 1.1 (on the grid): esc has a
         # run there, cs aborted below it: nothing to probe
+        out, cmds = refine("probe")
         self.assertEqual(len(cmds), 1)
-        limit["none"] = 1.07
-        rows2 = [dict(r) for r in rows]
-        scwexp.run = fake_run
-        try:
-            out, cmds = scwexp.refine_first_aborts(
-                "scw", type("A", (), {"threads": 1, "processes": 2})(), ["laps=3"],
-                ["none:series=none", "esc:series=esc", "cs:series=cs"], rows2, None,
-                os.path.join(WORK, "probe2.csv"), os.path.join(WORK, "probe2.log"), levels=1,
-                probe=lambda n: "none" if n != "none" else None)
-        finally:
-            scwexp.run = saved
         # none now aborts at the bisected 1.075: esc (no run there, no abort below) is run at
         # 1.075 in a probe sweep; cs aborted at 1.05, below it, and is not
+        limit["none"] = 1.07
+        out, cmds = refine("probe2")
         self.assertEqual(len(cmds), 2)
         self.assertIn("_probe.csv", " ".join(calls[-1]))
         esc = [(r["gg_scale"], r["status"]) for r in out if r["config"] == "esc"]
