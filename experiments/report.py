@@ -1129,13 +1129,17 @@ def goal_section(results, cols):
             elif maps:
                 vs = [(cm, x) for cm in maps for x in cm.get("variants", [])
                       if not math.isnan(x["claims"][k].get("margin", math.nan))]
-                best = max(vs, key=lambda p: p[1]["claims"][k]["margin"]) if vs else None
+                # closest: the largest margin, then the fewest failing criterion items
+                best = max(vs, key=lambda p: (p[1]["claims"][k]["margin"],
+                                              -len(p[1]["claims"][k]["failed"]))) if vs else None
                 line += (f" No variant of the claims map{'s' if len(maps) > 1 else ''} ("
                          + ", ".join(f"{m['set_label']} set" for m in maps)
                          + ") makes it hold either" + (
                              f"; the closest is {best[1]['label']}, {best[0]['set_label']} set "
                              f"(margin {best[1]['claims'][k]['margin']:+.3f}; fails on: "
-                             f"{', '.join(best[1]['claims'][k]['failed'])})" if best else "")
+                             + ", ".join(f"{n} ({t})" for n, o, t in
+                                         best[1]["claims"][k]["items"] if o is False)
+                             + ")" if best else "")
                          + ".")
             for cm in maps:
                 blockers = map_blockers(cm, k)
