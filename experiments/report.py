@@ -1150,6 +1150,28 @@ def goal_section(results, cols):
     return out + [""]
 
 
+def step_gains(vs):
+    """Claim (b) asks each of ESC, CS and ESC + CS to abort at least one step (0.05) above
+    `none`: in which variants ESC alone and CS alone each gain that step, and in how many both
+    do."""
+    gains = {"esc": [], "cs": []}
+    both = 0
+    for v in vs:
+        s = v["series"]
+        fa = {c: (s.get(c) or {}).get("first_abort") for c in ("none", "esc", "cs")}
+        if any(x is None for x in fa.values()):
+            continue
+        ok = {c: fa[c] - fa["none"] >= 0.05 - 1e-9 for c in gains}
+        for c in gains:
+            if ok[c]:
+                gains[c].append(f"{v['label']} (+{fa[c] - fa['none']:.3f})")
+        both += ok["esc"] and ok["cs"]
+    def listed(c):
+        return f"{len(gains[c])} ({'; '.join(gains[c])})" if gains[c] else "none"
+    return (f" A full step over `none` is gained by ESC alone in {listed('esc')}, by CS alone in "
+            f"{listed('cs')}; by both in {both}.")
+
+
 def map_blockers(cm, k):
     """What keeps claim k from holding over the whole claims map: how often each criterion item
     fails, and for study 2 how ESC alone ends at `none`'s first-abort GG (a spin caught but the
@@ -1184,6 +1206,8 @@ def map_blockers(cm, k):
             text += (f" (the lateral errors at s = {min(where_s):.0f}–{max(where_s):.0f} m: "
                      "the run ends on the 3 m line-error limit, not on |β| > 20°)")
         text += "."
+    if k == "b":
+        text += step_gains(vs)
     if k == "c":
         both = [v["label"] for v in vs if all(
             o for n, o, _ in v["claims"]["c"]["items"] if n.startswith("`esc+cs`"))]
