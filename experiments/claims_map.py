@@ -16,7 +16,9 @@ The unknowns and their ranges (docs/plant-calibration.md, docs/scenarios.md `pla
 - the GG resolution: the axis without (0.05) and with the bisected first abort (0.025);
 - pairwise: brake dead time {0, 40, 116 ms, no brake dynamics} × steering dead time {0, 30, 60
   ms} (the heat map);
-- for reference, the paper's simulator's actuators (plant.actuators=paper_sim).
+- for reference, the paper's simulator's actuators (plant.actuators=paper_sim), also with its
+  steering dead time at 0 and 30 ms instead of 60 (its PT1 and rate limit kept): which part of
+  the steering actuator decides claim (b).
 
 Every variant runs in a few `scw sweep` calls, the studies' configurations as named
 configurations of one sweep (study-specific keys in each), the variant as a varied key, runs in
@@ -64,6 +66,8 @@ FAMILIES = [
     ("paper_sim", "the paper's simulator's actuators", ["plant.actuators=paper_sim"]),
     ("no_brake_dyn", "no brake dynamics × steering dead time",
      [f"plant.steering_delay={','.join(map(str, STEERS))}"]),
+    ("paper_sim_steer", "the paper's simulator's actuators × steering dead time",
+     ["plant.actuators=paper_sim", "plant.steering_delay=0.0,0.03"]),
 ]
 NO_DYN = "no brake dynamics (no dead time, 1 ms lag, 100 000 bar/s)"
 # the heat map's columns: the brake dead times at the fixed 150 ms response, then no dynamics
