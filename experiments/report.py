@@ -1166,6 +1166,7 @@ def step_gains(vs):
             if ok[c]:
                 gains[c].append(f"{v['label']} (+{fa[c] - fa['none']:.3f})")
         both += ok["esc"] and ok["cs"]
+
     def listed(c):
         return f"{len(gains[c])} ({'; '.join(gains[c])})" if gains[c] else "none"
     return (f" A full step over `none` is gained by ESC alone in {listed('esc')}, by CS alone in "
