@@ -34,10 +34,12 @@ struct PlantVariationParams {
                 "steering (the real car: brake dead time + lag + rate limit, about 150 ms to "
                 "63 %); paper_sim = the paper's simulator, Open Car Dynamics (no brake-pressure "
                 "dynamics: the requested pressure acts at once; steering 60 ms dead time, PT1 "
-                "60 ms, 0.5 rad/s: the simulator's shipped defaults), values and sources in "
+                "60 ms, 0.5 rad/s: the simulator's shipped defaults); paper_sim_v1 = the same "
+                "simulator as its IV-2024 code had it (longitudinal request 10 ms dead time + "
+                "PT1 30 ms; steering 50 ms, PT1 50 ms, 1.0 rad/s), values and sources in "
                 "tuning/sim/plant_variation.h and docs/plant-calibration.md.",
          .optional = true,
-         .choices = "vehicle|paper_sim",
+         .choices = "vehicle|paper_sim|paper_sim_v1",
          .omit_default = true});
     v.Field(s.brake_dead_time,
             {.key = "brake_dead_time",
@@ -60,7 +62,7 @@ struct PlantVariationParams {
              .hi = 1.0,
              .doc = "Steering pure delay (lag and rate limit unchanged), rounded to whole plant "
                     "steps. Negative = the selected actuators' own (vehicle: 0.03 s, the paper's "
-                    "real car; paper_sim: 0.06 s).",
+                    "real car; paper_sim: 0.06 s; paper_sim_v1: 0.05 s).",
              .optional = true,
              .omit_default = true});
     v.Field(s.rear_tire_falloff,

@@ -42,6 +42,21 @@ params::SteeringParams PaperSimSteering(const params::SteeringParams& vehicle) {
   return s;
 }
 
+params::BrakeParams PaperSimV1Brakes(const params::BrakeParams& vehicle) {
+  params::BrakeParams b = PaperSimBrakes(vehicle);
+  b.delay = 0.01;
+  b.time_constant = 0.03;
+  return b;
+}
+
+params::SteeringParams PaperSimV1Steering(const params::SteeringParams& vehicle) {
+  params::SteeringParams s = vehicle;
+  s.delay = 0.05;
+  s.time_constant = 0.05;
+  s.rate_limit = 1.0;
+  return s;
+}
+
 double BrakeTotalResponse(const params::BrakeParams& brakes, double h) {
   return plant::BrakeStepResponseTime(brakes, h);
 }
@@ -182,12 +197,17 @@ params::VehicleParams ApplyPlantVariation(const params::VehicleParams& vehicle,
   const double h = v.simulation.time_step;
   // Check everything first, every violation listed; then apply, in the documented order.
   Problems pr;
-  const bool known = plant.actuators == "vehicle" || plant.actuators == "paper_sim";
+  const bool known = plant.actuators == "vehicle" || plant.actuators == "paper_sim" ||
+                     plant.actuators == "paper_sim_v1";
   if (!known)
-    pr.Add("plant.actuators", "'" + plant.actuators + "' is not one of vehicle|paper_sim");
+    pr.Add("plant.actuators",
+           "'" + plant.actuators + "' is not one of " + std::string(kActuatorModels));
   if (plant.actuators == "paper_sim") {
     v.brakes = PaperSimBrakes(v.brakes);
     v.steering = PaperSimSteering(v.steering);
+  } else if (plant.actuators == "paper_sim_v1") {
+    v.brakes = PaperSimV1Brakes(v.brakes);
+    v.steering = PaperSimV1Steering(v.steering);
   }
   // The dead time is judged on the selected actuator only (an unknown one has no total response).
   std::optional<double> dead_time;

@@ -1,7 +1,8 @@
 // The scenario's `plant` section applied to the simulated car (params/schema/
 // plant_variation_params.h): the actuator model (the vehicle file's = the real car, or the
-// paper's simulator), the brake's dead-time/lag split at a fixed total response, the steering
-// dead time, the rear tyre's force beyond its peak and the yaw inertia.
+// paper's simulator at its current or its IV-2024 defaults), the brake's dead-time/lag split at
+// a fixed total response, the steering dead time, the rear tyre's force beyond its peak and the
+// yaw inertia.
 //
 //   ApplyPlantVariation(vehicle, plant) -> the simulated car's VehicleParams
 //
@@ -48,8 +49,25 @@ params::BrakeParams PaperSimBrakes(const params::BrakeParams& vehicle);
 /// steering_actuator_pt1_model.cpp) behind the 60 ms pure delay of its ROS communication handler
 /// (delay.steering.actuation_delay_us = 60000; ros2/ocd_steering_actuator_pt1_communication_
 /// handler_cpp/src/comm_handler.cpp). The angle limit stays the vehicle's (the planner and the
-/// controllers use it). Version 1.0.0 had 50 ms, T_PT1 0.05 s and 1.0 rad/s.
+/// controllers use it). Version 1.0.0 had 50 ms, T_PT1 0.05 s and 1.0 rad/s (PaperSimV1Steering).
 params::SteeringParams PaperSimSteering(const params::SteeringParams& vehicle);
+
+/// The paper's simulator as its cited IV-2024 code had it (Open Car Dynamics 1.0.0, commit
+/// 53cc85fe; the paper's simulator reference sagmeister2024sim), `plant.actuators: paper_sim_v1`.
+/// Its "simple drivetrain" took the longitudinal request behind a 10 ms pure delay
+/// (delay.acceleration.actuation_delay_us = 10000) and a PT1 with T = 0.03 s (src/.../
+/// simple_drivetrain_cpp/src/drivetrain_simple_eqns.cpp), read here as the brake pressure's
+/// delay 0.01 s and lag 0.03 s with no rate limit (the schema's largest). Torque gains and the
+/// pressure limit stay the vehicle's.
+params::BrakeParams PaperSimV1Brakes(const params::BrakeParams& vehicle);
+
+/// Open Car Dynamics 1.0.0's steering: 50 ms pure delay (delay.steering.actuation_delay_us =
+/// 50000), PT1 T = 0.05 s, 1.0 rad/s (src/.../vehicle_dynamics_helpers_cpp/src/
+/// steering_actuator.cpp, double_track_model.cpp). The angle limit stays the vehicle's.
+params::SteeringParams PaperSimV1Steering(const params::SteeringParams& vehicle);
+
+/// The actuator models `plant.actuators` accepts, as the error names them.
+inline constexpr const char* kActuatorModels = "vehicle|paper_sim|paper_sim_v1";
 
 /// Time [s] for the brakes to reach 63.2 % of an 80 bar step at plant step h.
 double BrakeTotalResponse(const params::BrakeParams& brakes, double h);

@@ -103,7 +103,8 @@ TEST(PlantVariationTest, EveryProblemOfTheSectionIsListedBeforeAnythingIsApplied
   // An unknown actuator model is named; the dead time is not judged against a model it lacks.
   p.actuators = "ocd";
   const std::string u = ErrorOf([&] { ApplyPlantVariation(params::VehicleParams{}, p); });
-  EXPECT_TRUE(Contains(u, "plant.actuators: 'ocd' is not one of vehicle|paper_sim")) << u;
+  EXPECT_TRUE(Contains(u, "plant.actuators: 'ocd' is not one of vehicle|paper_sim|paper_sim_v1"))
+      << u;
   EXPECT_FALSE(Contains(u, "plant.brake_dead_time")) << u;
   EXPECT_TRUE(Contains(u, "plant.rear_tire_falloff")) << u;
 }
@@ -132,6 +133,32 @@ TEST(PlantVariationTest, PaperSimAppliesTheDocumentedValues) {
   p.actuators = "vehicle";
   p.steering_delay = 0.0;
   EXPECT_EQ(ApplyPlantVariation(v, p).steering.delay, 0.0);
+}
+
+TEST(PlantVariationTest, PaperSimV1AppliesTheIv2024Values) {
+  const params::VehicleParams v;
+  params::PlantVariationParams p;
+  p.actuators = "paper_sim_v1";
+  const params::VehicleParams out = ApplyPlantVariation(v, p);
+  EXPECT_EQ(out.brakes.delay, 0.01);
+  EXPECT_EQ(out.brakes.time_constant, 0.03);
+  EXPECT_EQ(out.brakes.rate_limit, 100000.0);
+  EXPECT_EQ(out.brakes.torque_gain_rear, v.brakes.torque_gain_rear);
+  EXPECT_EQ(out.steering.delay, 0.05);
+  EXPECT_EQ(out.steering.time_constant, 0.05);
+  EXPECT_EQ(out.steering.rate_limit, 1.0);
+  EXPECT_EQ(out.steering.max_angle, v.steering.max_angle);
+  EXPECT_TRUE(params::Validate(out).empty());
+  // 10 ms dead time + 30 ms PT1: 63 % of an 80 bar step after 40 ms, between the paper's
+  // current simulator (one step) and the real car (150 ms).
+  EXPECT_NEAR(plant::BrakeStepResponseTime(out.brakes, v.simulation.time_step), 0.04,
+              2 * v.simulation.time_step);
+  // Its own split is a feasible dead time; the 150 ms of the real car is not.
+  p.brake_dead_time = 0.01;
+  EXPECT_EQ(ApplyPlantVariation(v, p).brakes.time_constant, 0.03);
+  p.brake_dead_time = 0.05;
+  EXPECT_TRUE(Contains(ErrorOf([&] { ApplyPlantVariation(v, p); }),
+                       "plant.brake_dead_time: 0.05 s is outside the feasible range"));
 }
 
 TEST(PlantVariationTest, YawInertiaScales) {
