@@ -16,6 +16,7 @@
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
 #include "tuning/cli/progress.h"
+#include "tuning/cli/revision.h"  // generated: SCW_GIT_REVISION
 #include "tuning/replay/controller_log.h"
 #include "tuning/replay/log_setup.h"
 #include "tuning/sim/closed_loop.h"

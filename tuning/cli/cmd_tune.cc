@@ -24,6 +24,7 @@
 #include "tuning/cli/console.h"
 #include "tuning/cli/options.h"
 #include "tuning/cli/progress.h"
+#include "tuning/cli/revision.h"  // generated: SCW_GIT_REVISION
 #include "tuning/cli/tune_plots.h"
 #include "tuning/exec/mpi_backend.h"
 #include "tuning/optim/space.h"

@@ -11,6 +11,7 @@
 #include "params/schema/field.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
+#include "tuning/cli/revision.h"  // generated: SCW_GIT_REVISION
 #include "tuning/exec/mpi_backend.h"
 #include "tuning/optim/evaluator.h"
 #include "tuning/sweep/sweep.h"

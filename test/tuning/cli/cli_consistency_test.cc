@@ -210,7 +210,8 @@ TEST_F(CliTest, VersionNamesTheGitRevision) {
   EXPECT_EQ(r.code, 0) << r.all();
   EXPECT_TRUE(std::regex_search(
       r.out,
-      std::regex("^scw [0-9]+\\.[0-9]+\\.[0-9]+ \\(git revision ([0-9a-f]{7,40}|unknown)\\)")))
+      std::regex(
+          "^scw [0-9]+\\.[0-9]+\\.[0-9]+ \\(git revision ([0-9a-f]{7,40}(\\+dirty)?|unknown)\\)")))
       << r.out;
 }
 
