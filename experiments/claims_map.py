@@ -18,7 +18,9 @@ The unknowns and their ranges (docs/plant-calibration.md, docs/scenarios.md `pla
   ms} (the heat map);
 - for reference, the paper's simulator's actuators (plant.actuators=paper_sim), also with its
   steering dead time at 0 and 30 ms instead of 60 (its PT1 and rate limit kept): which part of
-  the steering actuator decides claim (b).
+  the steering actuator decides claim (b); and the same simulator as its IV-2024 code had it
+  (plant.actuators=paper_sim_v1: brakes 10 ms + PT1 30 ms, steering 50 ms + PT1 50 ms at
+  1.0 rad/s), the other published reading of the paper's simulator.
 
 Every variant runs in a few `scw sweep` calls, the studies' configurations as named
 configurations of one sweep (study-specific keys in each), the variant as a varied key, runs in
@@ -68,6 +70,8 @@ FAMILIES = [
      [f"plant.steering_delay={','.join(map(str, STEERS))}"]),
     ("paper_sim_steer", "the paper's simulator's actuators × steering dead time",
      ["plant.actuators=paper_sim", "plant.steering_delay=0.0,0.03"]),
+    ("paper_sim_v1", "the paper's simulator's actuators as its IV-2024 code had them",
+     ["plant.actuators=paper_sim_v1"]),
 ]
 NO_DYN = "no brake dynamics (no dead time, 1 ms lag, 100 000 bar/s)"
 # the heat map's columns: the brake dead times at the fixed 150 ms response, then no dynamics

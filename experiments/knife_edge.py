@@ -26,6 +26,10 @@ import scwexp
 # Open-Car-Dynamics' published actuation (docs/plant-calibration.md): brakes at once, steering
 # 60 ms dead time + 60 ms PT1, 0.5 rad/s.
 PAPER_SIM = {"brake_s": 0.001, "steer_s": 0.12, "steer_rate": 0.5}
+# The same simulator as its IV-2024 code had it: brakes 10 ms + PT1 30 ms (40 ms to 63 %),
+# steering 50 ms + PT1 50 ms, 1.0 rad/s.
+PAPER_SIM_V1 = {"brake_s": 0.04, "steer_s": 0.10, "steer_rate": 1.0}
+SIM_ACTUATORS = {"paper_sim": PAPER_SIM, "paper_sim_v1": PAPER_SIM_V1}
 
 
 def vehicle_constants(scw):

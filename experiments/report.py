@@ -592,8 +592,10 @@ def update(args):
 
 
 ACT_NAMES = {"vehicle": "real car (vehicle file's actuators)",
-             "paper_sim": "paper's simulator (`plant.actuators=paper_sim`)"}
-ACT_SHORT = {"vehicle": "real car", "paper_sim": "paper's sim"}
+             "paper_sim": "paper's simulator (`plant.actuators=paper_sim`)",
+             "paper_sim_v1": "paper's simulator as its IV-2024 code "
+                             "(`plant.actuators=paper_sim_v1`)"}
+ACT_SHORT = {"vehicle": "real car", "paper_sim": "paper's sim", "paper_sim_v1": "paper's sim v1"}
 STUDIES = ("study1_longitudinal", "study2_lateral", "study3_motion")
 
 

@@ -137,7 +137,7 @@ def main(argv=None):
         # The mechanism at the knife edge (issue 25 part 3), from those traces.
         act = scwexp.column_info(args)["actuators"]
         vc = knife_edge.vehicle_constants(scw)
-        t_act = knife_edge.PAPER_SIM["brake_s"] if act == "paper_sim" else vc["brake_s"]
+        t_act = knife_edge.SIM_ACTUATORS.get(act, vc)["brake_s"]
         corners = scwexp.track_corners(scw, sets)
         xr = xruns if extra_ts else trace_runs
         res = {n: knife_edge.analyse(f, vc["iz"], t_act, vc["alpha_peak_rad"],
