@@ -113,6 +113,24 @@ def no_brake_dynamics_vehicle(scw, path):
     return path
 
 
+# The vehicle file's value of each varied key (the real-car column of the studies).
+VEHICLE_FILE = {"plant.brake_dead_time": 0.116, "plant.steering_delay": 0.03,
+                "plant.rear_tire_falloff": 1.0, "plant.yaw_inertia_scale": 1.0}
+
+
+def changes_of(tag, keys, vals):
+    """What a variant changes from the vehicle file, i.e. from the real-car column of its set:
+    one entry per modelling choice (an actuator model counts as one)."""
+    out = [NO_DYN] if tag == "no_brake_dyn" else []
+    for k, v in zip(keys, vals):
+        if k == "plant.actuators":
+            if v != "vehicle":
+                out.append(label_of([k], [v]))
+        elif abs(float(v) - VEHICLE_FILE[k]) > 1e-12:
+            out.append(label_of([k], [v]))
+    return out
+
+
 def split(rows, keys):
     """{variant tuple: {config: rows}} by the values of the varied keys."""
     out = {}
@@ -295,31 +313,37 @@ def main(argv=None):
             extra = ",".join(f"{k}={v}" for k, v in zip(keys, vals))
             cfgs += [f"{n}#{i}:{o},{extra}" for n, o in CONFIGS]
             sub += [dict(r, config=f"{c}#{i}") for c, rs in by_cfg.items() for r in rs]
+        coarse = sub  # the axis' own runs: the GG-resolution variant reads them
         if scwexp.REFINE_LEVELS > 0:
             sub, rc = scwexp.refine_first_aborts(scw, args, sets, cfgs, sub, None, csv_path,
                                                  os.path.join(out, f"scw_{tag}.log"),
                                                  reuse=args.reuse, probe=against_none)
             commands += rc
-        allrows = []
-        for r in sub:
-            name, i = r["config"].split("#")
-            vals = groups[int(i)][0]
-            allrows.append(dict(r, config=name, **dict(zip(keys, vals))))
-        for vals, by_cfg in split(allrows, keys).items():
+
+        def unfold(rs):
+            out_rows = []
+            for r in rs:
+                name, i = r["config"].split("#")
+                vals = groups[int(i)][0]
+                out_rows.append(dict(r, config=name, **dict(zip(keys, vals))))
+            return split(out_rows, keys)
+        coarse_by = unfold(coarse)
+        for vals, by_cfg in unfold(sub).items():
             lab = label_of(keys, vals)
             if tag == "no_brake_dyn":
                 lab = NO_DYN + ("" if float(vals[0]) == 0.03 else ", " + lab)
             s1 = pack(by_cfg, names[:2])
             s2 = pack(by_cfg, names[2:])
             v = {"family": flabel, "label": lab, "claims": evaluate(s1, s2),
-                 "series": {**s1, **s2}, "command": " ".join(cmd)}
+                 "series": {**s1, **s2}, "command": " ".join(cmd),
+                 "changes": changes_of(tag, keys, vals)}
             if tag == "brake_steer" and len(keys) == 2:
                 v["grid"] = (float(vals[0]), float(vals[1]))
             elif tag == "no_brake_dyn":
                 v["grid"] = ("nodyn", float(vals[0]))
             if tag == "brake_steer" and float(vals[0]) == 0.116 and \
                     (len(keys) == 1 or float(vals[1]) == 0.03):
-                base = (by_cfg, v)
+                base = (coarse_by[vals], v)
                 v["label"] = "vehicle file (brake 116 ms, steering 30 ms)"
             variants.append(v)
     if base is not None:
@@ -327,7 +351,9 @@ def main(argv=None):
         s2 = pack(base[0], names[2:], refined=False)
         variants.append({"family": "GG resolution", "label": "vehicle file, GG step 0.05 "
                          "without the bisected first abort", "claims": evaluate(s1, s2),
-                         "series": {**s1, **s2}})
+                         "series": {**s1, **s2},
+                         "changes": ["the first abort resolved only to the axis step 0.05 "
+                                     "(no bisection)"]})
     figures = []
     if any("grid" in v for v in variants):
         heat = heat_map(variants, os.path.join(out, "claims_map.png"), set_label)

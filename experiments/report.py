@@ -1119,15 +1119,37 @@ def goal_section(results, cols):
             flips = [(cm, v) for cm in maps for v in cm.get("variants", [])
                      if v["claims"].get(k, {}).get("ok")]
             if flips:
+                # the fewest changes from the vehicle file (the real-car column) first
+                flips.sort(key=lambda p: len(p[1].get("changes", [None, None])))
                 cm, v = flips[0]
                 line += (" The claims maps (one perturbation, everything else as the vehicle "
                          "file) find it holding with: " +
                          "; ".join(f"{x['label']} ({m['set_label']} set)"
-                                   for m, x in flips[:8]) + ". The run that shows it, "
-                         f"{v['label']}, {cm['set_label']} set: " + "; ".join(
-                             f"{n} ({'yes' if o else 'no'}: {t})"
-                             for n, o, t in v["claims"][k]["items"]) +
-                         (f" (sweep: `{rel(v['command'])}`)" if v.get("command") else ""))
+                                   for m, x in flips[:8]) + ".")
+                ch = v.get("changes")
+                real = [c for c in cols if column_of(c)["set_label"] == cm["set_label"]
+                        and column_of(c)["actuators"] == "vehicle"]
+                if ch is not None and len(ch) == 1 and real:
+                    line += (f" **The single modelling choice that flips it: {ch[0]}**, one "
+                             f"change from the scored column {col_title(real[0])} (the vehicle "
+                             "file's actuators), where it "
+                             + ("holds too." if results.get((k, real[0][0])) else "fails."))
+                line += (f" The run that shows it, {v['label']}, {cm['set_label']} set: " +
+                         "; ".join(f"{n} ({'yes' if o else 'no'}: {t})"
+                                   for n, o, t in v["claims"][k]["items"]) +
+                         (f" (sweep: `{rel(v['command'])}`)" if v.get("command") else "") +
+                         ".")
+                if v.get("family") == "GG resolution":
+                    # the same runs with the first abort bisected, as the scored columns have it
+                    fine = next((x for x in cm.get("variants", [])
+                                 if x["label"].startswith("vehicle file (")), None)
+                    if fine:
+                        line += (" The same runs with the first abort bisected (the scored "
+                                 "columns' axis) give: " + "; ".join(
+                                     f"{n} ({'yes' if o else 'no'}: {t})"
+                                     for n, o, t in fine["claims"][k]["items"] if o is False)
+                                 + ". The claim then rests on the resolution: it holds at the "
+                                 "axis step and not once the abort is resolved to half a step.")
             elif maps:
                 vs = [(cm, x) for cm in maps for x in cm.get("variants", [])
                       if not math.isnan(x["claims"][k].get("margin", math.nan))]

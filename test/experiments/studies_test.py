@@ -228,6 +228,49 @@ class ClaimsMaps(unittest.TestCase):
         self.assertIn("holding with: brake dead time 0 ms (tuned set)", b)
         c = [x for x in goal if x.startswith("- **(c)**")][0]
         self.assertIn("No variant of the claims maps (shipped set, tuned set)", c)
+        # no scored column of the tuned set: no single choice is named against one
+        self.assertNotIn("single modelling choice", b)
+
+    def test_the_single_choice_is_named_against_the_sets_real_car_column(self):
+        import json
+        import claims_map
+        # what a variant changes from the vehicle file, one entry per modelling choice
+        self.assertEqual(claims_map.changes_of(
+            "brake_steer", ["plant.brake_dead_time", "plant.steering_delay"], ["0.116", "0.03"]),
+            [])
+        self.assertEqual(claims_map.changes_of(
+            "brake_steer", ["plant.brake_dead_time", "plant.steering_delay"], ["0.0", "0.03"]),
+            ["brake dead time 0 ms"])
+        self.assertEqual(claims_map.changes_of("no_brake_dyn", ["plant.steering_delay"],
+                                               ["0.0"]),
+                         [claims_map.NO_DYN, "steering dead time 0 ms"])
+        self.assertEqual(claims_map.changes_of("paper_sim", ["plant.actuators"], ["paper_sim"]),
+                         ["actuators paper_sim"])
+        root = os.path.join(WORK, "maps_single")
+        os.makedirs(os.path.join(root, "claims_map_tuned"), exist_ok=True)
+
+        def variant(label, changes, ok):
+            claims = {k: {"ok": k == "c" and ok, "margin": 0.05 if ok else 0.0,
+                          "failed": [], "items": [["item", k == "c" and ok, "numbers"]],
+                          "acts": ""} for k in "abcd"}
+            return {"label": label, "claims": claims, "series": {}, "changes": changes}
+        vs = [variant("two changes", ["x", "y"], True), variant("one change", ["x"], True)]
+        with open(os.path.join(root, "claims_map_tuned", "summary.json"), "w") as f:
+            json.dump({"set_label": "tuned", "variants": vs, "commands": []}, f)
+        col = ("tuned__vehicle", "", {"study2_lateral": {
+            "column": {"set_label": "tuned", "actuators": "vehicle"}}})
+        old = scwexp.ROOT_RESULTS
+        scwexp.ROOT_RESULTS = root
+        try:
+            goal = report.goal_section({("c", "tuned__vehicle"): False}, [col])
+        finally:
+            scwexp.ROOT_RESULTS = old
+        c = [x for x in goal if x.startswith("- **(c)**")][0]
+        # the variant with the fewest changes is the one shown, against the real-car column
+        self.assertIn("**The single modelling choice that flips it: x**", c)
+        self.assertIn("scored column tuned set, real car", c)
+        self.assertIn("where it fails", c)
+        self.assertIn("The run that shows it, one change", c)
 
 
 class FinishStudy(unittest.TestCase):
