@@ -107,8 +107,10 @@ def run_one(scw, args, method, seed, max_evals, out_root):
             proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, cwd=scwexp.ROOT)
             _, status, usage = os.wait4(proc.pid, 0)
             proc.returncode = os.waitstatus_to_exitcode(status)
-        wall = time.monotonic() - t0
-        cpu = usage.ru_utime + usage.ru_stime
+        # kept as written to the .time file, so that a later call reading the file back
+        # reports the same figures (rounding the raw value once more could differ)
+        wall = round(time.monotonic() - t0, 3)
+        cpu = round(usage.ru_utime + usage.ru_stime, 3)
         with open(folder + ".time", "w") as f:
             f.write(f"{wall:.3f} {cpu:.3f}\n")
         if proc.returncode != 0:
