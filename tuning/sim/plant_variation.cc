@@ -26,35 +26,50 @@ double FalloffShape(double c, double falloff) {
 
 }  // namespace
 
-params::BrakeParams PaperSimBrakes(const params::BrakeParams& vehicle) {
+namespace {
+
+// One version of the paper's simulator: its brakes' dead time and lag (no rate limit: the
+// schema's largest) and its steering's dead time, PT1 and rate limit (plant_variation.h).
+struct SimulatorActuation {
+  double brake_delay, brake_lag, steer_delay, steer_lag, steer_rate;
+};
+constexpr SimulatorActuation kOcdCurrent{0.0, 0.0, 0.06, 0.06, 0.5};
+constexpr SimulatorActuation kOcdIv2024{0.01, 0.03, 0.05, 0.05, 1.0};
+
+params::BrakeParams SimulatorBrakes(const params::BrakeParams& vehicle,
+                                    const SimulatorActuation& sim) {
   params::BrakeParams b = vehicle;
-  b.delay = 0.0;
-  b.time_constant = 0.0;
+  b.delay = sim.brake_delay;
+  b.time_constant = sim.brake_lag;
   b.rate_limit = 100000.0;
   return b;
 }
 
-params::SteeringParams PaperSimSteering(const params::SteeringParams& vehicle) {
+params::SteeringParams SimulatorSteering(const params::SteeringParams& vehicle,
+                                         const SimulatorActuation& sim) {
   params::SteeringParams s = vehicle;
-  s.delay = 0.06;
-  s.time_constant = 0.06;
-  s.rate_limit = 0.5;
+  s.delay = sim.steer_delay;
+  s.time_constant = sim.steer_lag;
+  s.rate_limit = sim.steer_rate;
   return s;
+}
+
+}  // namespace
+
+params::BrakeParams PaperSimBrakes(const params::BrakeParams& vehicle) {
+  return SimulatorBrakes(vehicle, kOcdCurrent);
+}
+
+params::SteeringParams PaperSimSteering(const params::SteeringParams& vehicle) {
+  return SimulatorSteering(vehicle, kOcdCurrent);
 }
 
 params::BrakeParams PaperSimV1Brakes(const params::BrakeParams& vehicle) {
-  params::BrakeParams b = PaperSimBrakes(vehicle);
-  b.delay = 0.01;
-  b.time_constant = 0.03;
-  return b;
+  return SimulatorBrakes(vehicle, kOcdIv2024);
 }
 
 params::SteeringParams PaperSimV1Steering(const params::SteeringParams& vehicle) {
-  params::SteeringParams s = vehicle;
-  s.delay = 0.05;
-  s.time_constant = 0.05;
-  s.rate_limit = 1.0;
-  return s;
+  return SimulatorSteering(vehicle, kOcdIv2024);
 }
 
 double BrakeTotalResponse(const params::BrakeParams& brakes, double h) {
