@@ -18,8 +18,12 @@ Definitions (stated in the report):
   left once the brakes respond; infinite when no time is left.
 """
 
+import glob
+import json
 import math
+import os
 import subprocess
+import sys
 
 import scwexp
 
@@ -77,9 +81,54 @@ def peak_slip_angle(t):
     return lo / b
 
 
-def analyse(trace_csv, iz, t_act, alpha_peak, status=None):
+# How far before `none`'s rear saturation and after its loss a completed run is read [m].
+CATCH_MARGIN_M = 30.0
+
+
+def catch_at(rows, at):
+    """What a run that completed did where `none` lost the car: at = (lap, s from, s to) of
+    `none`'s window from rear saturation to the loss; the rows of that lap within it (widened
+    by CATCH_MARGIN_M) give when ESC and CS first acted (as metres from `none`'s loss point),
+    the largest yaw moment, extra brake pressure and countersteer, and the largest |β|."""
+    lap, s0, s1 = at
+    w = [r for r in rows if int(r.get("lap", 0)) == int(lap) and
+         s0 - CATCH_MARGIN_M <= r["s_m"] <= s1 + CATCH_MARGIN_M]
+    if not w:
+        return None
+    first = {k: next((r["s_m"] - s1 for r in w if r[f"{k}_active"] > 0.5), None)
+             for k in ("esc", "cs")}
+    dt = rows[1]["t_s"] - rows[0]["t_s"] if len(rows) > 1 else 0.0  # the trace's sample time
+    wheels = ("fl", "fr", "rl", "rr")
+    return {"lap": int(lap), "s_from": s0, "s_to": s1, "esc_from_m": first["esc"],
+            "cs_from_m": first["cs"],
+            "esc_s": dt * sum(1 for r in w if r["esc_active"] > 0.5),
+            "cs_s": dt * sum(1 for r in w if r["cs_active"] > 0.5),
+            "m_cmd_max": max(abs(r["yaw_moment_Nm"]) for r in w),
+            "p_extra_max": max(max(r[f"p_out_{x}_bar"] - r[f"p_req_{x}_bar"] for x in wheels)
+                               for r in w),
+            "steer_corr_max_deg": math.degrees(max(abs(r["steer_out_rad"] - r["steer_req_rad"])
+                                                   for r in w)),
+            "beta_max_deg": max(abs(r["beta_deg"]) for r in w)}
+
+
+def analyse_all(files, iz, t_act, alpha_peak, statuses):
+    """analyse() of every configuration's trace; `none` first, and a configuration that
+    completes is also read where `none` lost the car (catch_at)."""
+    res = {}
+    if "none" in files:
+        res["none"] = analyse(files["none"], iz, t_act, alpha_peak, statuses.get("none"))
+    n0 = res.get("none")
+    at = (n0["lap"], n0["s_sat_m"], n0["s_m"]) if n0 and n0["spun"] else None
+    for n, f in files.items():
+        if n != "none":
+            res[n] = analyse(f, iz, t_act, alpha_peak, statuses.get(n), at=at)
+    return res
+
+
+def analyse(trace_csv, iz, t_act, alpha_peak, status=None, at=None):
     """The knife-edge numbers of one traced run; status: how the run ended (an abort other
-    than sideslip ends the window at the trace's end: the car was lost before |β| = 20°)."""
+    than sideslip ends the window at the trace's end: the car was lost before |β| = 20°); at:
+    `none`'s loss window (catch_at), read when this run completed."""
     rows = scwexp.read_csv(trace_csv)
     if not rows:
         return None
@@ -123,7 +172,9 @@ def analyse(trace_csv, iz, t_act, alpha_peak, status=None):
             "s_m": upto[-1]["s_m"], "v_mps": upto[-1]["vx_mps"], "dr_max": dr,
             "first_esc": first["esc"], "first_cs": first["cs"], "m_cmd_max": m_cmd,
             "p_extra_max": p_out, "steer_corr_max_deg": math.degrees(steer_corr),
-            "t_act": t_act, "m_needed": need}
+            "t_act": t_act, "m_needed": need, "lap": int(upto[-1].get("lap", 0)),
+            "s_sat_m": upto[i]["s_m"],
+            "catch": catch_at(rows, at) if at and not spun else None}
 
 
 def describe(name, label, x, corners, status=None):
@@ -135,6 +186,25 @@ def describe(name, label, x, corners, status=None):
         f"{status} at t = {x['t20']:.2f} s (|β| < 20°)"
     head = (f"{label}: " + (lost if x["spun"] else "completed, |β| < 20°")
             + f" ({scwexp.place(x['s_m'], corners)}, {x['v_mps']:.0f} m/s)")
+    c = x.get("catch")
+    if c:
+        def at_m(d):
+            return "never there" if d is None else \
+                f"from {-d:.0f} m before that point" if d < 0 else \
+                f"from {d:.0f} m after that point"
+        acted = []
+        if name in ("esc", "esc+cs"):
+            acted.append(f"ESC acts {at_m(c['esc_from_m'])} "
+                         f"({c['esc_s']:.2f} s active), commands up to "
+                         f"{c['m_cmd_max']:.0f} N·m, brake pressure up to "
+                         f"{c['p_extra_max']:.0f} bar above the request")
+        if name in ("cs", "esc+cs"):
+            acted.append(f"CS acts {at_m(c['cs_from_m'])} "
+                         f"({c['cs_s']:.2f} s active), countersteer up to "
+                         f"{c['steer_corr_max_deg']:.1f}°")
+        return (head + f"; where `none` lost the car (lap {c['lap'] + 1}, s = {c['s_from']:.0f}–"
+                f"{c['s_to']:.0f} m, its loss point at the end): " + "; ".join(acted) +
+                f"; |β| up to {c['beta_max_deg']:.1f}° there")
     if x["saturated"]:
         head += (f"; the rear slip angle stays beyond its peak ({x['alpha_peak_deg']:.1f}°) from "
                  f"t_sat = {x['t_sat']:.2f} s on (up to {x['alpha_r_end_deg']:.1f}°): "
@@ -166,6 +236,19 @@ def verdict_line(res, act):
     spun = {n: x for n, x in res.items() if x and x["spun"]}
     if not spun:
         return "Every configuration completes this run."
+    if set(spun) == {"none"}:
+        caught = []
+        for n, x in res.items():
+            c = x and x.get("catch")
+            if n == "none" or not c:
+                continue
+            who = [k.upper() for k, cnt in (("esc", c["esc_s"]), ("cs", c["cs_s"]))
+                   if cnt > 0 and k in n.split("+")]
+            caught.append(f"{n}: " + (" and ".join(who) + " acted there" if who else
+                                      "no subsystem of it acted there (the run differs "
+                                      "before that point)"))
+        return ("Nothing prevents the catch (" + act + "): only `none` loses the car; where "
+                "it did, " + "; ".join(caught) + ".")
     parts = []
     for n, x in spun.items():
         if n == "none":
@@ -203,3 +286,38 @@ def verdict_line(res, act):
                    f"{x['m_needed']:.0f} N·m)")
         parts.append(f"{n}: {why}")
     return "What prevents the catch (" + act + "): " + "; ".join(parts) + "."
+
+
+def reanalyse(study_dir):
+    """Recomputes the knife-edge results of a finished study 2 (its summary.json) from the
+    traces it kept (traces/gg<G>/<config>__*.csv), with this file's analysis; the summary is
+    replaced whole. For a report on traces that were analysed by an older version."""
+    path = os.path.join(study_dir, "summary.json")
+    with open(path) as f:
+        s = json.load(f)
+    ke = s.get("knife_edge")
+    if not ke:
+        return False
+    sub = os.path.join(study_dir, "traces", f"gg{ke['gg']:g}")
+    files = {n: fs[0] for n in s["configs"]
+             for fs in [sorted(glob.glob(os.path.join(sub, f"{n}__*.csv")))] if fs}
+    old = ke["results"]
+    xt = s.get("trace_at_none_abort")
+    runs = xt["runs"] if xt else s.get("trace_runs", {})
+    statuses = {n: (old.get(n) or {}).get("status") or runs.get(n, {}).get("status")
+                for n in files}
+    peak = next(math.radians(x["alpha_peak_deg"]) for x in old.values() if x)
+    ke["results"] = analyse_all(files, ke["iz"], ke["t_act"], peak, statuses)
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        json.dump(s, f, indent=2)
+    os.replace(tmp, path)
+    return True
+
+
+if __name__ == "__main__":
+    # python3 experiments/knife_edge.py --reanalyse STUDY2_DIR ...
+    if len(sys.argv) < 3 or sys.argv[1] != "--reanalyse":
+        sys.exit("usage: knife_edge.py --reanalyse STUDY2_DIR ...")
+    for d in sys.argv[2:]:
+        print(f"{d}: " + ("reanalysed" if reanalyse(d) else "no knife-edge results"))

@@ -140,8 +140,8 @@ def main(argv=None):
         t_act = knife_edge.SIM_ACTUATORS.get(act, vc)["brake_s"]
         corners = scwexp.track_corners(scw, sets)
         xr = xruns if extra_ts else trace_runs
-        res = {n: knife_edge.analyse(f, vc["iz"], t_act, vc["alpha_peak_rad"],
-                                     xr.get(n, {}).get("status")) for n, f in xfiles.items()}
+        res = knife_edge.analyse_all(xfiles, vc["iz"], t_act, vc["alpha_peak_rad"],
+                                     {n: xr.get(n, {}).get("status") for n in xfiles})
         ke = {"gg": none_abort, "mu": main_pert, "t_act": t_act, "iz": vc["iz"],
               "results": res,
               "lines": [knife_edge.describe(n, lab, res.get(n), corners,

@@ -354,6 +354,26 @@ class KnifeEdge(unittest.TestCase):
         self.assertTrue(math.isinf(slow["m_needed"]))
         text = knife_edge.describe("esc", "ESC only", x, [])
         self.assertIn("0.48 s from rear saturation", text)
+        # A run that completes is read where `none` lost the car: when ESC acted there.
+        done = os.path.join(WORK, "trace_done.csv")
+        with open(done, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(cols)
+            for i in range(201):
+                t = i * 0.01
+                esc = 1 if 0.7 <= t < 1.0 else 0
+                w.writerow([t, 100 + t, 40, 2.0, 0.5, 0.5, 0.05, 0.05, esc, 0, 1500 * esc, 0, 0,
+                            20 * esc, 0, 0, 0, 0, 0, 0, 0])
+        res = knife_edge.analyse_all({"none": path, "esc": done}, 1000.0, 0.148, 0.1,
+                                     {"none": "sideslip", "esc": "completed"})
+        c = res["esc"]["catch"]
+        self.assertAlmostEqual(c["esc_from_m"], 100.7 - 101.28, places=6)
+        self.assertAlmostEqual(c["esc_s"], 0.3, places=6)
+        self.assertEqual(c["m_cmd_max"], 1500)
+        self.assertIn("ESC acts from 1 m before that point",
+                      knife_edge.describe("esc", "ESC only", res["esc"], [], "completed"))
+        self.assertIn("Nothing prevents the catch (real car): only `none` loses the car; where "
+                      "it did, esc: ESC acted there", knife_edge.verdict_line(res, "real car"))
 
 
 if __name__ == "__main__":
