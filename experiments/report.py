@@ -833,7 +833,10 @@ def method_section(cols):
            "(*real car*: brake 116 ms dead time + 32 ms lag + 1800 bar/s, steering 30 ms + 30 ms) "
            "and with `plant.actuators=paper_sim` (*paper's simulator*: Open-Car-Dynamics' "
            "published actuation, no brake-pressure dynamics, steering 60 ms dead time + 60 ms "
-           "PT1 at 0.5 rad/s; `docs/plant-calibration.md`), passed as `--set` to every sweep.",
+           "PT1 at 0.5 rad/s; `docs/plant-calibration.md`), passed as `--set` to every sweep. "
+           "The claims maps add the same simulator as its IV-2024 code had it "
+           "(`plant.actuators=paper_sim_v1`: brakes 10 ms + PT1 30 ms, steering 50 ms + PT1 "
+           "50 ms at 1.0 rad/s), the other published reading of the paper's simulator.",
            "- **Time per column** (wall, and the CPU time of scw and its workers, which "
            "depends much less on what else the machine runs): " + "; ".join(
                f"{col_title(c)} {sum(x['wall_time_s'] for x in c[2].values() if x) / 60:.1f} "
