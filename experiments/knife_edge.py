@@ -288,6 +288,16 @@ def verdict_line(res, act):
     return "What prevents the catch (" + act + "): " + "; ".join(parts) + "."
 
 
+def with_statuses(study2):
+    """The knife-edge results of a study-2 summary, each with how its traced run ended: the
+    stored status, else the traced run's (at `none`'s first abort, else at the trace GG)."""
+    xt = study2.get("trace_at_none_abort")
+    runs = xt["runs"] if xt else study2.get("trace_runs", {})
+    return {n: x if x is None else dict(x, status=x.get("status") or
+                                        runs.get(n, {}).get("status"))
+            for n, x in study2["knife_edge"]["results"].items()}
+
+
 def reanalyse(study_dir):
     """Recomputes the knife-edge results of a finished study 2 (its summary.json) from the
     traces it kept (traces/gg<G>/<config>__*.csv), with this file's analysis; the summary is
@@ -301,17 +311,12 @@ def reanalyse(study_dir):
     sub = os.path.join(study_dir, "traces", f"gg{ke['gg']:g}")
     files = {n: fs[0] for n in s["configs"]
              for fs in [sorted(glob.glob(os.path.join(sub, f"{n}__*.csv")))] if fs}
-    old = ke["results"]
-    xt = s.get("trace_at_none_abort")
-    runs = xt["runs"] if xt else s.get("trace_runs", {})
-    statuses = {n: (old.get(n) or {}).get("status") or runs.get(n, {}).get("status")
-                for n in files}
+    old = with_statuses(s)
+    statuses = {n: (old.get(n) or {}).get("status") for n in files}
     peak = next(math.radians(x["alpha_peak_deg"]) for x in old.values() if x)
     ke["results"] = analyse_all(files, ke["iz"], ke["t_act"], peak, statuses)
-    tmp = path + ".tmp"
-    with open(tmp, "w") as f:
-        json.dump(s, f, indent=2)
-    os.replace(tmp, path)
+    ke.pop("lines", None)  # the old analysis' text; the report describes the results anew
+    scwexp.write_json(path, s)
     return True
 
 

@@ -1188,7 +1188,7 @@ def step_gains(vs):
         fa = {c: (s.get(c) or {}).get("first_abort") for c in ("none", "esc", "cs")}
         if any(x is None for x in fa.values()):
             continue
-        ok = {c: fa[c] - fa["none"] >= 0.05 - 1e-9 for c in gains}
+        ok = {c: fa[c] - fa["none"] >= STEP - EPS for c in gains}
         for c in gains:
             if ok[c]:
                 gains[c].append(f"{v['label']} (+{fa[c] - fa['none']:.3f})")
@@ -1290,13 +1290,7 @@ def knife_edge_section(cols, root):
         if not ke:
             continue
         import knife_edge
-        xt = s2.get("trace_at_none_abort")
-        runs = xt["runs"] if xt else s2.get("trace_runs", {})
-        res = {}
-        for n, x in ke["results"].items():
-            if x is not None:
-                x = dict(x, status=x.get("status") or runs.get(n, {}).get("status"))
-            res[n] = x
+        res = knife_edge.with_statuses(s2)
         lines = [knife_edge.describe(n, s2["configs"].get(n, n), res.get(n), CORNERS,
                                      (res.get(n) or {}).get("status")) for n in s2["configs"]]
         lines.append(knife_edge.verdict_line(res, ACT_SHORT.get(column_of(c)["actuators"])))

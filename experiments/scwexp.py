@@ -164,12 +164,17 @@ def row_at(rows, config, value, key="gg_scale"):
     return None
 
 
-def write_summary(study, summary):
-    path = os.path.join(results_dir(study), "summary.json")
+def write_json(path, obj):
+    """Writes obj to path as JSON through a temporary file: a reader sees the old or the new
+    file, never half of one."""
     with open(path + ".tmp", "w") as f:
-        json.dump(summary, f, indent=2)
+        json.dump(obj, f, indent=2)
     os.replace(path + ".tmp", path)
     return path
+
+
+def write_summary(study, summary):
+    return write_json(os.path.join(results_dir(study), "summary.json"), summary)
 
 
 def read_summary(study):

@@ -24,10 +24,6 @@ double FalloffShape(double c, double falloff) {
   return 2.0 - 2.0 / M_PI * std::asin(target);
 }
 
-}  // namespace
-
-namespace {
-
 // One version of the paper's simulator: its brakes' dead time and lag (no rate limit: the
 // schema's largest) and its steering's dead time, PT1 and rate limit (plant_variation.h).
 struct SimulatorActuation {
@@ -35,6 +31,13 @@ struct SimulatorActuation {
 };
 constexpr SimulatorActuation kOcdCurrent{0.0, 0.0, 0.06, 0.06, 0.5};
 constexpr SimulatorActuation kOcdIv2024{0.01, 0.03, 0.05, 0.05, 1.0};
+
+// The simulator version a `plant.actuators` value names; nullptr for any other value.
+const SimulatorActuation* SimulatorNamed(const std::string& model) {
+  if (model == "paper_sim") return &kOcdCurrent;
+  if (model == "paper_sim_v1") return &kOcdIv2024;
+  return nullptr;
+}
 
 params::BrakeParams SimulatorBrakes(const params::BrakeParams& vehicle,
                                     const SimulatorActuation& sim) {
@@ -212,17 +215,14 @@ params::VehicleParams ApplyPlantVariation(const params::VehicleParams& vehicle,
   const double h = v.simulation.time_step;
   // Check everything first, every violation listed; then apply, in the documented order.
   Problems pr;
-  const bool known = plant.actuators == "vehicle" || plant.actuators == "paper_sim" ||
-                     plant.actuators == "paper_sim_v1";
+  const SimulatorActuation* sim = SimulatorNamed(plant.actuators);
+  const bool known = sim != nullptr || plant.actuators == "vehicle";
   if (!known)
     pr.Add("plant.actuators",
            "'" + plant.actuators + "' is not one of " + std::string(kActuatorModels));
-  if (plant.actuators == "paper_sim") {
-    v.brakes = PaperSimBrakes(v.brakes);
-    v.steering = PaperSimSteering(v.steering);
-  } else if (plant.actuators == "paper_sim_v1") {
-    v.brakes = PaperSimV1Brakes(v.brakes);
-    v.steering = PaperSimV1Steering(v.steering);
+  if (sim != nullptr) {
+    v.brakes = SimulatorBrakes(v.brakes, *sim);
+    v.steering = SimulatorSteering(v.steering, *sim);
   }
   // The dead time is judged on the selected actuator only (an unknown one has no total response).
   std::optional<double> dead_time;
