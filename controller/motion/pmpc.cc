@@ -511,7 +511,8 @@ MotionOutput PointMassMpc::Step(const MotionInput& in, MotionState* base) const 
   ax = std::clamp(ax, -o.headroom * limits().AxBrakeMax(v),
                   std::max(o.headroom * limits().AxDriveMax(v), 0.5));
   out.ax_request = std::isfinite(ax) ? ax : 0.0;
-  out.ay_request = std::isfinite(an_nom) ? an_nom : 0.0;
+  const double ay_target = o.esc_target == "commanded" ? an_cmd : an_nom;
+  out.ay_request = std::isfinite(ay_target) ? ay_target : 0.0;
   return out;
 }
 

@@ -5,6 +5,8 @@
 // gradient), which are therefore not keys here. Defaults are the values every study so far used.
 #pragma once
 
+#include <string>
+
 #include "params/schema/field.h"
 
 namespace scw::params {
@@ -90,6 +92,7 @@ struct PmpcParams {
   double projection_window = 60.0;  ///< [m]
   int max_iter = 60;
   double tol = 1e-6;
+  std::string esc_target = "plan";  ///< plan | commanded
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
@@ -178,6 +181,14 @@ struct PmpcParams {
                            .hi = 20.0,
                            .doc = "Gain of the ancillary speed feedback.",
                            .optional = true});
+    v.Field(s.esc_target,
+            {.key = "esc_target",
+             .doc = "Lateral-acceleration request published as the ESC's yaw reference: plan = "
+                    "the nominal plan's normal acceleration now; commanded = the one the "
+                    "steering is computed from (the plan plus the ancillary feedback that "
+                    "returns the car to it). Which one the paper's PMPC published is not public.",
+             .optional = true,
+             .choices = "plan|commanded"});
     detail::VisitMpcCommon(s, v);
   }
   static void CrossCheck(const PmpcParams& p, Problems& pr) {

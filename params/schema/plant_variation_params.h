@@ -1,8 +1,8 @@
 // A scenario's variation of the simulated car (scenario key `plant`): which actuator model the
 // plant runs (the real car's, from the vehicle file, or the paper's simulator's), and the plant
 // quantities that the paper's claims and a robust scenario set vary: the split of the brake's
-// response into dead time and lag, the steering dead time, the rear tyre's force beyond its peak
-// and the yaw inertia.
+// response into dead time and lag, the steering dead time, the rear tyre's force beyond its peak,
+// the yaw inertia, and how the scenario's grip factors act on the tyres.
 //
 // Only the simulated car changes: the planner, the motion controllers and the vehicle constants
 // the stability node receives keep the vehicle file's values (the car's software does not know
@@ -24,6 +24,7 @@ struct PlantVariationParams {
   double steering_delay = -1.0;
   double rear_tire_falloff = 1.0;
   double yaw_inertia_scale = 1.0;
+  std::string grip_scaling = "vehicle";
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
@@ -87,6 +88,19 @@ struct PlantVariationParams {
              .doc = "Multiplies the plant's yaw inertia (chassis.yaw_inertia); plausible range "
                     "0.8-1.2 (no EAV24 value is public; the estimate is 1000 kg*m^2).",
              .optional = true,
+             .omit_default = true});
+    v.Field(s.grip_scaling,
+            {.key = "grip_scaling",
+             .doc = "How the scenario's grip factors act on the simulated car's tyres "
+                    "(tires.grip_scaling): vehicle = as the vehicle file says (peak for the "
+                    "EAV24); peak = on the friction coefficients only, the slip stiffness stays "
+                    "(grip.rear_mu_y 0.8: the rear's peak side force -20 %, reached at a smaller "
+                    "slip angle); curve = on the whole force curve (the rear's side force -20 % at "
+                    "every slip angle, its cornering stiffness too), as the paper's simulator's "
+                    "per-wheel friction scaling multiplies the tyre force. Which one the paper's "
+                    "'rear lateral grip reduced by 20 %' used is not published.",
+             .optional = true,
+             .choices = "vehicle|peak|curve",
              .omit_default = true});
   }
 };

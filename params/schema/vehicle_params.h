@@ -229,12 +229,24 @@ struct TireSetParams {
   Mf52Params front;
   Mf52Params rear = Eav24RearTire();
   TireKinematicsParams kinematics;
+  std::string grip_scaling = "peak";  ///< peak | curve
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
     v.Nested("front", s.front);
     v.Nested("rear", s.rear);
     v.Nested("kinematics", s.kinematics);
+    v.Field(s.grip_scaling,
+            {.key = "grip_scaling",
+             .doc = "How a friction scaling (grip.*, a road's friction) acts on a tyre: peak = on "
+                    "the friction coefficients (LMUX/LMUY: the peak and the sliding force scale, "
+                    "the slip stiffness stays, so the peak moves to a smaller slip); curve = on "
+                    "the whole force curve (the slip stiffness scales too: the force at every "
+                    "slip is the nominal one times the factor, as Open Car Dynamics' per-wheel "
+                    "friction scaling multiplies the tyre's output force).",
+             .optional = true,
+             .choices = "peak|curve",
+             .omit_default = true});
   }
 };
 

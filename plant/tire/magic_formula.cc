@@ -64,7 +64,8 @@ Curves Prepare(const TireInput& in, const params::Mf52Params& p) noexcept {
   cv.c[0][0] = p.pcx1;
   cv.x[0][0] = kx;
   if (dx > 0.0) {
-    const double k_x = fz * (p.pkx1 + p.pkx2 * dfz) * std::exp(p.pkx3 * dfz) * p.lkx;
+    const double k_x =
+        fz * (p.pkx1 + p.pkx2 * dfz) * std::exp(p.pkx3 * dfz) * p.lkx * in.stiffness_x;
     cv.b[0][0] = k_x / (p.pcx1 * dx);
     cv.e[0][0] =
         std::min(1.0, (p.pex1 + p.pex2 * dfz + p.pex3 * dfz * dfz) * (1.0 - p.pex4 * Sign(kx)));
@@ -82,7 +83,7 @@ Curves Prepare(const TireInput& in, const params::Mf52Params& p) noexcept {
     const double u = fz / (p.pky2 * fz0);
     // sin(2 atan u) = 2u / (1 + u^2): exact, and PKY4 = 2 is the MF5.2 standard value.
     const double shape = p.pky4 == 2.0 ? 2.0 * u / (1.0 + u * u) : FastSin(p.pky4 * FastAtan(u));
-    const double k_y = p.pky1 * fz0 * shape * p.lky;
+    const double k_y = p.pky1 * fz0 * shape * p.lky * in.stiffness_y;
     cv.b[0][1] = k_y / (p.pcy1 * dy);
     cv.e[0][1] = std::min(1.0, (p.pey1 + p.pey2 * dfz) * (1.0 - p.pey3 * Sign(ay)));
   }

@@ -48,6 +48,11 @@ struct TireInput {
   double alpha = 0.0;  ///< slip angle [rad], > 0 -> F_y > 0 (left)
   double lambda_mu_x = 1.0;
   double lambda_mu_y = 1.0;
+  /// Factors on the slip stiffnesses K_x, K_y (1 = the fit's own). A friction scaling that acts
+  /// on the whole force curve (params::TireSetParams::grip_scaling "curve") passes the wheel's
+  /// lambda_mu here as well, so that B = K/(C D) stays and F(slip) is the nominal curve times it.
+  double stiffness_x = 1.0;
+  double stiffness_y = 1.0;
 };
 
 struct TireForce {

@@ -174,16 +174,14 @@ QuasiSteadyModel::QuasiSteadyModel(const params::VehicleParams& p, const QuasiSt
 double QuasiSteadyModel::TireFx(std::size_t i, double fz, double kappa,
                                 double alpha) const noexcept {
   const auto& p = veh_.params().tires;
-  const TireInput in{fz, kappa, IsLeft(i) ? alpha : -alpha, veh_.lambda_mu_x()[i],
-                     veh_.lambda_mu_y()[i]};
+  const TireInput in = veh_.WheelTireInput(i, fz, kappa, IsLeft(i) ? alpha : -alpha);
   return TireForces(in, IsFront(i) ? p.front : p.rear).fx;
 }
 
 double QuasiSteadyModel::TireFy(std::size_t i, double fz, double kappa,
                                 double alpha) const noexcept {
   const auto& p = veh_.params().tires;
-  const TireInput in{fz, kappa, IsLeft(i) ? alpha : -alpha, veh_.lambda_mu_x()[i],
-                     veh_.lambda_mu_y()[i]};
+  const TireInput in = veh_.WheelTireInput(i, fz, kappa, IsLeft(i) ? alpha : -alpha);
   const double fy = TireForces(in, IsFront(i) ? p.front : p.rear).fy;
   return IsLeft(i) ? fy : -fy;
 }

@@ -71,6 +71,7 @@ Vehicle::Vehicle(const params::VehicleParams& p)
     lambda_x_[i] = gr.mu * (IsFront(i) ? gr.front_mu_x : gr.rear_mu_x) * gr.wheel_mu_x[i];
     lambda_y_[i] = gr.mu * (IsFront(i) ? gr.front_mu_y : gr.rear_mu_y) * gr.wheel_mu_y[i];
   }
+  curve_grip_ = p_.tires.grip_scaling == "curve";
   share_f_ = c.roll_stiffness_share_front;
   inv_bf_ = 1.0 / c.track_front;
   inv_br_ = 1.0 / c.track_rear;
@@ -166,14 +167,12 @@ void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, const Environ
   std::array<const params::Mf52Params*, 4> tire_p;
   for (std::size_t i = 0; i < 4; ++i) {
     const double alpha = x[kAlpha + i];
-    tire_in[i] = {e->fz[i], x[kKappa + i], IsLeft(i) ? alpha : -alpha, lambda_x_[i], lambda_y_[i]};
+    double road = 1.0;  // the road's factor multiplies the vehicle's
     if constexpr (kEnv) {
-      // The road's factor multiplies the vehicle's; exactly 1 leaves the scaling bit for bit.
       const double m = env->mu[i];
-      const double road = m > 0.0 && m < kMaxRoadFriction ? m : 1.0;
-      tire_in[i].lambda_mu_x *= road;
-      tire_in[i].lambda_mu_y *= road;
+      if (m > 0.0 && m < kMaxRoadFriction) road = m;
     }
+    tire_in[i] = WheelTireInput(i, e->fz[i], x[kKappa + i], IsLeft(i) ? alpha : -alpha, road);
     tire_p[i] = IsFront(i) ? &p_.tires.front : &p_.tires.rear;
   }
   std::array<TireForce, 4> tire_f;

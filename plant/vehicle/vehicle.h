@@ -95,6 +95,7 @@
 #include "plant/powertrain/gearbox.h"
 #include "plant/sensors/measurement.h"
 #include "plant/sensors/sensor_noise.h"
+#include "plant/tire/magic_formula.h"
 #include "plant/vehicle/environment.h"
 
 namespace scw::plant {
@@ -227,6 +228,23 @@ class Vehicle {
   const PerWheel<double>& lambda_mu_x() const noexcept { return lambda_x_; }
   const PerWheel<double>& lambda_mu_y() const noexcept { return lambda_y_; }
 
+  /// The tyre model's input of wheel i (the slip angle in the wheel's own sign convention): its
+  /// friction scalings times `road`, and with tires.grip_scaling "curve" the same factors on the
+  /// slip stiffnesses (a road factor of exactly 1 and "peak" leave the input as without them).
+  TireInput WheelTireInput(std::size_t i, double fz, double kappa, double alpha,
+                           double road = 1.0) const noexcept {
+    TireInput in{fz, kappa, alpha, lambda_x_[i], lambda_y_[i]};
+    if (road != 1.0) {
+      in.lambda_mu_x *= road;
+      in.lambda_mu_y *= road;
+    }
+    if (curve_grip_) {
+      in.stiffness_x = in.lambda_mu_x;
+      in.stiffness_y = in.lambda_mu_y;
+    }
+    return in;
+  }
+
   /// Body-frame offsets of the tyre contact points from the CoG [m] (x forward, y left).
   const PerWheel<double>& contact_x() const noexcept { return px_; }
   const PerWheel<double>& contact_y() const noexcept { return py_; }
@@ -259,6 +277,7 @@ class Vehicle {
   double m_ = 0.0, iz_ = 0.0, g_ = 0.0, lf_ = 0.0, lr_ = 0.0, l_ = 0.0, hcg_ = 0.0;
   PerWheel<double> px_{}, py_{}, radius_{}, inertia_{}, kb_{};
   PerWheel<double> fz_static_{}, lambda_x_{}, lambda_y_{};
+  bool curve_grip_ = false;  // tires.grip_scaling == "curve"
   double share_f_ = 0.5, inv_bf_ = 0.0, inv_br_ = 0.0;
   double drag_k_ = 0.0, lift_kf_ = 0.0, lift_kr_ = 0.0, side_k_ = 0.0;  // 1/2 rho c A
   double side_arm_ = 0.0;  // centre of pressure of the side force ahead of the CoG [m]

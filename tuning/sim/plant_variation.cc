@@ -233,6 +233,7 @@ params::VehicleParams ApplyPlantVariation(const params::VehicleParams& vehicle,
   if (plant.steering_delay >= 0.0) v.steering.delay = plant.steering_delay;
   v.tires.rear = FalloffAt(v.tires.rear, plant.rear_tire_falloff);
   if (plant.yaw_inertia_scale != 1.0) v.chassis.yaw_inertia *= plant.yaw_inertia_scale;
+  if (plant.grip_scaling != "vehicle") v.tires.grip_scaling = plant.grip_scaling;
   return v;
 }
 

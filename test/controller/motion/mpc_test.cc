@@ -403,6 +403,51 @@ void Lap(const std::string& name) {
 TEST(MpcLapTest, PmpcLapsTheDefaultTrackWithoutStabilityControl) { Lap("pmpc"); }
 TEST(MpcLapTest, NmpcLapsTheDefaultTrackWithoutStabilityControl) { Lap("nmpc"); }
 
+// The ESC's yaw reference from the PMPC (motion.pmpc.esc_target): `plan` publishes the nominal
+// plan's normal acceleration, `commanded` the one the steering follows (the plan plus the
+// ancillary feedback). Right after a solve from the car's state both agree; one sample later,
+// before the next solve, with the car 1 m left of where the plan has it on a straight, the
+// commanded one steers back (to the right) while the plan's stays as it was, and the steering
+// request is the kinematic steering of the commanded one in both.
+TEST(PmpcTest, EscTargetIsThePlanOrTheCommandedLateralAcceleration) {
+  const ResolvedScenario plan = Resolve(DefaultScenario({"motion.controller=pmpc"}));
+  const ResolvedScenario cmd =
+      Resolve(DefaultScenario({"motion.controller=pmpc", "motion.pmpc.esc_target=commanded"}));
+  const auto a = MakeMotionController(plan);
+  const auto b = MakeMotionController(cmd);
+  const auto& pa = dynamic_cast<const cm::PointMassMpc&>(*a);
+  const auto& pb = dynamic_cast<const cm::PointMassMpc&>(*b);
+  EXPECT_EQ(pa.options().esc_target, "plan");
+  EXPECT_EQ(pb.options().esc_target, "commanded");
+  // s = 50 m lies on the start-finish straight of the default track (κ ≈ 0).
+  const double s0 = 50.0, dt = pb.options().sample_time;
+  ASSERT_LT(std::abs(plan.path->Sample(s0).kappa), 1e-3);
+  ASSERT_LT(dt, pb.options().solve_period);
+  auto sa = pa.MakeState();
+  auto sb = pb.MakeState();
+  const auto a0 = pa.Step(OnPath(*plan.path, 0.0, s0), sa.get());
+  const auto b0 = pb.Step(OnPath(*cmd.path, 0.0, s0), sb.get());
+  EXPECT_NEAR(a0.ay_request, b0.ay_request, 1e-9);
+  EXPECT_EQ(a0.steering_request, b0.steering_request);
+  const double v = plan.path->Sample(s0).v, s1 = s0 + v * dt;
+  const auto a1 = pa.Step(OnPath(*plan.path, dt, s1, 1.0), sa.get());
+  const auto b1 = pb.Step(OnPath(*cmd.path, dt, s1, 1.0), sb.get());
+  EXPECT_EQ(a1.steering_request, b1.steering_request);  // the same law
+  EXPECT_NEAR(a1.ay_request, a0.ay_request, 0.5) << "the plan has not changed";
+  EXPECT_LT(b1.ay_request, a1.ay_request - 1.0) << "1 m left of the plan steers right";
+  const double v1 = plan.path->Sample(s1).v;  // the measured speed there (OnPath)
+  const double kinematic = std::atan(plan.vehicle.chassis.wheelbase * b1.ay_request / (v1 * v1)) +
+                           pb.options().understeer_gradient * b1.ay_request;
+  EXPECT_NEAR(b1.steering_request, kinematic, 1e-9);
+  try {
+    (void)DefaultScenario({"motion.controller=pmpc", "motion.pmpc.esc_target=total"});
+    ADD_FAILURE() << "esc_target=total accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("motion.pmpc.esc_target"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("plan|commanded"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MpcScenarioKeysTest, SettingsComeFromTheScenarioAndAreChecked) {
   const ResolvedScenario p = Resolve(DefaultScenario(
       {"motion.controller=pmpc", "motion.pmpc.horizon_steps=24", "motion.pmpc.q_v=3.5"}));

@@ -96,6 +96,39 @@ TEST(MagicFormula, GripScalingScalesThePeak) {
   EXPECT_DOUBLE_EQ(low.mu_x, base.mu_x);
 }
 
+// A friction scaling on the whole curve (the same factor on the friction coefficient and the slip
+// stiffness, params::TireSetParams::grip_scaling "curve") gives the nominal force times the factor
+// at every slip, pure and combined; on the coefficient alone (peak) the slope at zero stays and
+// the force at a small slip angle is nearly the nominal one.
+TEST(MagicFormula, StiffnessScalingScalesTheWholeCurve) {
+  const double f = 0.8;
+  for (const auto& t : SymmetricSets())
+    for (double fz : kLoads)
+      for (double a : kAngles)
+        for (double k : {0.0, 0.03, -0.1}) {
+          const TireForce nominal = TireForces({fz, k, a, 1.0, 1.0}, t);
+          TireInput in{fz, k, a, 1.0, f};
+          in.stiffness_y = f;
+          const TireForce curve = TireForces(in, t);
+          EXPECT_NEAR(curve.fy, f * nominal.fy, 1e-9 * fz) << fz << " " << a << " " << k;
+          EXPECT_NEAR(curve.fx, nominal.fx, 1e-9 * fz) << fz << " " << a << " " << k;
+          TireInput inx{fz, k, a, f, 1.0};
+          inx.stiffness_x = f;
+          const TireForce curve_x = TireForces(inx, t);
+          EXPECT_NEAR(curve_x.fx, f * nominal.fx, 1e-9 * fz) << fz << " " << a << " " << k;
+        }
+  const params::Mf52Params t;
+  const double a = 0.002, fz = t.fnomin;
+  const double peak_only = TireForces({fz, 0.0, a, 1.0, f}, t).fy;
+  const double nominal = TireForces({fz, 0.0, a, 1.0, 1.0}, t).fy;
+  EXPECT_NEAR(peak_only / nominal, 1.0, 0.01);
+  // Factors of exactly 1 are the unscaled tyre bit for bit.
+  TireInput one{fz, 0.05, 0.04, 0.9, 0.8};
+  one.stiffness_x = one.stiffness_y = 1.0;
+  EXPECT_EQ(TireForces(one, t).fy, TireForces({fz, 0.05, 0.04, 0.9, 0.8}, t).fy);
+  EXPECT_EQ(TireForces(one, t).fx, TireForces({fz, 0.05, 0.04, 0.9, 0.8}, t).fx);
+}
+
 TEST(MagicFormula, CombinedSlipStaysInsideFrictionEllipse) {
   for (const auto& t : SymmetricSets())
     for (double fz : kLoads) {

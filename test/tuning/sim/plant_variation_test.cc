@@ -15,6 +15,7 @@
 #include "params/io/write.h"
 #include "plant/actuator/actuators.h"
 #include "plant/tire/magic_formula.h"
+#include "plant/vehicle/vehicle.h"
 #include "tuning/sim/scenario.h"
 #include "tuning/sim/scenario_set.h"
 
@@ -168,6 +169,43 @@ TEST(PlantVariationTest, YawInertiaScales) {
   EXPECT_EQ(ApplyPlantVariation(v, p).chassis.yaw_inertia, v.chassis.yaw_inertia * 1.2);
   p.yaw_inertia_scale = 0.8;
   EXPECT_EQ(ApplyPlantVariation(v, p).chassis.yaw_inertia, v.chassis.yaw_inertia * 0.8);
+}
+
+// plant.grip_scaling: "vehicle" keeps the vehicle file's; peak/curve set it. With "curve" the
+// simulated car's rear wheels (rear_mu_y 0.8) get the factor on the cornering stiffness too, the
+// front ones nothing; the planner's and the stability node's vehicle keep the file's reading.
+TEST(PlantVariationTest, GripScalingChoosesHowTheGripFactorsAct) {
+  const params::VehicleParams v;
+  ASSERT_EQ(v.tires.grip_scaling, "peak");
+  params::PlantVariationParams p;
+  EXPECT_EQ(ApplyPlantVariation(v, p).tires.grip_scaling, "peak");
+  p.grip_scaling = "curve";
+  EXPECT_EQ(ApplyPlantVariation(v, p).tires.grip_scaling, "curve");
+  params::VehicleParams file = v;
+  file.tires.grip_scaling = "curve";
+  p.grip_scaling = "vehicle";
+  EXPECT_EQ(ApplyPlantVariation(file, p).tires.grip_scaling, "curve");
+
+  const ResolvedScenario peak = Resolve(DefaultScenario({"grip.rear_mu_y=0.8"}));
+  const ResolvedScenario curve =
+      Resolve(DefaultScenario({"grip.rear_mu_y=0.8", "plant.grip_scaling=curve"}));
+  EXPECT_EQ(curve.plant_vehicle.tires.grip_scaling, "curve");
+  EXPECT_EQ(curve.vehicle.tires.grip_scaling, "peak");  // the car's software: the vehicle file
+  const plant::Vehicle a(peak.plant_vehicle), b(curve.plant_vehicle);
+  const double fz = v.tires.rear.fnomin, alpha = 0.002;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const bool rear = i >= 2;
+    const plant::TireInput ia = a.WheelTireInput(i, fz, 0.0, alpha);
+    const plant::TireInput ib = b.WheelTireInput(i, fz, 0.0, alpha);
+    EXPECT_EQ(ia.stiffness_y, 1.0);
+    EXPECT_EQ(ib.stiffness_y, rear ? 0.8 : 1.0) << i;
+    EXPECT_EQ(ib.lambda_mu_y, ia.lambda_mu_y);
+    const auto& t = rear ? v.tires.rear : v.tires.front;
+    const double fa = plant::TireForces(ia, t).fy, fb = plant::TireForces(ib, t).fy;
+    EXPECT_NEAR(fb / fa, rear ? 0.8 : 1.0, rear ? 0.01 : 1e-12) << i;
+  }
+  EXPECT_TRUE(Contains(ErrorOf([] { (void)DefaultScenario({"plant.grip_scaling=both"}); }),
+                       "plant.grip_scaling"));
 }
 
 // Lateral force of the rear tyre at nominal load and slip angle a [rad].
