@@ -20,7 +20,16 @@ The unknowns and their ranges (docs/plant-calibration.md, docs/scenarios.md `pla
   steering dead time at 0 and 30 ms instead of 60 (its PT1 and rate limit kept): which part of
   the steering actuator decides claim (b); and the same simulator as its IV-2024 code had it
   (plant.actuators=paper_sim_v1: brakes 10 ms + PT1 30 ms, steering 50 ms + PT1 50 ms at
-  1.0 rad/s), the other published reading of the paper's simulator.
+  1.0 rad/s), the other published reading of the paper's simulator;
+- how the study-2 grip reduction acts (plant.grip_scaling=curve: the rear's side force -20 % at
+  every slip angle, its cornering stiffness too, as the paper's simulator's per-wheel friction
+  scaling multiplies the tyre force; the vehicle file's reading scales only the friction
+  coefficient, the peak). Without stability control that car is lost at GG 1.0 already, so this
+  family's axis starts at 0.7 (same step, same for every configuration): the paper's axis starts
+  at "conservative targets";
+- the lateral-acceleration request the PMPC publishes as the ESC's yaw reference
+  (motion.pmpc.esc_target=commanded: the one its steering follows, plan plus ancillary feedback;
+  the default is the plan's), which the paper does not state.
 
 Every variant runs in a few `scw sweep` calls, the studies' configurations as named
 configurations of one sweep (study-specific keys in each), the variant as a varied key, runs in
@@ -72,6 +81,11 @@ FAMILIES = [
      ["plant.actuators=paper_sim", "plant.steering_delay=0.0,0.03"]),
     ("paper_sim_v1", "the paper's simulator's actuators as its IV-2024 code had them",
      ["plant.actuators=paper_sim_v1"]),
+    # (tag, label, vary, GG axis of this family when it is not the studies')
+    ("grip_curve", "the rear grip reduction on the whole tyre curve",
+     ["plant.grip_scaling=curve"], "0.7:0.05:1.8"),
+    ("esc_target", "the PMPC's ESC target: the commanded lateral acceleration",
+     ["motion.pmpc.esc_target=commanded"]),
 ]
 NO_DYN = "no brake dynamics (no dead time, 1 ms lag, 100 000 bar/s)"
 # the heat map's columns: the brake dead times at the fixed 150 ms response, then no dynamics
@@ -113,9 +127,12 @@ def no_brake_dynamics_vehicle(scw, path):
     return path
 
 
-# The vehicle file's value of each varied key (the real-car column of the studies).
+# The vehicle file's value of each varied key (the real-car column of the studies); choices by
+# name (an actuator model counts as one modelling choice).
 VEHICLE_FILE = {"plant.brake_dead_time": 0.116, "plant.steering_delay": 0.03,
                 "plant.rear_tire_falloff": 1.0, "plant.yaw_inertia_scale": 1.0}
+VEHICLE_FILE_CHOICE = {"plant.actuators": "vehicle", "plant.grip_scaling": "peak",
+                       "motion.pmpc.esc_target": "plan"}
 
 
 def changes_of(tag, keys, vals):
@@ -123,8 +140,8 @@ def changes_of(tag, keys, vals):
     one entry per modelling choice (an actuator model counts as one)."""
     out = [NO_DYN] if tag == "no_brake_dyn" else []
     for k, v in zip(keys, vals):
-        if k == "plant.actuators":
-            if v != "vehicle":
+        if k in VEHICLE_FILE_CHOICE:
+            if v != VEHICLE_FILE_CHOICE[k]:
                 out.append(label_of([k], [v]))
         elif abs(float(v) - VEHICLE_FILE[k]) > 1e-12:
             out.append(label_of([k], [v]))
@@ -254,10 +271,15 @@ def label_of(keys, vals):
              "plant.steering_delay": ("steering dead time", 1000, "ms"),
              "plant.rear_tire_falloff": ("rear falloff", 1, "×"),
              "plant.yaw_inertia_scale": ("yaw inertia", 1, "×"),
-             "plant.actuators": ("actuators", None, "")}
+             "plant.actuators": ("actuators", None, ""),
+             "plant.grip_scaling": ("grip reduction on the", None, ""),
+             "motion.pmpc.esc_target": ("PMPC ESC target", None, "")}
+    words = {("plant.grip_scaling", "curve"): "whole tyre curve",
+             ("plant.grip_scaling", "peak"): "peak only"}
     parts = []
     for k, v in zip(keys, vals):
         n, scale, unit = names.get(k, (k, None, ""))
+        v = words.get((k, v), v)
         parts.append(f"{n} {float(v) * scale:g} {unit}".strip() if scale else f"{n} {v}")
     return ", ".join(parts)
 
@@ -293,14 +315,19 @@ def main(argv=None):
         if bad:
             sys.exit(f"error: --families: unknown {', '.join(bad)}")
         fams = [f for f in FAMILIES if f[0] in want]
-    for tag, flabel, vary in fams:
+    axes = {}  # a family's own GG axis
+    for fam in fams:
+        tag, flabel, vary = fam[:3]
+        axis = fam[3] if len(fam) > 3 else args.gg
+        if axis != args.gg:
+            axes[flabel] = axis
         sets = list(base_sets)
         if tag == "no_brake_dyn":
             veh = no_brake_dynamics_vehicle(scw, os.path.join(out, "vehicle_no_brake_dyn.yaml"))
             sets.append(f"vehicle={veh}")
         keys = [v.split("=", 1)[0] for v in vary]
         csv_path = os.path.join(out, f"sweep_{tag}.csv")
-        cmd = scwexp.mpc_sweep_cmd(scw, args, sets, [f"gg_scale={args.gg}"] + vary, configs,
+        cmd = scwexp.mpc_sweep_cmd(scw, args, sets, [f"gg_scale={axis}"] + vary, configs,
                                    csv_path, processes=args.processes)
         scwexp.reuse_or_run(cmd, csv_path, os.path.join(out, f"scw_{tag}.log"), args.reuse)
         rows = scwexp.read_csv(csv_path)
@@ -374,8 +401,9 @@ def main(argv=None):
     holds = {k: [v["label"] for v in variants if v["claims"][k]["ok"]] for k in "abcd"}
     text = ("One perturbation per study (study 1 sensor-noise seed 1, study 2 rear μy 0.80), "
             f"the {set_label} stability set, {args.laps} laps, GG "
-            f"{args.gg} with the first abort bisected; every other plant value as the vehicle "
-            "file. Margins: " + "; ".join(f"({k}) {MARGIN_NAMES[k]} (criterion ≥ {THRESH[k]})"
+            f"{args.gg} with the first abort bisected" + "".join(
+                f" ({fl}: GG {ax})" for fl, ax in axes.items()) + "; every other plant value as "
+            "the vehicle file. Margins: " + "; ".join(f"({k}) {MARGIN_NAMES[k]} (criterion ≥ {THRESH[k]})"
                                           for k in "abcd") + ". A claim holds only with its "
             "whole criterion (P5 included). Holds with: " +
             "; ".join(f"({k}) " + (", ".join(holds[k]) or "no variant") for k in "abcd") + ".")

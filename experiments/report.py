@@ -836,7 +836,12 @@ def method_section(cols):
            "PT1 at 0.5 rad/s; `docs/plant-calibration.md`), passed as `--set` to every sweep. "
            "The claims maps add the same simulator as its IV-2024 code had it "
            "(`plant.actuators=paper_sim_v1`: brakes 10 ms + PT1 30 ms, steering 50 ms + PT1 "
-           "50 ms at 1.0 rad/s), the other published reading of the paper's simulator.",
+           "50 ms at 1.0 rad/s), the other published reading of the paper's simulator, and "
+           "two readings the paper leaves open: the study-2 rear grip reduction on the whole "
+           "tyre curve (`plant.grip_scaling=curve`, as the simulator's friction input multiplies "
+           "the tyre force; the vehicle file scales the friction coefficient only) and the "
+           "PMPC's commanded instead of planned lateral acceleration as the ESC's target "
+           "(`motion.pmpc.esc_target=commanded`).",
            "- **Time per column** (wall, and the CPU time of scw and its workers, which "
            "depends much less on what else the machine runs): " + "; ".join(
                f"{col_title(c)} {sum(x['wall_time_s'] for x in c[2].values() if x) / 60:.1f} "

@@ -17,7 +17,8 @@
 # CLAIMS_MAP=1 (also experiments/claims_map.py, the map of what decides each claim: ~30 min for
 # the shipped set with every family, and for each given set its actuator families, brake x
 # steering dead time, no brake dynamics and the paper's simulator's actuators (also with its
-# steering dead time at 0 and 30 ms, and as its IV-2024 code had them), ~18 min each),
+# steering dead time at 0 and 30 ms, and as its IV-2024 code had them), the grip reduction on
+# the whole tyre curve and the PMPC's commanded ESC target, ~22 min each),
 # STUDY_ARGS (extra options of every study, e.g. "--gg 1.0,1.05 --laps 1" for a quick check).
 # Shipped + one tuned set, both actuator models: see experiments/README.md for the measured time.
 # To refresh the committed reference copy afterwards:
@@ -64,7 +65,7 @@ if [ "${CLAIMS_MAP:-0}" = 1 ]; then
   "$py" "$here/claims_map.py" --no-report --processes "$procs"
   for f in "$@"; do
     "$py" "$here/claims_map.py" --no-report --processes "$procs" --stability "$f" \
-      --families brake_steer,no_brake_dyn,paper_sim,paper_sim_steer,paper_sim_v1
+      --families brake_steer,no_brake_dyn,paper_sim,paper_sim_steer,paper_sim_v1,grip_curve,esc_target
   done
 fi
 "$py" "$here/compare.py" --no-report "$here/../params/stability/default.yaml" "$@"
