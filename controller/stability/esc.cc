@@ -39,6 +39,20 @@ EscPhase NextEscPhase(EscPhase phase, const EscSignals& s, const EscThresholds& 
   return EscPhase::kInactive;
 }
 
+double EscActivationMargin(const EscSignals& s, const EscThresholds& th) noexcept {
+  const bool oversteer = s.speed > th.min_velocity && s.yaw_rate * s.e_psi < 0.0 &&
+                         s.beta * s.e_beta < 0.0 && s.e_beta * s.e_psi < 0.0;
+  if (!oversteer) return 0.0;
+  double margin = kMaxEscMargin;
+  const auto term = [&margin](double value, double threshold) {
+    if (threshold > 0.0) margin = std::min(margin, std::abs(value) / threshold);
+  };
+  term(s.beta, th.beta_activate);
+  term(s.e_beta, th.beta_error_activate);
+  term(s.e_psi, th.psi_dot_error_activate);
+  return std::isfinite(margin) ? margin : 0.0;
+}
+
 EscReference EscReferences(double speed, double steering_request, double ay_request,
                            double yaw_rate_request, double beta_request,
                            const EscReferenceModel& m) noexcept {
@@ -132,7 +146,9 @@ Esc::Output Esc::Step(const Input& in, State* s) const noexcept {
 
   if (thresholds_usable_) {
     const EscSignals sig{enabled, v, beta, in.yaw_rate, e_psi, e_beta};
-    s->phase = NextEscPhase(s->phase, sig, EscThresholdsAt(v, p_));
+    const EscThresholds th = EscThresholdsAt(v, p_);
+    out.activation_margin = EscActivationMargin(sig, th);
+    s->phase = NextEscPhase(s->phase, sig, th);
   } else {
     s->phase = EscPhase::kInactive;
   }

@@ -67,6 +67,14 @@ EscThresholds EscThresholdsAt(double speed, const params::EscParams& p) noexcept
 
 EscPhase NextEscPhase(EscPhase phase, const EscSignals& s, const EscThresholds& th) noexcept;
 
+/// A diagnostic, not part of the controller's behaviour: how close the activation condition of an
+/// inactive ESC is, whether or not ESC is enabled (E ignored). 0 unless v > v_min and the three
+/// oversteer sign conditions hold; then min(|β|/B_a, |e_β,f|/Eβ_a, |e_ψ,f|/Eψ_a), a non-positive
+/// (extrapolated) threshold counting as met; capped at kMaxEscMargin. Above 1 the condition holds
+/// (with E, ESC activates).
+double EscActivationMargin(const EscSignals& s, const EscThresholds& th) noexcept;
+inline constexpr double kMaxEscMargin = 10.0;
+
 struct EscReference {
   double yaw_rate = 0.0;   ///< ψ̇_ref [rad/s]
   double beta = 0.0;       ///< β_ref [rad]
@@ -133,6 +141,7 @@ class Esc {
     EscReference reference{};
     double e_psi_filtered = 0.0;
     double e_beta_filtered = 0.0;
+    double activation_margin = 0.0;  ///< EscActivationMargin of this step (diagnostic)
   };
 
   /// Throws ConfigError if `p` is invalid.

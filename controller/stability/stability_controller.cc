@@ -179,6 +179,7 @@ StabilityOutput StabilityController::Step(const Input& in, State* s) const noexc
   out.tc_state = sc.tc_phase;
   out.yaw_moment = esc.yaw_moment;
   out.yaw_rate_ref = esc.reference.yaw_rate;
+  out.esc_margin = esc.activation_margin;
   out.slip_pct = slips.slip_pct;
   out.slip_angle = slips.slip_angle;
   out.v_ref = slips.v_ref;

@@ -106,6 +106,9 @@ struct StabilityOutput {
   bool shift_reduction = false;
   double alpha_front_filtered = 0.0;  ///< countersteer ᾱ_F [rad]
   double alpha_rear_filtered = 0.0;   ///< countersteer ᾱ_R [rad]
+  /// How close ESC's activation condition is (EscActivationMargin; > 1: it holds), computed
+  /// whether or not ESC is enabled, so a run with ESC off shows it too (0 in pass-through).
+  double esc_margin = 0.0;
 };
 
 class StabilityController {

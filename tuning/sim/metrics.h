@@ -49,6 +49,9 @@ struct RunMetrics {
   /// [s] ∫ max(0, requested − applied throttle) dt while TC acts (throttle 0..1)
   double tc_throttle_cut = 0.0;
   double max_speed = 0.0;  ///< [m/s]
+  /// Largest ESC activation margin (controller::EscActivationMargin; > 1: ESC's activation
+  /// condition held at least once, whether or not ESC was enabled). Sweep CSV only.
+  double max_esc_margin = 0.0;
   /// Maneuver runs (tuning/maneuver/maneuver.h) only: the standard's pass/fail criteria checked
   /// and failed, and Σ over the failed ones of min(1, |value − limit| / |limit|).
   int criteria_checked = 0;
@@ -109,6 +112,15 @@ struct RunMetrics {
                                                     .doc = "∫ max(0, |β| − β_allowed) dt"});
     v.Output(m.max_speed,
              OutputMeta{.key = "max_speed_mps", .unit = "m/s", .doc = "largest speed"});
+    v.Output(m.max_esc_margin,
+             OutputMeta{.key = "max_esc_margin",
+                        .doc = "closest approach to ESC's activation condition (> 1: it held; "
+                               "computed with ESC off too)",
+                        // A diagnostic of the thresholds, not of the car: it moves with every
+                        // ESC threshold even where ESC never acts, so it stays out of the run
+                        // summaries and hence out of what counts as exercised
+                        // (tuning/optim/sensitivity.h); the sweep CSV has it.
+                        .summary = false});
     v.Output(m.esc_count, OutputMeta{.key = "esc_count", .doc = "ESC activations (rising edges)"});
     v.Output(m.esc_time,
              OutputMeta{.key = "esc_time_s", .unit = "s", .doc = "time ESC was active"});

@@ -49,6 +49,7 @@ void MetricsAccumulator::Add(const TickRecord& r, RunMetrics* m) noexcept {
   m->max_abs_lateral_error = std::max(m->max_abs_lateral_error, std::abs(r.motion.lateral_error));
   m->max_abs_heading_error = std::max(m->max_abs_heading_error, std::abs(r.motion.heading_error));
   m->max_speed = std::max(m->max_speed, r.speed);
+  m->max_esc_margin = std::max(m->max_esc_margin, r.output.esc_margin);
   m->sideslip_excess_integral +=
       std::max(0.0, std::abs(r.beta) * kRadToDeg - sideslip_allowed_deg_) * ts;
   const controller::StabilityInput& in = r.input;

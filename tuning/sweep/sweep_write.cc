@@ -86,6 +86,7 @@ void WriteSweepCsv(const std::string& path, const SweepResult& r) {
                                                   "abs_time_s",
                                                   "tc_time_s",
                                                   "esc_brake_energy_J",
+                                                  "max_esc_margin",
                                                   "end_lap",
                                                   "end_s_m"};
   for (std::string_view c : kColumns) header.emplace_back(c);

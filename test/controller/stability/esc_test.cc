@@ -242,6 +242,37 @@ TEST_P(EscTransitionTest, Edge) {
 
 INSTANTIATE_TEST_SUITE_P(Boundaries, EscTransitionTest, ::testing::ValuesIn(Rows()), RowName);
 
+// The activation margin (a diagnostic) agrees with the activation condition of an inactive ESC on
+// every boundary row with E set: > 1 exactly where it activates (the margin ignores E, the
+// transition needs it). Its value is the smallest ratio of a magnitude to its threshold, 0 without
+// the oversteer signs or at the speed gate, and a non-positive threshold counts as met.
+TEST(EscTest, ActivationMarginIsTheSmallestRatioAndAgreesWithActivation) {
+  const EscThresholds th{.beta_activate = 0.03,
+                         .psi_dot_error_activate = 0.04,
+                         .beta_error_activate = 0.06,
+                         .beta_deactivate = 0.035,
+                         .psi_dot_error_deactivate = 0.026,
+                         .beta_error_deactivate = 0.018,
+                         .min_velocity = 7.0};
+  for (const EscRow& row : Rows()) {
+    if (row.from != EscPhase::kInactive || !row.sig.enabled) continue;
+    const double m = EscActivationMargin(row.sig, th);
+    EXPECT_EQ(m > 1.0, row.expected == EscPhase::kActive) << row.name << " margin " << m;
+  }
+  // |β|/B_a = 0.5, |e_β|/Eβ_a = 2/3, |e_ψ|/Eψ_a = 0.75: the β term decides.
+  EXPECT_DOUBLE_EQ(EscActivationMargin(Sig(-0.015, 0.5, -0.03, 0.04), th), 0.5);
+  EXPECT_EQ(EscActivationMargin(Sig(-0.015, 0.5, 0.03, 0.04), th), 0.0);        // understeer
+  EXPECT_EQ(EscActivationMargin(Sig(-0.015, 0.5, -0.03, 0.04, 7.0), th), 0.0);  // speed gate
+  EXPECT_EQ(EscActivationMargin(Sig(-0.1, 0.5, -0.1, 0.1, 20.0, false), th),
+            EscActivationMargin(Sig(-0.1, 0.5, -0.1, 0.1), th));  // E ignored
+  EscThresholds extrapolated = th;
+  extrapolated.beta_activate = -0.004;  // above 74.7 m/s with the shipped arrays
+  EXPECT_DOUBLE_EQ(EscActivationMargin(Sig(-0.001, 0.5, -0.03, 0.04), extrapolated), 0.04 / 0.06);
+  extrapolated.psi_dot_error_activate = 0.0;
+  extrapolated.beta_error_activate = -1.0;
+  EXPECT_EQ(EscActivationMargin(Sig(-0.001, 0.5, -0.03, 0.04), extrapolated), kMaxEscMargin);
+}
+
 TEST(EscTest, ReferencesFromAyRequestOrSingleTrack) {
   const EscReferenceModel m;
   const double nan = std::nan("");
