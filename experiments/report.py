@@ -1179,7 +1179,54 @@ def goal_section(results, cols):
                     line += (f" {cm['set_label'].capitalize()} set's map:" if len(maps) > 1
                              else "") + blockers
         out.append(line)
-    return out + [""]
+    return out + [""] + esc_margin_section()
+
+
+def esc_margin_section():
+    """Claim (d) needs ESC to act where `none` also completes: how close ESC's activation
+    condition came in those runs (experiments/esc_margin.py), if it was run."""
+    s = scwexp.read_summary("esc_margin")
+    if not s or not s.get("rows"):
+        return []
+    rows = s["rows"]
+
+    def margins(cfg, at, completed):
+        return [scwexp.to_float(r["max_esc_margin"]) for r in rows
+                if r["config"] == cfg and r["at"] == at
+                and (r["status"] == "completed") == completed]
+    kept = margins("none", "judged", True)
+    lost = margins("none", "none_abort", False)
+    below = sum(m < 1.0 for m in kept)
+    gaps = sorted({round(b["gg"] - a["gg"], 6) for a in rows for b in rows
+                   if a["column"] == b["column"] and a["at"] == "judged"
+                   and b["at"] == "none_abort" and a["config"] == b["config"] == "none"})
+    above = [(r["set_label"], r["actuators"]) for r in rows
+             if r["config"] == "none" and r["at"] == "judged" and r["status"] == "completed"
+             and scwexp.to_float(r["max_esc_margin"]) >= 1.0]
+    esc_there = {(r["set_label"], r["actuators"]): int(scwexp.to_float(r["esc_count"]))
+                 for r in rows if r["config"] == "esc" and r["at"] == "judged"}
+    out = ["### Claim (d): how close ESC comes to acting where it is judged", "",
+           "Study 2, rear μy 0.80, every scored column: `none` and ESC only at the GG where (d) "
+           "is judged and at `none`'s first abort, with each run's `max_esc_margin` (the "
+           "closest approach to ESC's activation condition: the smallest of |β|/B_a, "
+           "|e_β,f|/Eβ_a, |e_ψ,f|/Eψ_a while the oversteer signs hold; above 1 the condition "
+           "held; computed with ESC off too; `experiments/esc_margin.py`, "
+           f"{s.get('wall_time_s', 0) / 60:.1f} min wall).", ""] + s["text"] + [""]
+    if kept and lost:
+        out.append(
+            f"In `none`'s completed run at the judged GG the margin peaks at "
+            f"{min(kept):.2f}–{max(kept):.2f}, below 1 in {below} of {len(kept)} columns: "
+            "there ESC's thresholds are never reached, so ESC cannot cost lap time whatever "
+            "its gains" + ("" if not above else "; above 1 in " + ", ".join(
+                f"{a} × {b} (ESC only acts {esc_there.get((a, b), 0)}× there)"
+                for a, b in above)) + ". In the run `none` loses, "
+            + "/".join(f"{x:g}" for x in gaps) + " GG higher, it reaches "
+            f"{min(lost):.2f}–{max(lost):.2f}. The band between ESC's activation and the loss "
+            "of the car is narrower than one step of the GG axis: the car without lateral "
+            "control either stays well inside ESC's thresholds or is lost, so (d)'s premise, "
+            "ESC braking in laps that `none` also completes, hardly arises.")
+        out.append("")
+    return out
 
 
 def step_gains(vs):

@@ -68,6 +68,7 @@ if [ "${CLAIMS_MAP:-0}" = 1 ]; then
       --families brake_steer,no_brake_dyn,paper_sim,paper_sim_steer,paper_sim_v1,grip_curve,esc_target
   done
 fi
+"$py" "$here/esc_margin.py" --no-report --processes "$procs"
 "$py" "$here/compare.py" --no-report "$here/../params/stability/default.yaml" "$@"
 "$py" "$here/report.py"
 echo "run_all: $((SECONDS - start)) s; report: $here/results/report.md"

@@ -26,6 +26,7 @@ except ImportError:
 import scwexp  # noqa: E402
 import report  # noqa: E402
 import knife_edge  # noqa: E402
+import esc_margin  # noqa: E402
 
 FIELDS = ["config", "gg_scale", "grip.rear_mu_y", "status", "mean_lap_time_s", "esc_count",
           "cs_count", "abs_count", "tc_count"]
@@ -271,6 +272,31 @@ class ClaimsMaps(unittest.TestCase):
         self.assertIn("scored column tuned set, real car", c)
         self.assertIn("where it fails", c)
         self.assertIn("The run that shows it, one change", c)
+
+
+class EscMargin(unittest.TestCase):
+    """The GG claim (d) is judged at, as report.claim_d picks it."""
+
+    def series(self, aborts):
+        return {c: {"runs": [run_row(g, status="completed" if g < a else "sideslip")
+                             for g in (1.0, 1.025, 1.05, 1.1, 1.2, 1.3, 1.4) if g <= a]}
+                for c, a in aborts.items()}
+
+    def test_highest_common_completed_gg(self):
+        s = self.series({"none": 1.05, "esc": 1.2, "cs": 1.025, "esc+cs": 1.4})
+        self.assertEqual(esc_margin.judged_gg(s), 1.0)
+        s = self.series({"none": 1.1, "esc": 1.2, "cs": 1.2, "esc+cs": 1.4})
+        self.assertEqual(esc_margin.judged_gg(s), 1.05)
+
+    def test_the_papers_gg_when_all_complete_it(self):
+        s = self.series({"none": 1.4, "esc": 1.4, "cs": 1.4, "esc+cs": 1.4})
+        self.assertEqual(esc_margin.judged_gg(s), report.GG_D)
+
+    def test_none_without_a_common_run_or_a_configuration(self):
+        s = self.series({"none": 1.0, "esc": 1.2, "cs": 1.2, "esc+cs": 1.4})
+        self.assertIsNone(esc_margin.judged_gg(s))
+        del s["cs"]
+        self.assertIsNone(esc_margin.judged_gg(s))
 
 
 class FinishStudy(unittest.TestCase):
