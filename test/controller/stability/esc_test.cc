@@ -228,14 +228,19 @@ std::string RowName(const ::testing::TestParamInfo<EscRow>& row) { return row.pa
 
 class EscTransitionTest : public ::testing::TestWithParam<EscRow> {};
 
+// The thresholds the boundary rows are written against.
+EscThresholds RowThresholds() {
+  return {.beta_activate = 0.03,
+          .psi_dot_error_activate = 0.04,
+          .beta_error_activate = 0.06,
+          .beta_deactivate = 0.035,
+          .psi_dot_error_deactivate = 0.026,
+          .beta_error_deactivate = 0.018,
+          .min_velocity = 7.0};
+}
+
 TEST_P(EscTransitionTest, Edge) {
-  const EscThresholds th{.beta_activate = 0.03,
-                         .psi_dot_error_activate = 0.04,
-                         .beta_error_activate = 0.06,
-                         .beta_deactivate = 0.035,
-                         .psi_dot_error_deactivate = 0.026,
-                         .beta_error_deactivate = 0.018,
-                         .min_velocity = 7.0};
+  const EscThresholds th = RowThresholds();
   const EscRow& row = GetParam();
   EXPECT_EQ(NextEscPhase(row.from, row.sig, th), row.expected);
 }
@@ -247,13 +252,7 @@ INSTANTIATE_TEST_SUITE_P(Boundaries, EscTransitionTest, ::testing::ValuesIn(Rows
 // transition needs it). Its value is the smallest ratio of a magnitude to its threshold, 0 without
 // the oversteer signs or at the speed gate, and a non-positive threshold counts as met.
 TEST(EscTest, ActivationMarginIsTheSmallestRatioAndAgreesWithActivation) {
-  const EscThresholds th{.beta_activate = 0.03,
-                         .psi_dot_error_activate = 0.04,
-                         .beta_error_activate = 0.06,
-                         .beta_deactivate = 0.035,
-                         .psi_dot_error_deactivate = 0.026,
-                         .beta_error_deactivate = 0.018,
-                         .min_velocity = 7.0};
+  const EscThresholds th = RowThresholds();
   for (const EscRow& row : Rows()) {
     if (row.from != EscPhase::kInactive || !row.sig.enabled) continue;
     const double m = EscActivationMargin(row.sig, th);
