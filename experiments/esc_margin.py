@@ -18,8 +18,6 @@ Reads results/columns/*/study2_lateral/summary.json (run experiments/run_all.sh 
 """
 
 import argparse
-import glob
-import json
 import os
 import sys
 
@@ -32,18 +30,10 @@ CONFIGS = ("none", "esc", "cs", "esc+cs")
 
 
 def judged_gg(series):
-    """The GG claim (d) is judged at (as report.claim_d): 1.3 if all four configurations complete
-    it, else the highest GG at which all four have a completed run (None if there is none)."""
+    """The GG claim (d) is judged at (report.claim_d_gg), None without all four configurations."""
     if any(k not in series for k in CONFIGS):
         return None
-
-    def done(x):
-        return all((report.run_at(series[k], x) or {}).get("status") == "completed"
-                   for k in CONFIGS)
-    if done(report.GG_D):
-        return report.GG_D
-    common = [x for x in sorted({r["gg_scale"] for r in series["none"]["runs"]}) if done(x)]
-    return common[-1] if common else None
+    return report.claim_d_gg(series)
 
 
 def stability_path(column):
@@ -65,19 +55,16 @@ def main(argv=None):
     out = scwexp.results_dir(STUDY)
     timer = scwexp.Timer()
     rows_out, commands = [], []
-    paths = sorted(glob.glob(os.path.join(scwexp.RESULTS, "columns", "*", "study2_lateral",
-                                          "summary.json")))
-    if not paths:
+    cols = [(n, ss["study2_lateral"]) for n, _, ss in report.find_columns(scwexp.RESULTS)
+            if ss.get("study2_lateral")]
+    if not cols:
         sys.exit("error: no study-2 columns in results/columns (run experiments/run_all.sh)")
-    for path in paths:
-        with open(path) as f:
-            s2 = json.load(f)
+    for name, s2 in cols:
         col = s2["column"]
         main_pert = s2["perturbation"]["main"]
         series = s2["runs"][main_pert]
         gg_d = judged_gg(series)
         gg_a = series["none"].get("first_abort")
-        name = os.path.basename(os.path.dirname(os.path.dirname(path)))
         configs = []
         for tag, gg in (("judged", gg_d), ("none_abort", gg_a)):
             if gg is None:

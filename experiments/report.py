@@ -222,16 +222,22 @@ def claim_c(ser):
     return check(items)
 
 
-def claim_d(ser):
-    if any(k not in ser for k in ("none", "esc", "cs", "esc+cs")):
-        return None, [("data", None, "study 2 lacks configurations")]
+def claim_d_gg(ser):
+    """The GG claim (d) is judged at: GG_D if all four configurations complete it, else the
+    highest GG at which every configuration has a completed run (None if there is none)."""
     common = None
     ggs = sorted({r["gg_scale"] for r in done_runs(ser["none"])})
     for x in ggs:
         if all((run_at(ser[k], x) or {}).get("status") == "completed" for k in ser):
             common = x if common is None or x > common else common
-    at = GG_D if all((run_at(ser[k], GG_D) or {}).get("status") == "completed"
-                     for k in ("none", "esc", "cs", "esc+cs")) else common
+    return GG_D if all((run_at(ser[k], GG_D) or {}).get("status") == "completed"
+                       for k in ("none", "esc", "cs", "esc+cs")) else common
+
+
+def claim_d(ser):
+    if any(k not in ser for k in ("none", "esc", "cs", "esc+cs")):
+        return None, [("data", None, "study 2 lacks configurations")]
+    at = claim_d_gg(ser)
     if at is None:
         return False, [("all four complete at a common GG", False, "no common completed GG")]
     shift = "" if abs(at - GG_D) < EPS else f" (not all complete at {GG_D}: shifted)"
@@ -1211,7 +1217,10 @@ def esc_margin_section():
            "closest approach to ESC's activation condition: the smallest of |β|/B_a, "
            "|e_β,f|/Eβ_a, |e_ψ,f|/Eψ_a while the oversteer signs hold; above 1 the condition "
            "held; computed with ESC off too; `experiments/esc_margin.py`, "
-           f"{s.get('wall_time_s', 0) / 60:.1f} min wall).", ""] + s["text"] + [""]
+           f"{s.get('wall_time_s', 0) / 60:.1f} min wall" + (
+               f"; {len(s['reused'])} of {len(s.get('commands', []))} sweeps read from an "
+               "earlier run of the same commands (`--reuse`), their cost not in this time"
+               if s.get("reused") else "") + ").", ""] + s["text"] + [""]
     if kept and lost:
         out.append(
             f"In `none`'s completed run at the judged GG the margin peaks at "

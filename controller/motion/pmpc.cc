@@ -234,7 +234,9 @@ PointMassMpc::State::~State() = default;
 
 PointMassMpc::PointMassMpc(const PmpcOptions& options, GgTable limits, Corridor corridor,
                            std::shared_ptr<const Path> path)
-    : MpcController(std::move(limits), std::move(corridor), std::move(path)), options_(options) {
+    : MpcController(std::move(limits), std::move(corridor), std::move(path)),
+      options_(options),
+      commanded_target_(options.esc_target == "commanded") {
   Problems pr = ValidateInputs();
   const auto& o = options_;
   pr.Append(params::Validate(static_cast<const params::PmpcParams&>(o)));  // bounds, cross-checks
@@ -511,7 +513,7 @@ MotionOutput PointMassMpc::Step(const MotionInput& in, MotionState* base) const 
   ax = std::clamp(ax, -o.headroom * limits().AxBrakeMax(v),
                   std::max(o.headroom * limits().AxDriveMax(v), 0.5));
   out.ax_request = std::isfinite(ax) ? ax : 0.0;
-  const double ay_target = o.esc_target == "commanded" ? an_cmd : an_nom;
+  const double ay_target = commanded_target_ ? an_cmd : an_nom;
   out.ay_request = std::isfinite(ay_target) ? ay_target : 0.0;
   return out;
 }

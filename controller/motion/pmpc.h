@@ -115,6 +115,7 @@ class PointMassMpc final : public MpcController {
  private:
   bool Solve(const MotionInput& in, double s, double n, double w, double v, State* st) const;
   PmpcOptions options_;
+  bool commanded_target_ = false;  // options_.esc_target == "commanded" (once, not per step)
   std::vector<double> slope_, offset_;
 };
 
