@@ -9,15 +9,20 @@ activation condition, controller::EscActivationMargin; above 1 the condition hel
 ESC off too). Claim (d) needs ESC to act where `none` also completes: a margin below 1 in
 `none`'s completed run says ESC's thresholds were never reached there, so ESC cannot cost lap
 time at that GG whatever its gains; a margin above 1 only in the run `none` loses says that the
-band between ESC's activation and the loss of the car is empty.
+band between ESC's activation and the loss of the car is empty. Each run also gives the margin's
+three terms (|β|/B_a, |e_β,f|/Eβ_a, |e_ψ,f|/Eψ_a at their largest while the oversteer signs
+held): the one below 1 is the condition that kept ESC off. Then `none`'s first abort is
+bisected further (--resolution, default 0.001 GG) and `none` and ESC are run at the last GG
+`none` completes: whether a finer GG axis would find laps `none` completes with ESC acting.
 
 Reads results/columns/*/study2_lateral/summary.json (run experiments/run_all.sh first), one
 `scw sweep` per column; writes results/esc_margin/summary.json (read by report.py).
 
-    python3 experiments/esc_margin.py [--processes 2] [--reuse]
+    python3 experiments/esc_margin.py [--processes 2] [--reuse] [--resolution 0.001]
 """
 
 import argparse
+import math
 import os
 import sys
 
@@ -27,6 +32,37 @@ import report  # noqa: E402
 STUDY = "esc_margin"
 S2 = ["plan_with_nominal_grip=true", "abort.lock_slip_pct=100"]
 CONFIGS = ("none", "esc", "cs", "esc+cs")
+TERMS = scwexp.ESC_TERMS
+RESOLUTION = 0.001  # GG: how finely `none`'s first abort is bisected (--resolution)
+
+
+def bisection_levels(lo, hi, resolution):
+    """Rounds of bisection that bring the interval [lo, hi] down to `resolution` or below."""
+    if not resolution or hi - lo <= resolution:
+        return 0
+    return math.ceil(math.log2((hi - lo) / resolution) - 1e-9)
+
+
+def finest_band(scw, args, name, series, sets, stab, out):
+    """`none`'s first abort bisected from the study's (last completed GG, first abort) down to
+    args.resolution (scwexp.refine_first_aborts, one `scw sweep` per round): the last GG `none`
+    completes and the first it loses, or None when the series has no such pair. Claim (d) needs
+    ESC to act in a lap `none` completes; if even the last completed GG at this resolution keeps
+    ESC's condition below 1, no finer GG axis makes the band between them non-empty."""
+    rows = [dict(r, gg_scale=float(r["gg_scale"])) for r in series["none"].get("runs") or []]
+    bounds = scwexp.series_bounds(rows)
+    if not bounds:
+        return None
+    levels = bisection_levels(bounds[0], bounds[1], args.resolution)
+    sweep_args = argparse.Namespace(processes=args.processes or 2, stability=stab,
+                                    threads=getattr(args, "threads", 0))
+    rows, commands = scwexp.refine_first_aborts(
+        scw, sweep_args, sets,
+        ["none:subsystems.esc=false,subsystems.cs=false"], rows, None,
+        os.path.join(out, f"fine_{name}.csv"), os.path.join(out, f"fine_{name}.log"),
+        mpc=True, levels=levels, reuse=args.reuse)
+    lo, hi = scwexp.series_bounds(rows) or bounds
+    return {"last_completed": lo, "first_abort": hi, "levels": levels, "commands": commands}
 
 
 def judged_gg(series):
@@ -49,6 +85,9 @@ def main(argv=None):
     p.add_argument("--reuse", action="store_true",
                    help="read a column's table from a previous run when its recorded command is "
                         "the same")
+    p.add_argument("--resolution", type=float, default=RESOLUTION,
+                   help=f"bisect `none`'s first abort down to this GG step and run `none` and ESC "
+                        f"at the last GG `none` completes (default {RESOLUTION}; 0: off)")
     args = p.parse_args(argv)
     scwexp.apply_common_args(args)
     scw = scwexp.find_scw()
@@ -78,6 +117,12 @@ def main(argv=None):
             f"{s2['perturbation']['key']}={main_pert}"] + args.set
         csv_path = os.path.join(out, f"sweep_{name}.csv")
         stab = stability_path(col)
+        fine = finest_band(scw, args, name, series, sets, stab, out) if args.resolution else None
+        if fine:
+            commands += fine.pop("commands")
+            gg_f = fine["last_completed"]
+            configs += [f"none.finest:subsystems.esc=false,subsystems.cs=false,gg_scale={gg_f}",
+                        f"esc.finest:subsystems.esc=true,subsystems.cs=false,gg_scale={gg_f}"]
         # Ipopt serialises within a process: the runs go to worker processes
         cmd = [scw, "sweep", "-o", csv_path, "--processes", str(args.processes or 2), "--set"] \
             + sets
@@ -87,12 +132,16 @@ def main(argv=None):
             cmd += ["--stability", stab]
         scwexp.reuse_or_run(cmd, csv_path, os.path.join(out, f"scw_{name}.log"), args.reuse)
         commands.append(" ".join(cmd))
+        gg_of = {"judged": gg_d, "none_abort": gg_a,
+                 "finest": fine["last_completed"] if fine else None}
         for r in scwexp.read_csv(csv_path):
             cfg, tag = r["config"].split(".", 1)
             rows_out.append({"column": name, "set_label": col["set_label"],
                              "actuators": col["actuators"], "config": cfg, "at": tag,
-                             "gg": gg_d if tag == "judged" else gg_a, "status": r["status"],
+                             "gg": gg_of[tag], "status": r["status"],
+                             "first_abort_fine": fine["first_abort"] if fine else None,
                              "max_esc_margin": r.get("max_esc_margin"),
+                             **{k: r.get(k) for k in TERMS},
                              "esc_count": r.get("esc_count"),
                              "max_abs_sideslip_deg": r.get("max_abs_sideslip_deg"),
                              "mean_lap_time_s": r.get("mean_lap_time_s")})
@@ -107,28 +156,46 @@ def main(argv=None):
 
 
 def text_of(rows):
-    """The report's table: per column, `none` and ESC at the judged GG and at `none`'s abort."""
+    """The report's table: per column, `none` and ESC at the judged GG, at `none`'s abort and at
+    the last GG `none` completes with its abort bisected finer (when run)."""
     def cell(r):
         if r is None:
             return "–"
         m = scwexp.to_float(r["max_esc_margin"])
-        return (f"{r['status']} · margin {m:.2f} · ESC {int(scwexp.to_float(r['esc_count']))}×"
-                if m == m else f"{r['status']}")
+        if m != m:
+            return f"{r['status']}"
+        terms = scwexp.esc_terms_text(r)
+        return (f"{r['status']} · margin {m:.2f}" + (f" ({terms})" if terms else "")
+                + f" · ESC {int(scwexp.to_float(r['esc_count']))}×")
     cols = []
     for r in rows:
         if r["column"] not in cols:
             cols.append(r["column"])
-    lines = ["| column | (d) judged at GG | `none` there | ESC only there | `none`'s first abort "
-             "GG | `none` there | ESC only there |", "|---|---|---|---|---|---|---|"]
+    fine = any(r["at"] == "finest" for r in rows)
+    head = ("| column | (d) judged at GG | `none` there | ESC only there | `none`'s first abort "
+            "GG | `none` there | ESC only there |")
+    rule = "|---|---|---|---|---|---|---|"
+    if fine:
+        head += " last GG `none` completes (finer) | `none` there | ESC only there |"
+        rule += "---|---|---|"
+    lines = [head, rule]
     for c in cols:
         rs = {(r["config"], r["at"]): r for r in rows if r["column"] == c}
         any_r = next(r for r in rows if r["column"] == c)
-        gd = next((r["gg"] for r in rows if r["column"] == c and r["at"] == "judged"), None)
-        ga = next((r["gg"] for r in rows if r["column"] == c and r["at"] == "none_abort"), None)
-        lines.append(f"| {any_r['set_label']}, {any_r['actuators']} | {scwexp.fmt(gd, 3)} | "
-                     f"{cell(rs.get(('none', 'judged')))} | {cell(rs.get(('esc', 'judged')))} | "
-                     f"{scwexp.fmt(ga, 3)} | {cell(rs.get(('none', 'none_abort')))} | "
-                     f"{cell(rs.get(('esc', 'none_abort')))} |")
+
+        def gg(at):
+            return next((r["gg"] for r in rows if r["column"] == c and r["at"] == at), None)
+        line = (f"| {any_r['set_label']}, {any_r['actuators']} | {scwexp.fmt(gg('judged'), 3)} | "
+                f"{cell(rs.get(('none', 'judged')))} | {cell(rs.get(('esc', 'judged')))} | "
+                f"{scwexp.fmt(gg('none_abort'), 3)} | {cell(rs.get(('none', 'none_abort')))} | "
+                f"{cell(rs.get(('esc', 'none_abort')))} |")
+        if fine:
+            fa = any_r.get("first_abort_fine")
+            g = gg("finest")
+            line += (f" {scwexp.fmt(g, 3)}" + (f" (lost at {fa:.3f})" if fa is not None else "")
+                     + f" | {cell(rs.get(('none', 'finest')))} | "
+                     f"{cell(rs.get(('esc', 'finest')))} |")
+        lines.append(line)
     return lines
 
 

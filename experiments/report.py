@@ -22,6 +22,7 @@ import scwexp
 STEP = 0.05   # GG step of the studies
 EPS = 1e-6
 GG_D = 1.3    # claim (d): the paper's GG
+CLAIM_D_COST = (0.05, 0.40)  # claim (d): the range Δ(ESC) must fall in [s]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -248,7 +249,8 @@ def claim_d(ser):
               f"GG {g(at)}{shift}; laps none {t3(r['none']['mean_lap_time_s'])}, ESC "
               f"{t3(r['esc']['mean_lap_time_s'])}, CS {t3(r['cs']['mean_lap_time_s'])}, ESC + CS "
               f"{t3(r['esc+cs']['mean_lap_time_s'])} s"),
-             ("Δ(ESC) in 0.05–0.40 s", 0.05 - EPS <= d_esc <= 0.40 + EPS, f"Δ(ESC) {d_esc:+.3f} s"),
+             ("Δ(ESC) in 0.05–0.40 s", CLAIM_D_COST[0] - EPS <= d_esc <= CLAIM_D_COST[1] + EPS,
+              f"Δ(ESC) {d_esc:+.3f} s"),
              ("0 ≤ Δ(ESC + CS) < Δ(ESC)", -EPS <= d_both < d_esc,
               f"Δ(ESC + CS) {d_both:+.3f} s"),
              ("ESC active at that GG in both ESC configurations",
@@ -1235,7 +1237,62 @@ def esc_margin_section():
             "control either stays well inside ESC's thresholds or is lost, so (d)'s premise, "
             "ESC braking in laps that `none` also completes, hardly arises.")
         out.append("")
+    out += esc_margin_terms_text(rows) + esc_margin_finest_text(rows)
     return out
+
+
+def esc_margin_terms_text(rows):
+    """Which term of ESC's activation condition kept it off in `none`'s completed runs at the
+    judged GG (esc_margin.py's term columns), as a sentence, or nothing without them."""
+    kept = [r for r in rows if r["config"] == "none" and r["at"] == "judged"
+            and r["status"] == "completed" and scwexp.esc_terms_text(r)]
+    if not kept:
+        return []
+    counts = {}
+    for r in kept:
+        for n in scwexp.esc_binding_terms(r):
+            counts[n] = counts.get(n, 0) + 1
+    peaks = {n: [scwexp.to_float(r[k]) for r in kept]
+             for n, k in zip(scwexp.ESC_TERM_NAMES, scwexp.ESC_TERMS)}
+    told = "; ".join(f"{n} below 1 in {counts.get(n, 0)} of {len(kept)}, peaks "
+                     f"{min(v):.2f}–{max(v):.2f}" for n, v in peaks.items())
+    return [f"Which condition keeps ESC off in those completed runs (each term at its largest "
+            f"while the oversteer signs held; below 1, it alone forbids activation): {told}. "
+            "|β| = the sideslip, e_β = its excess over ESC's single-track sideslip reference "
+            "(`tire_stiffness_rear`), e_ψ = the yaw-rate excess over the motion controller's "
+            "a_y request / v.", ""]
+
+
+def esc_margin_finest_text(rows):
+    """`none`'s first abort bisected to esc_margin.py's resolution: the margin at the last GG
+    `none` completes and what ESC did there, as a sentence, or nothing if not run."""
+    fin = [r for r in rows if r["at"] == "finest"]
+    if not fin:
+        return []
+    none = [r for r in fin if r["config"] == "none" and r["status"] == "completed"]
+    esc = [r for r in fin if r["config"] == "esc"]
+    if not none:
+        return []
+    m = [scwexp.to_float(r["max_esc_margin"]) for r in none]
+    gaps = sorted({round(r["first_abort_fine"] - r["gg"], 6) for r in none
+                   if r.get("first_abort_fine") is not None})
+    acts = [int(scwexp.to_float(r["esc_count"])) for r in esc if r["status"] == "completed"]
+    lap = {r["column"]: scwexp.to_float(r["mean_lap_time_s"]) for r in none}
+    deltas = [scwexp.to_float(r["mean_lap_time_s"]) - lap[r["column"]] for r in esc
+              if r["status"] == "completed" and r["column"] in lap]
+    lo, hi = CLAIM_D_COST
+    opens = [r["column"] for r in esc if r["status"] == "completed" and r["column"] in lap
+             and int(scwexp.to_float(r["esc_count"])) > 0
+             and lo <= scwexp.to_float(r["mean_lap_time_s"]) - lap[r["column"]] <= hi]
+    return [f"With `none`'s first abort bisected to {'/'.join(f'{g:g}' for g in gaps)} GG, at "
+            f"the last GG it completes its margin peaks at {min(m):.2f}–{max(m):.2f} (below 1 "
+            f"in {sum(x < 1 for x in m)} of {len(m)} columns); ESC only completes there in "
+            f"{len(acts)} of {len(esc)} columns and acts in {sum(a > 0 for a in acts)} of them"
+            + (f" (Δ(ESC) {min(deltas):+.3f} to {max(deltas):+.3f} s)" if deltas else "")
+            + (". A finer GG axis does not open the band (d) needs: nowhere does ESC act there "
+               f"and cost {lo:g}–{hi:g} s." if not opens else
+               f". There ESC acts and costs {lo:g}–{hi:g} s in: {', '.join(opens)} (the other "
+               "parts of (d) are not judged at this GG)."), ""]
 
 
 def step_gains(vs):

@@ -245,6 +245,25 @@ RUN_FIELDS = ("gg_scale", "refined", "status", "progress", "laps_completed", "me
               "tc_count", "esc_time_s", "cs_time_s", "abs_time_s", "tc_time_s", "end_lap",
               "end_s_m")
 ACTIVATION_KEYS = ("esc_count", "cs_count", "abs_count", "tc_count")
+# The terms of ESC's activation condition (sweep columns): |β|/B_a, |e_β,f|/Eβ_a, |e_ψ,f|/Eψ_a,
+# each at its largest while the oversteer signs held, and their short names.
+ESC_TERMS = ("max_esc_beta_ratio", "max_esc_beta_error_ratio", "max_esc_yaw_rate_error_ratio")
+ESC_TERM_NAMES = ("β", "e_β", "e_ψ")
+
+
+def esc_terms_text(row):
+    """The three terms of a run's ESC margin, e.g. "β 2.41 · e_β 0.37 · e_ψ 3.51" ("" if the
+    table has none)."""
+    vals = [to_float(row.get(k)) for k in ESC_TERMS]
+    if any(v != v for v in vals):
+        return ""
+    return " · ".join(f"{n} {v:.2f}" for n, v in zip(ESC_TERM_NAMES, vals))
+
+
+def esc_binding_terms(row):
+    """The names of the terms that stayed below 1 in a run: each alone kept ESC off."""
+    vals = [to_float(row.get(k)) for k in ESC_TERMS]
+    return [n for n, v in zip(ESC_TERM_NAMES, vals) if v == v and v < 1.0]
 
 # Abort statuses of study 1 that are the paper's test end (a tyre locks or spins); every other
 # abort there is a safety stop (sideslip, lateral error, off track, timeout).
@@ -298,7 +317,7 @@ def study_sweep(scw, args, sets, configs, out_csv, log, pert=None, mpc=True, gg=
     return cmd, rows
 
 
-def _series_bounds(rows):
+def series_bounds(rows):
     """(last completed GG, first abort GG) of one series' rows (any order), or None when the
     series has no abort or no completed run below it."""
     rows = sorted(rows, key=lambda r: r["gg_scale"])
@@ -384,7 +403,7 @@ def refine_first_aborts(scw, args, sets, configs, rows, pert, out_csv, log, mpc=
         jobs = []
         for name in overrides:
             for pv in pvals:
-                b = _series_bounds(series(name, pv))
+                b = series_bounds(series(name, pv))
                 if b:
                     jobs.append((name, pv, round((b[0] + b[1]) / 2, 6)))
         if not jobs:

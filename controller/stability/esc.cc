@@ -39,18 +39,28 @@ EscPhase NextEscPhase(EscPhase phase, const EscSignals& s, const EscThresholds& 
   return EscPhase::kInactive;
 }
 
-double EscActivationMargin(const EscSignals& s, const EscThresholds& th) noexcept {
+EscActivationTerms EscActivationRatios(const EscSignals& s, const EscThresholds& th) noexcept {
   const bool oversteer = s.speed > th.min_velocity && s.yaw_rate * s.e_psi < 0.0 &&
                          s.beta * s.e_beta < 0.0 && s.e_beta * s.e_psi < 0.0;
-  if (!oversteer) return 0.0;
-  double margin = kMaxEscMargin;
-  const auto term = [&margin](double value, double threshold) {
-    if (threshold > 0.0) margin = std::min(margin, std::abs(value) / threshold);
+  if (!oversteer) return {};
+  const auto ratio = [](double value, double threshold) {
+    if (!(threshold > 0.0)) return kMaxEscMargin;
+    const double r = std::min(kMaxEscMargin, std::abs(value) / threshold);
+    return std::isfinite(r) ? r : 0.0;
   };
-  term(s.beta, th.beta_activate);
-  term(s.e_beta, th.beta_error_activate);
-  term(s.e_psi, th.psi_dot_error_activate);
-  return std::isfinite(margin) ? margin : 0.0;
+  return {.beta = ratio(s.beta, th.beta_activate),
+          .beta_error = ratio(s.e_beta, th.beta_error_activate),
+          .yaw_rate_error = ratio(s.e_psi, th.psi_dot_error_activate)};
+}
+
+namespace {
+double SmallestTerm(const EscActivationTerms& t) noexcept {
+  return std::min({t.beta, t.beta_error, t.yaw_rate_error});
+}
+}  // namespace
+
+double EscActivationMargin(const EscSignals& s, const EscThresholds& th) noexcept {
+  return SmallestTerm(EscActivationRatios(s, th));
 }
 
 EscReference EscReferences(double speed, double steering_request, double ay_request,
@@ -147,7 +157,8 @@ Esc::Output Esc::Step(const Input& in, State* s) const noexcept {
   if (thresholds_usable_) {
     const EscSignals sig{enabled, v, beta, in.yaw_rate, e_psi, e_beta};
     const EscThresholds th = EscThresholdsAt(v, p_);
-    out.activation_margin = EscActivationMargin(sig, th);
+    out.activation_terms = EscActivationRatios(sig, th);
+    out.activation_margin = SmallestTerm(out.activation_terms);
     s->phase = NextEscPhase(s->phase, sig, th);
   } else {
     s->phase = EscPhase::kInactive;

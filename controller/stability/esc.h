@@ -67,13 +67,24 @@ EscThresholds EscThresholdsAt(double speed, const params::EscParams& p) noexcept
 
 EscPhase NextEscPhase(EscPhase phase, const EscSignals& s, const EscThresholds& th) noexcept;
 
-/// A diagnostic, not part of the controller's behaviour: how close the activation condition of an
-/// inactive ESC is, whether or not ESC is enabled (E ignored). 0 unless v > v_min and the three
-/// oversteer sign conditions hold; then min(|β|/B_a, |e_β,f|/Eβ_a, |e_ψ,f|/Eψ_a), a non-positive
-/// (extrapolated) threshold counting as met; capped at kMaxEscMargin. Above 1 the condition holds
-/// (with E, ESC activates).
-double EscActivationMargin(const EscSignals& s, const EscThresholds& th) noexcept;
+/// The three magnitude terms of ESC's activation condition, each its signal over its activation
+/// threshold: |β|/B_a, |e_β,f|/Eβ_a, |e_ψ,f|/Eψ_a. A diagnostic, not part of the controller's
+/// behaviour, computed whether or not ESC is enabled (E ignored): all 0 unless v > v_min and the
+/// three oversteer sign conditions hold; a non-positive (extrapolated) threshold counts as met
+/// (kMaxEscMargin); each capped at kMaxEscMargin. A term whose largest value over a run stays
+/// below 1 kept ESC off in that run, whatever the other two did.
+struct EscActivationTerms {
+  double beta = 0.0;            ///< |β|/B_a
+  double beta_error = 0.0;      ///< |e_β,f|/Eβ_a
+  double yaw_rate_error = 0.0;  ///< |e_ψ,f|/Eψ_a
+};
+EscActivationTerms EscActivationRatios(const EscSignals& s, const EscThresholds& th) noexcept;
 inline constexpr double kMaxEscMargin = 10.0;
+
+/// How close the activation condition of an inactive ESC is: the smallest of the three
+/// EscActivationRatios (0 unless the sign conditions hold). Above 1 the condition holds (with E,
+/// ESC activates).
+double EscActivationMargin(const EscSignals& s, const EscThresholds& th) noexcept;
 
 struct EscReference {
   double yaw_rate = 0.0;   ///< ψ̇_ref [rad/s]
@@ -141,7 +152,8 @@ class Esc {
     EscReference reference{};
     double e_psi_filtered = 0.0;
     double e_beta_filtered = 0.0;
-    double activation_margin = 0.0;  ///< EscActivationMargin of this step (diagnostic)
+    double activation_margin = 0.0;         ///< EscActivationMargin of this step (diagnostic)
+    EscActivationTerms activation_terms{};  ///< EscActivationRatios of this step (diagnostic)
   };
 
   /// Throws ConfigError if `p` is invalid.

@@ -180,6 +180,7 @@ StabilityOutput StabilityController::Step(const Input& in, State* s) const noexc
   out.yaw_moment = esc.yaw_moment;
   out.yaw_rate_ref = esc.reference.yaw_rate;
   out.esc_margin = esc.activation_margin;
+  out.esc_margin_terms = esc.activation_terms;
   out.slip_pct = slips.slip_pct;
   out.slip_angle = slips.slip_angle;
   out.v_ref = slips.v_ref;

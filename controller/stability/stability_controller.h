@@ -109,6 +109,8 @@ struct StabilityOutput {
   /// How close ESC's activation condition is (EscActivationMargin; > 1: it holds), computed
   /// whether or not ESC is enabled, so a run with ESC off shows it too (0 in pass-through).
   double esc_margin = 0.0;
+  /// Its three terms (EscActivationRatios), to tell which one kept ESC off.
+  EscActivationTerms esc_margin_terms{};
 };
 
 class StabilityController {

@@ -299,6 +299,54 @@ class EscMargin(unittest.TestCase):
         self.assertIsNone(esc_margin.judged_gg(s))
 
 
+class EscMarginTerms(unittest.TestCase):
+    """The terms of ESC's activation condition in the report, and the finer bisection's depth."""
+
+    def row(self, column, cfg, at, status, margin, terms, esc=0, lap=70.0, gg=1.0, fa=None):
+        r = {"column": column, "set_label": "shipped", "actuators": column, "config": cfg,
+             "at": at, "gg": gg, "status": status, "first_abort_fine": fa,
+             "max_esc_margin": str(margin), "esc_count": str(esc),
+             "mean_lap_time_s": str(lap), "max_abs_sideslip_deg": "3"}
+        r.update({k: str(v) for k, v in zip(scwexp.ESC_TERMS, terms)})
+        return r
+
+    def test_levels_reach_the_resolution(self):
+        self.assertEqual(esc_margin.bisection_levels(1.025, 1.05, 0.001), 5)  # 0.025/32 < 0.001
+        self.assertEqual(esc_margin.bisection_levels(1.0, 1.05, 0.025), 1)
+        self.assertEqual(esc_margin.bisection_levels(1.0, 1.001, 0.001), 0)
+        self.assertEqual(esc_margin.bisection_levels(1.0, 1.05, 0), 0)
+
+    def test_terms_text_and_the_binding_term(self):
+        r = self.row("vehicle", "none", "judged", "completed", 0.37, (2.41, 0.37, 3.51))
+        self.assertEqual(scwexp.esc_terms_text(r), "β 2.41 · e_β 0.37 · e_ψ 3.51")
+        self.assertEqual(scwexp.esc_binding_terms(r), ["e_β"])
+        self.assertEqual(scwexp.esc_terms_text({"max_esc_margin": "0.3"}), "")
+        self.assertIn("margin 0.37 (β 2.41 · e_β 0.37 · e_ψ 3.51) · ESC 0×",
+                      "\n".join(esc_margin.text_of([r])))
+
+    def test_report_sentences(self):
+        rows = [self.row("vehicle", "none", "judged", "completed", 0.37, (2.41, 0.37, 3.51)),
+                self.row("paper_sim", "none", "judged", "completed", 0.3, (0.3, 0.9, 2.0)),
+                self.row("vehicle", "none", "finest", "completed", 0.65, (2.4, 0.65, 3.6),
+                         gg=1.035, fa=1.036),
+                self.row("vehicle", "esc", "finest", "completed", 0.65, (2.4, 0.65, 3.6),
+                         gg=1.035, fa=1.036)]
+        terms = " ".join(report.esc_margin_terms_text(rows))
+        self.assertIn("β below 1 in 1 of 2", terms)
+        self.assertIn("e_β below 1 in 2 of 2, peaks 0.37–0.90", terms)
+        self.assertIn("e_ψ below 1 in 0 of 2", terms)
+        fine = " ".join(report.esc_margin_finest_text(rows))
+        self.assertIn("bisected to 0.001 GG", fine)
+        self.assertIn("margin peaks at 0.65–0.65 (below 1 in 1 of 1 columns)", fine)
+        self.assertIn("nowhere does ESC act there", fine)
+        # ESC acting there at a cost inside (d)'s range is named, not hidden
+        rows[-1] = self.row("vehicle", "esc", "finest", "completed", 1.2, (2.4, 1.2, 3.6),
+                            esc=3, lap=70.1, gg=1.035, fa=1.036)
+        fine = " ".join(report.esc_margin_finest_text(rows))
+        self.assertIn("ESC acts and costs 0.05–0.4 s in: vehicle", fine)
+        self.assertEqual(report.esc_margin_finest_text(rows[:2]), [])
+
+
 class FinishStudy(unittest.TestCase):
     def test_summary_and_printed_lines(self):
         import argparse

@@ -52,6 +52,11 @@ struct RunMetrics {
   /// Largest ESC activation margin (controller::EscActivationMargin; > 1: ESC's activation
   /// condition held at least once, whether or not ESC was enabled). Sweep CSV only.
   double max_esc_margin = 0.0;
+  /// Largest value of each term of that condition (controller::EscActivationRatios, each taken
+  /// on its own while the oversteer signs hold): a term below 1 kept ESC off. Sweep CSV only.
+  double max_esc_beta_ratio = 0.0;
+  double max_esc_beta_error_ratio = 0.0;
+  double max_esc_yaw_rate_error_ratio = 0.0;
   /// Maneuver runs (tuning/maneuver/maneuver.h) only: the standard's pass/fail criteria checked
   /// and failed, and Σ over the failed ones of min(1, |value − limit| / |limit|).
   int criteria_checked = 0;
@@ -120,6 +125,19 @@ struct RunMetrics {
                         // ESC threshold even where ESC never acts, so it stays out of the run
                         // summaries and hence out of what counts as exercised
                         // (tuning/optim/sensitivity.h); the sweep CSV has it.
+                        .summary = false});
+    // The margin's three terms: the same kind of diagnostic, out of the summaries likewise.
+    v.Output(m.max_esc_beta_ratio,
+             OutputMeta{.key = "max_esc_beta_ratio",
+                        .doc = "largest |β|/B_a while ESC's oversteer signs held",
+                        .summary = false});
+    v.Output(m.max_esc_beta_error_ratio,
+             OutputMeta{.key = "max_esc_beta_error_ratio",
+                        .doc = "largest |e_β,f|/Eβ_a while ESC's oversteer signs held",
+                        .summary = false});
+    v.Output(m.max_esc_yaw_rate_error_ratio,
+             OutputMeta{.key = "max_esc_yaw_rate_error_ratio",
+                        .doc = "largest |e_ψ,f|/Eψ_a while ESC's oversteer signs held",
                         .summary = false});
     v.Output(m.esc_count, OutputMeta{.key = "esc_count", .doc = "ESC activations (rising edges)"});
     v.Output(m.esc_time,

@@ -50,6 +50,10 @@ void MetricsAccumulator::Add(const TickRecord& r, RunMetrics* m) noexcept {
   m->max_abs_heading_error = std::max(m->max_abs_heading_error, std::abs(r.motion.heading_error));
   m->max_speed = std::max(m->max_speed, r.speed);
   m->max_esc_margin = std::max(m->max_esc_margin, r.output.esc_margin);
+  const controller::EscActivationTerms& terms = r.output.esc_margin_terms;
+  m->max_esc_beta_ratio = std::max(m->max_esc_beta_ratio, terms.beta);
+  m->max_esc_beta_error_ratio = std::max(m->max_esc_beta_error_ratio, terms.beta_error);
+  m->max_esc_yaw_rate_error_ratio = std::max(m->max_esc_yaw_rate_error_ratio, terms.yaw_rate_error);
   m->sideslip_excess_integral +=
       std::max(0.0, std::abs(r.beta) * kRadToDeg - sideslip_allowed_deg_) * ts;
   const controller::StabilityInput& in = r.input;

@@ -93,6 +93,7 @@ class InterventionCounter {
 ///   max_abs_lateral_error  max |lateral error| [m];  max_abs_heading_error  max |heading error|
 ///   max_speed              max speed [m/s]
 ///   max_esc_margin         max of the stability output's esc_margin
+///   max_esc_*_ratio        max of each of its terms (esc_margin_terms)
 ///   sideslip_excess_integral  Σ max(0, |β|·180/π − β_allowed) · tS [deg·s]
 ///   max_slip_front/rear    max |100 κ_i| over the axle's wheels [%] (the plant's slips)
 ///   esc_brake_energy       Σ over the front wheels while ESC acts of

@@ -87,6 +87,9 @@ void WriteSweepCsv(const std::string& path, const SweepResult& r) {
                                                   "tc_time_s",
                                                   "esc_brake_energy_J",
                                                   "max_esc_margin",
+                                                  "max_esc_beta_ratio",
+                                                  "max_esc_beta_error_ratio",
+                                                  "max_esc_yaw_rate_error_ratio",
                                                   "end_lap",
                                                   "end_s_m"};
   for (std::string_view c : kColumns) header.emplace_back(c);

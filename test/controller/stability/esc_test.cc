@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -270,6 +271,30 @@ TEST(EscTest, ActivationMarginIsTheSmallestRatioAndAgreesWithActivation) {
   extrapolated.psi_dot_error_activate = 0.0;
   extrapolated.beta_error_activate = -1.0;
   EXPECT_EQ(EscActivationMargin(Sig(-0.001, 0.5, -0.03, 0.04), extrapolated), kMaxEscMargin);
+}
+
+// The margin's three terms one by one: each magnitude over its own threshold, all 0 without the
+// oversteer signs or at the speed gate, capped, a non-positive threshold counting as met; the
+// margin is their smallest.
+TEST(EscTest, ActivationRatiosAreTheTermsOfTheMargin) {
+  const EscThresholds th = RowThresholds();
+  const EscActivationTerms t = EscActivationRatios(Sig(-0.015, 0.5, -0.03, 0.04), th);
+  EXPECT_DOUBLE_EQ(t.beta, 0.5);
+  EXPECT_DOUBLE_EQ(t.beta_error, 0.04 / 0.06);
+  EXPECT_DOUBLE_EQ(t.yaw_rate_error, 0.75);
+  for (const EscRow& row : Rows()) {
+    const EscActivationTerms r = EscActivationRatios(row.sig, th);
+    EXPECT_EQ(EscActivationMargin(row.sig, th), std::min({r.beta, r.beta_error, r.yaw_rate_error}))
+        << row.name;
+  }
+  const EscActivationTerms under = EscActivationRatios(Sig(-0.015, 0.5, 0.03, 0.04), th);
+  EXPECT_EQ(under.beta + under.beta_error + under.yaw_rate_error, 0.0);  // understeer
+  const EscActivationTerms slow = EscActivationRatios(Sig(-0.015, 0.5, -0.03, 0.04, 7.0), th);
+  EXPECT_EQ(slow.beta + slow.beta_error + slow.yaw_rate_error, 0.0);  // speed gate
+  EXPECT_EQ(EscActivationRatios(Sig(-3.0, 50.0, -3.0, 0.04), th).beta, kMaxEscMargin);  // capped
+  EscThresholds extrapolated = th;
+  extrapolated.beta_activate = -0.004;
+  EXPECT_EQ(EscActivationRatios(Sig(-0.001, 0.5, -0.03, 0.04), extrapolated).beta, kMaxEscMargin);
 }
 
 TEST(EscTest, ReferencesFromAyRequestOrSingleTrack) {
