@@ -49,7 +49,9 @@ def finest_band(scw, args, name, series, sets, stab, out):
     completes and the first it loses, or None when the series has no such pair. Claim (d) needs
     ESC to act in a lap `none` completes; if even the last completed GG at this resolution keeps
     ESC's condition below 1, no finer GG axis makes the band between them non-empty."""
-    rows = [dict(r, gg_scale=float(r["gg_scale"])) for r in series["none"].get("runs") or []]
+    # a summary's runs carry no configuration name; the bisection selects rows by it
+    rows = [dict(r, config="none", gg_scale=float(r["gg_scale"]))
+            for r in series["none"].get("runs") or []]
     bounds = scwexp.series_bounds(rows)
     if not bounds:
         return None
@@ -192,7 +194,7 @@ def text_of(rows):
         if fine:
             fa = any_r.get("first_abort_fine")
             g = gg("finest")
-            line += (f" {scwexp.fmt(g, 3)}" + (f" (lost at {fa:.3f})" if fa is not None else "")
+            line += (f" {scwexp.fmt(g, 4)}" + (f" (lost at {fa:.4f})" if fa is not None else "")
                      + f" | {cell(rs.get(('none', 'finest')))} | "
                      f"{cell(rs.get(('esc', 'finest')))} |")
         lines.append(line)

@@ -376,7 +376,10 @@ def refine_first_aborts(scw, args, sets, configs, rows, pert, out_csv, log, mpc=
         merged, every series cut again at its first abort."""
         cfgs = []
         for i, (name, pv, gg) in enumerate(jobs):
-            ov = [x for x in overrides[name].split(",") if x] + [f"gg_scale={gg:g}"]
+            # every digit of the bisected GG (round to 1e-6 above), not `:g`'s six significant
+            # ones: the run must be at the GG its row is recorded with
+            gg_text = f"{gg:.6f}".rstrip("0").rstrip(".")
+            ov = [x for x in overrides[name].split(",") if x] + [f"gg_scale={gg_text}"]
             if pkey is not None:
                 ov.append(f"{pkey}={pv}")
             cfgs.append(f"r{i}:" + ",".join(ov))

@@ -8,6 +8,7 @@ the studies' common end (scwexp.finish_study). Exit 77 (skipped) without numpy/m
     python3 test/experiments/studies_test.py EXPERIMENTS_DIR WORK_DIR
 """
 
+import argparse
 import csv
 import math
 import os
@@ -315,6 +316,31 @@ class EscMarginTerms(unittest.TestCase):
         self.assertEqual(esc_margin.bisection_levels(1.0, 1.05, 0.025), 1)
         self.assertEqual(esc_margin.bisection_levels(1.0, 1.001, 0.001), 0)
         self.assertEqual(esc_margin.bisection_levels(1.0, 1.05, 0), 0)
+
+    def test_finest_band_bisects_a_summary_series(self):
+        # a summary's runs have no `config` key (the regression of the first full run)
+        runs = [{"gg_scale": 1.0, "status": "completed"},
+                {"gg_scale": 1.025, "status": "completed"},
+                {"gg_scale": 1.05, "status": "off_track"}]
+        calls = []
+        saved = scwexp.run
+        ran = set()
+        scwexp.run = fake_sweep({"false": 1.036}, "subsystems.esc", calls,
+                                lambda kv: ran.add(float(kv["gg_scale"])))
+        try:
+            args = argparse.Namespace(processes=2, threads=1, resolution=0.001, reuse=False)
+            fine = esc_margin.finest_band("scw", args, "col", {"none": {"runs": runs}},
+                                          ["laps=3"], None, WORK)
+        finally:
+            scwexp.run = saved
+        self.assertEqual(len(calls), 5)
+        self.assertAlmostEqual(fine["last_completed"], 1.035938, places=6)
+        self.assertAlmostEqual(fine["first_abort"], 1.036719, places=6)
+        # the runs were at the GGs the band is recorded with (1.035938, not `:g`'s 1.03594)
+        self.assertIn(fine["last_completed"], ran)
+        self.assertIn(fine["first_abort"], ran)
+        self.assertIsNone(esc_margin.finest_band("scw", args, "col", {"none": {"runs": runs[:2]}},
+                                                 ["laps=3"], None, WORK))
 
     def test_terms_text_and_the_binding_term(self):
         r = self.row("vehicle", "none", "judged", "completed", 0.37, (2.41, 0.37, 3.51))
