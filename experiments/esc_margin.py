@@ -14,11 +14,16 @@ three terms (|β|/B_a, |e_β,f|/Eβ_a, |e_ψ,f|/Eψ_a at their largest while the
 held): the one below 1 is the condition that kept ESC off. Then `none`'s first abort is
 bisected further (--resolution, default 0.001 GG) and `none` and ESC are run at the last GG
 `none` completes: whether a finer GG axis would find laps `none` completes with ESC acting.
+Last, `none` and ESC are run on a grid (--scan-step, default 0.0025 GG) between `none`'s last
+completed GG of the study and its first abort: the loss need not be monotone in GG at this
+scale (a GG lost between two completed ones was seen at 0.001 apart), so a bisection finds one
+edge, the scan shows the band.
 
 Reads results/columns/*/study2_lateral/summary.json (run experiments/run_all.sh first), one
 `scw sweep` per column; writes results/esc_margin/summary.json (read by report.py).
 
     python3 experiments/esc_margin.py [--processes 2] [--reuse] [--resolution 0.001]
+                                      [--scan-step 0.0025]
 """
 
 import argparse
@@ -34,6 +39,19 @@ S2 = ["plan_with_nominal_grip=true", "abort.lock_slip_pct=100"]
 CONFIGS = ("none", "esc", "cs", "esc+cs")
 TERMS = scwexp.ESC_TERMS
 RESOLUTION = 0.001  # GG: how finely `none`'s first abort is bisected (--resolution)
+SCAN_STEP = 0.0025  # GG: the grid across `none`'s first abort (--scan-step)
+
+
+def scan_grid(series, step):
+    """GGs strictly between `none`'s last completed GG and its first abort (the study's runs),
+    `step` apart (rounded to 1e-6), or [] without such a pair or with step 0."""
+    rows = [dict(r, gg_scale=float(r["gg_scale"])) for r in series["none"].get("runs") or []]
+    bounds = scwexp.series_bounds(rows)
+    if not bounds or not step:
+        return []
+    lo, hi = bounds
+    n = int(math.floor((hi - lo) / step + 1e-9))
+    return [round(lo + k * step, 6) for k in range(1, n + 1) if lo + k * step < hi - 1e-9]
 
 
 def bisection_levels(lo, hi, resolution):
@@ -90,6 +108,9 @@ def main(argv=None):
     p.add_argument("--resolution", type=float, default=RESOLUTION,
                    help=f"bisect `none`'s first abort down to this GG step and run `none` and ESC "
                         f"at the last GG `none` completes (default {RESOLUTION}; 0: off)")
+    p.add_argument("--scan-step", type=float, default=SCAN_STEP,
+                   help=f"run `none` and ESC on a grid of this GG step between `none`'s last "
+                        f"completed GG and its first abort (default {SCAN_STEP}; 0: off)")
     args = p.parse_args(argv)
     scwexp.apply_common_args(args)
     scw = scwexp.find_scw()
@@ -125,6 +146,10 @@ def main(argv=None):
             gg_f = fine["last_completed"]
             configs += [f"none.finest:subsystems.esc=false,subsystems.cs=false,gg_scale={gg_f}",
                         f"esc.finest:subsystems.esc=true,subsystems.cs=false,gg_scale={gg_f}"]
+        grid = scan_grid(series, args.scan_step)
+        for k, g in enumerate(grid):
+            configs += [f"none.scan{k}:subsystems.esc=false,subsystems.cs=false,gg_scale={g}",
+                        f"esc.scan{k}:subsystems.esc=true,subsystems.cs=false,gg_scale={g}"]
         # Ipopt serialises within a process: the runs go to worker processes
         cmd = [scw, "sweep", "-o", csv_path, "--processes", str(args.processes or 2), "--set"] \
             + sets
@@ -135,7 +160,8 @@ def main(argv=None):
         scwexp.reuse_or_run(cmd, csv_path, os.path.join(out, f"scw_{name}.log"), args.reuse)
         commands.append(" ".join(cmd))
         gg_of = {"judged": gg_d, "none_abort": gg_a,
-                 "finest": fine["last_completed"] if fine else None}
+                 "finest": fine["last_completed"] if fine else None,
+                 **{f"scan{k}": g for k, g in enumerate(grid)}}
         for r in scwexp.read_csv(csv_path):
             cfg, tag = r["config"].split(".", 1)
             rows_out.append({"column": name, "set_label": col["set_label"],

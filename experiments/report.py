@@ -1237,7 +1237,7 @@ def esc_margin_section():
             "control either stays well inside ESC's thresholds or is lost, so (d)'s premise, "
             "ESC braking in laps that `none` also completes, hardly arises.")
         out.append("")
-    out += esc_margin_terms_text(rows) + esc_margin_finest_text(rows)
+    out += esc_margin_terms_text(rows) + esc_margin_finest_text(rows) + esc_margin_scan_text(rows)
     return out
 
 
@@ -1293,6 +1293,72 @@ def esc_margin_finest_text(rows):
                f"and cost {lo:g}–{hi:g} s." if not opens else
                f". There ESC acts and costs {lo:g}–{hi:g} s in: {', '.join(opens)} (the other "
                "parts of (d) are not judged at this GG)."), ""]
+
+
+def esc_margin_scan_text(rows):
+    """esc_margin.py's grid across `none`'s first abort (rows tagged scan0, scan1, …): per
+    column, where `none` completes, whether the loss is monotone in GG, and what ESC alone costs
+    in the laps `none` completes while ESC acts; a table and a sentence, or nothing if not run."""
+    scan = [r for r in rows if str(r["at"]).startswith("scan")]
+    if not scan:
+        return []
+    lo, hi = CLAIM_D_COST
+    cols = []
+    for r in scan:
+        if r["column"] not in cols:
+            cols.append(r["column"])
+    lines = ["| column | GGs scanned | `none` completes | loss monotone in GG | ESC acts in a lap "
+             "`none` completes | Δ(ESC) there [s] | of them in "
+             f"{lo:g}–{hi:g} s |", "|---|---|---|---|---|---|---|"]
+    all_d, n_acts, n_ok, nonmono = [], 0, 0, []
+    for c in cols:
+        rs = [r for r in scan if r["column"] == c]
+        none = {r["gg"]: r for r in rs if r["config"] == "none"}
+        esc = {r["gg"]: r for r in rs if r["config"] == "esc"}
+        ggs = sorted(none)
+        done = [g for g in ggs if none[g]["status"] == "completed"]
+        lost = [g for g in ggs if none[g]["status"] != "completed"]
+        mono = not (done and lost and min(lost) < max(done))
+        deltas = []
+        for g in done:
+            e = esc.get(g)
+            if e and e["status"] == "completed" and scwexp.to_float(e["esc_count"]) > 0:
+                deltas.append((g, scwexp.to_float(e["mean_lap_time_s"])
+                               - scwexp.to_float(none[g]["mean_lap_time_s"])))
+        inside = [d for _, d in deltas if lo <= d <= hi]
+        all_d += [d for _, d in deltas]
+        n_acts += len(deltas)
+        n_ok += len(done)
+        if not mono:
+            nonmono.append(c)
+        r0 = rs[0]
+        below = ", ".join(f"{g:.4f}" for g in lost if not mono and g < max(done))
+        lines.append(
+            f"| {r0['set_label']}, {r0['actuators']} | {scwexp.fmt(ggs[0], 4)}–"
+            f"{scwexp.fmt(ggs[-1], 4)} ({len(ggs)}) | {len(done)} of {len(ggs)} | "
+            + ("yes" if mono else f"no: lost at {below} below completed {max(done):.4f}")
+            + f" | {len(deltas)} | "
+            + (", ".join(f"{d:+.3f} ({g:.4f})" for g, d in deltas) if deltas else "–")
+            + f" | {len(inside)} |")
+    step = set()
+    for c in cols:
+        g = sorted(r["gg"] for r in scan if r["column"] == c and r["config"] == "none")
+        step |= {round(b - a, 6) for a, b in zip(g, g[1:])}
+    step = sorted(step)
+    text = (f"On a grid of {'/'.join(f'{x:g}' for x in step)} GG between `none`'s last "
+            f"completed GG and its first abort (`none` and ESC only, {len(cols)} columns): "
+            f"`none` completes {n_ok} of the {sum(1 for r in scan if r['config'] == 'none')} "
+            "runs; "
+            + (f"its loss is not monotone in GG in {len(nonmono)} of {len(cols)} columns (a GG "
+               "lost below a completed one: at this scale the edge is chaotic, so a bisection "
+               "finds an edge, not the edge)" if nonmono else
+               "on this grid its loss is monotone in GG in every column")
+            + f". ESC acts in {n_acts} laps that `none` completes at "
+            "the same GG" + (f", where it changes the lap by {min(all_d):+.3f} to "
+                             f"{max(all_d):+.3f} s" if all_d else "")
+            + (f"; {sum(lo <= d <= hi for d in all_d)} of them in (d)'s {lo:g}–{hi:g} s"
+               if all_d else "") + ".")
+    return lines + ["", text, ""]
 
 
 def step_gains(vs):

@@ -342,6 +342,36 @@ class EscMarginTerms(unittest.TestCase):
         self.assertIsNone(esc_margin.finest_band("scw", args, "col", {"none": {"runs": runs[:2]}},
                                                  ["laps=3"], None, WORK))
 
+    def test_scan_grid_lies_strictly_inside_the_edge(self):
+        runs = {"none": {"runs": [{"gg_scale": 1.025, "status": "completed"},
+                                  {"gg_scale": 1.05, "status": "sideslip"}]}}
+        self.assertEqual(esc_margin.scan_grid(runs, 0.0025),
+                         [1.0275, 1.03, 1.0325, 1.035, 1.0375, 1.04, 1.0425, 1.045, 1.0475])
+        self.assertEqual(esc_margin.scan_grid(runs, 0), [])
+        self.assertEqual(esc_margin.scan_grid({"none": {"runs": runs["none"]["runs"][:1]}},
+                                              0.0025), [])
+
+    def test_scan_text_finds_non_monotone_loss_and_prices_esc(self):
+        def r(cfg, gg, status, lap=71.0, esc=0):
+            x = self.row("vehicle", cfg, f"scan{int(round(gg * 1e4))}", status, 1.0,
+                         (1, 1, 1), esc=esc, lap=lap, gg=gg)
+            return x
+        rows = [r("none", 1.03, "completed", 71.40), r("esc", 1.03, "completed", 71.33, esc=3),
+                r("none", 1.0325, "off_track"), r("esc", 1.0325, "completed", 71.5, esc=2),
+                r("none", 1.035, "completed", 71.20), r("esc", 1.035, "completed", 71.30, esc=1),
+                r("none", 1.0375, "sideslip"), r("esc", 1.0375, "sideslip", esc=4)]
+        text = "\n".join(report.esc_margin_scan_text(rows))
+        self.assertIn("| shipped, vehicle | 1.0300–1.0375 (4) | 2 of 4 | no: lost at 1.0325 "
+                      "below completed 1.0350 | 2 | -0.070 (1.0300), +0.100 (1.0350) | 1 |", text)
+        self.assertIn("On a grid of 0.0025 GG", text)
+        self.assertIn("not monotone in GG in 1 of 1 columns", text)
+        self.assertIn("ESC acts in 2 laps that `none` completes at the same GG, where it changes "
+                      "the lap by -0.070 to +0.100 s; 1 of them in (d)'s 0.05–0.4 s.", text)
+        self.assertEqual(report.esc_margin_scan_text(rows[:0]), [])
+        mono = [x for x in rows if x["gg"] != 1.0325]
+        self.assertIn("on this grid its loss is monotone in GG in every column",
+                      "\n".join(report.esc_margin_scan_text(mono)))
+
     def test_terms_text_and_the_binding_term(self):
         r = self.row("vehicle", "none", "judged", "completed", 0.37, (2.41, 0.37, 3.51))
         self.assertEqual(scwexp.esc_terms_text(r), "β 2.41 · e_β 0.37 · e_ψ 3.51")
