@@ -17,18 +17,22 @@ bisected further (--resolution, default 0.001 GG) and `none` and ESC are run at 
 Last, `none` and ESC are run on a grid (--scan-step, default 0.0025 GG) between `none`'s last
 completed GG of the study and its first abort: the loss need not be monotone in GG at this
 scale (a GG lost between two completed ones was seen at 0.001 apart), so a bisection finds one
-edge, the scan shows the band.
+edge, the scan shows the band. Finally a diagnostic (--threshold-probe, default x0.5 and x0.3):
+all four configurations at the judged GG with ESC's sideslip-error thresholds scaled in the
+column's own set: whether ESC, once it acts in a lap `none` completes, costs what (d) asks. The
+scaled sets are written beside the results and never go to the car; no set is changed.
 
 Reads results/columns/*/study2_lateral/summary.json (run experiments/run_all.sh first), one
 `scw sweep` per column; writes results/esc_margin/summary.json (read by report.py).
 
     python3 experiments/esc_margin.py [--processes 2] [--reuse] [--resolution 0.001]
-                                      [--scan-step 0.0025]
+                                      [--scan-step 0.0025] [--threshold-probe 0.5,0.3]
 """
 
 import argparse
 import math
 import os
+import re
 import sys
 
 import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
@@ -40,6 +44,13 @@ CONFIGS = ("none", "esc", "cs", "esc+cs")
 TERMS = scwexp.ESC_TERMS
 RESOLUTION = 0.001  # GG: how finely `none`'s first abort is bisected (--resolution)
 SCAN_STEP = 0.0025  # GG: the grid across `none`'s first abort (--scan-step)
+PROBE = "0.5,0.3"  # factors on ESC's sideslip-error thresholds (--threshold-probe)
+BETA_ERROR_KEYS = ("beta_error_threshold_activate", "beta_error_threshold_deactivate")
+DEFAULT_SET = os.path.join(scwexp.ROOT, "params", "stability", "default.yaml")
+CONFIG_OVERRIDES = {"none": "subsystems.esc=false,subsystems.cs=false",
+                    "esc": "subsystems.esc=true,subsystems.cs=false",
+                    "cs": "subsystems.esc=false,subsystems.cs=true",
+                    "esc+cs": "subsystems.esc=true,subsystems.cs=true"}
 
 
 def scan_grid(series, step):
@@ -85,6 +96,51 @@ def finest_band(scw, args, name, series, sets, stab, out):
     return {"last_completed": lo, "first_abort": hi, "levels": levels, "commands": commands}
 
 
+def row_of(name, col, cfg, tag, gg, first_abort_fine, r):
+    """One row of the summary from one row of a sweep's table."""
+    return {"column": name, "set_label": col["set_label"], "actuators": col["actuators"],
+            "config": cfg, "at": tag, "gg": gg, "status": r["status"],
+            "first_abort_fine": first_abort_fine, "max_esc_margin": r.get("max_esc_margin"),
+            **{k: r.get(k) for k in TERMS},
+            **{k: r.get(k) for k in scwexp.ACTIVATION_KEYS},
+            "max_abs_sideslip_deg": r.get("max_abs_sideslip_deg"),
+            "mean_lap_time_s": r.get("mean_lap_time_s")}
+
+
+def scaled_beta_error_set(src, factor, dst):
+    """Writes the stability file `src` to `dst` with ESC's sideslip-error thresholds (activate,
+    per speed, and deactivate) multiplied by `factor`: the threshold probe's set. A diagnostic,
+    never a set for the car; exits naming the file and key when a key is not there once."""
+    with open(src) as f:
+        text = f.read()
+
+    def scale(m):
+        nums = re.sub(r"[-+]?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?",
+                      lambda x: f"{float(x.group(0)) * factor:.6g}", m.group(2))
+        return m.group(1) + nums
+    for key in BETA_ERROR_KEYS:
+        text, n = re.subn(rf"^(\s*{key}:\s*)(\S.*)$", scale, text, flags=re.M)
+        if n != 1:
+            sys.exit(f"error: {src}: ESC.{key}: expected once, found {n} times")
+    with open(dst, "w") as f:
+        f.write(f"# {os.path.basename(src)} with ESC's sideslip-error thresholds x{factor:g} "
+                "(experiments/esc_margin.py threshold probe; not a set for the car)\n" + text)
+
+
+def factors(text):
+    """--threshold-probe: comma-separated positive factors, or [] for an empty text."""
+    out = []
+    for x in (t.strip() for t in text.split(",") if t.strip()):
+        try:
+            v = float(x)
+        except ValueError:
+            v = float("nan")
+        if not v > 0:
+            raise argparse.ArgumentTypeError(f"--threshold-probe: {x!r} is not a positive number")
+        out.append(v)
+    return out
+
+
 def judged_gg(series):
     """The GG claim (d) is judged at (report.claim_d_gg), None without all four configurations."""
     if any(k not in series for k in CONFIGS):
@@ -108,6 +164,10 @@ def main(argv=None):
     p.add_argument("--resolution", type=float, default=RESOLUTION,
                    help=f"bisect `none`'s first abort down to this GG step and run `none` and ESC "
                         f"at the last GG `none` completes (default {RESOLUTION}; 0: off)")
+    p.add_argument("--threshold-probe", type=factors, default=factors(PROBE),
+                   help=f"run all four configurations at the judged GG with ESC's sideslip-error "
+                        f"thresholds times each factor (default {PROBE}; '': off): whether ESC, "
+                        "once it acts where `none` completes, costs what (d) asks; a diagnostic")
     p.add_argument("--scan-step", type=float, default=SCAN_STEP,
                    help=f"run `none` and ESC on a grid of this GG step between `none`'s last "
                         f"completed GG and its first abort (default {SCAN_STEP}; 0: off)")
@@ -162,17 +222,25 @@ def main(argv=None):
         gg_of = {"judged": gg_d, "none_abort": gg_a,
                  "finest": fine["last_completed"] if fine else None,
                  **{f"scan{k}": g for k, g in enumerate(grid)}}
+        fa = fine["first_abort"] if fine else None
         for r in scwexp.read_csv(csv_path):
             cfg, tag = r["config"].split(".", 1)
-            rows_out.append({"column": name, "set_label": col["set_label"],
-                             "actuators": col["actuators"], "config": cfg, "at": tag,
-                             "gg": gg_of[tag], "status": r["status"],
-                             "first_abort_fine": fine["first_abort"] if fine else None,
-                             "max_esc_margin": r.get("max_esc_margin"),
-                             **{k: r.get(k) for k in TERMS},
-                             "esc_count": r.get("esc_count"),
-                             "max_abs_sideslip_deg": r.get("max_abs_sideslip_deg"),
-                             "mean_lap_time_s": r.get("mean_lap_time_s")})
+            rows_out.append(row_of(name, col, cfg, tag, gg_of[tag], fa, r))
+        for factor in (args.threshold_probe if gg_d is not None else []):
+            tag = f"eb{round(factor * 100)}"
+            probe_set = os.path.join(out, f"stability_{name}_{tag}.yaml")
+            scaled_beta_error_set(stab or DEFAULT_SET, factor, probe_set)
+            probe_csv = os.path.join(out, f"probe_{name}_{tag}.csv")
+            cmd = [scw, "sweep", "-o", probe_csv, "--processes", str(args.processes or 2),
+                   "--set"] + sets + ["--stability", probe_set]
+            for c, ov in CONFIG_OVERRIDES.items():
+                cmd += ["--config", f"{c}.{tag}:{ov},gg_scale={gg_d}"]
+            scwexp.reuse_or_run(cmd, probe_csv, os.path.join(out, f"scw_probe_{name}_{tag}.log"),
+                                args.reuse)
+            commands.append(" ".join(cmd))
+            for r in scwexp.read_csv(probe_csv):
+                cfg = r["config"].split(".", 1)[0]
+                rows_out.append(dict(row_of(name, col, cfg, tag, gg_d, fa, r), factor=factor))
     summary = {"study": STUDY, "rows": rows_out, "commands": commands,
                "text": text_of(rows_out), "wall_time_s": timer.seconds(),
                "cpu_time_s": timer.cpu_seconds(),

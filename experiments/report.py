@@ -1237,7 +1237,8 @@ def esc_margin_section():
             "control either stays well inside ESC's thresholds or is lost, so (d)'s premise, "
             "ESC braking in laps that `none` also completes, hardly arises.")
         out.append("")
-    out += esc_margin_terms_text(rows) + esc_margin_finest_text(rows) + esc_margin_scan_text(rows)
+    out += (esc_margin_terms_text(rows) + esc_margin_finest_text(rows)
+            + esc_margin_scan_text(rows) + esc_margin_probe_text(rows))
     return out
 
 
@@ -1358,6 +1359,65 @@ def esc_margin_scan_text(rows):
                              f"{max(all_d):+.3f} s" if all_d else "")
             + (f"; {sum(lo <= d <= hi for d in all_d)} of them in (d)'s {lo:g}–{hi:g} s"
                if all_d else "") + ".")
+    return lines + ["", text, ""]
+
+
+def esc_margin_probe_text(rows):
+    """esc_margin.py's threshold probe (rows with a `factor`): claim (d)'s criterion at the
+    judged GG with ESC's sideslip-error thresholds scaled in the column's own set, per column and
+    factor; a table and a sentence, or nothing if not run. A diagnostic: no set is changed."""
+    probe = [r for r in rows if r.get("factor") is not None]
+    if not probe:
+        return []
+    keys = []
+    for r in probe:
+        if (r["column"], r["factor"]) not in keys:
+            keys.append((r["column"], r["factor"]))
+    lines = ["| column | Eβ thresholds × | GG | ESC only: ESC ×, Δ(ESC) | ESC + CS: ESC ×, "
+             "Δ(ESC + CS) | (d)'s criterion |", "|---|---|---|---|---|---|"]
+    held, acted, deltas = [], 0, []
+    for col, f in keys:
+        ser = {}
+        for r in probe:
+            if r["column"] == col and r["factor"] == f:
+                run = {k: scwexp.to_float(r.get(k)) for k in
+                       ("mean_lap_time_s",) + scwexp.ACTIVATION_KEYS}
+                ser[r["config"]] = {"runs": [dict(run, gg_scale=r["gg"], status=r["status"])]}
+        r0 = next(r for r in probe if r["column"] == col)
+        if any(c not in ser for c in ("none", "esc", "cs", "esc+cs")):
+            continue
+        ok, items = claim_d(ser)
+        runs = {c: ser[c]["runs"][0] for c in ser}
+
+        def cell(c):
+            x = runs[c]
+            if x["status"] != "completed" or runs["none"]["status"] != "completed":
+                return x["status"]
+            return (f"{int(x['esc_count'] or 0)}×, "
+                    f"{x['mean_lap_time_s'] - runs['none']['mean_lap_time_s']:+.3f} s")
+        if runs["esc"]["status"] == "completed" and (runs["esc"]["esc_count"] or 0) > 0 \
+                and runs["none"]["status"] == "completed":
+            acted += 1
+            deltas.append(runs["esc"]["mean_lap_time_s"] - runs["none"]["mean_lap_time_s"])
+        if ok:
+            held.append(f"{r0['set_label']} × {r0['actuators']} ×{f:g}")
+        failed = [n for n, k, _ in items if not k]
+        lines.append(f"| {r0['set_label']}, {r0['actuators']} | {f:g} | {g(r0['gg'])} | "
+                     f"{cell('esc')} | {cell('esc+cs')} | "
+                     + ("**holds**" if ok else "fails on: " + "; ".join(failed)) + " |")
+    lo, hi = CLAIM_D_COST
+    text = ("A diagnostic, not a change to any set: ESC's sideslip-error thresholds (activate "
+            "and deactivate) scaled in each column's own set "
+            f"({'/'.join(sorted({f'×{f:g}' for _, f in keys}, reverse=True))}), all four "
+            "configurations at the GG where (d) is judged (`experiments/esc_margin.py "
+            f"--threshold-probe`). In {acted} of {len(keys)} probes (column × factor) ESC only "
+            "then acts in a lap `none` completes" + (f", changing it by {min(deltas):+.3f} to "
+                                  f"{max(deltas):+.3f} s" if deltas else "")
+            + f"; (d)'s criterion holds in {len(held)} of {len(keys)}"
+            + (f": {', '.join(held)}." if held else
+               (f". Acting is not enough: where ESC acts in a lap `none` completes it costs "
+                f"less than {lo:g} s, so lowering its thresholds does not flip (d) either."
+                if deltas and max(deltas) < lo else ".")))
     return lines + ["", text, ""]
 
 

@@ -372,6 +372,57 @@ class EscMarginTerms(unittest.TestCase):
         self.assertIn("on this grid its loss is monotone in GG in every column",
                       "\n".join(report.esc_margin_scan_text(mono)))
 
+    def test_threshold_probe_set_scales_only_the_sideslip_error_thresholds(self):
+        src = os.path.join(WORK, "set.yaml")
+        with open(src, "w") as f:
+            f.write("# ESC.beta_error_threshold_activate in a comment stays\n"
+                    "stability:\n  ESC:\n      beta_error_threshold_activate: [0.061, 0.035]\n"
+                    "      beta_error_threshold_deactivate: 0.018\n"
+                    "      beta_threshold_activate: [0.1, 0.2]\n")
+        dst = os.path.join(WORK, "set_eb50.yaml")
+        esc_margin.scaled_beta_error_set(src, 0.5, dst)
+        with open(dst) as f:
+            out = f.read()
+        self.assertIn("beta_error_threshold_activate: [0.0305, 0.0175]", out)
+        self.assertIn("beta_error_threshold_deactivate: 0.009\n", out)
+        self.assertIn("beta_threshold_activate: [0.1, 0.2]", out)
+        self.assertIn("# ESC.beta_error_threshold_activate in a comment stays", out)
+        with open(src, "w") as f:
+            f.write("stability: {}\n")
+        with self.assertRaises(SystemExit) as e:
+            esc_margin.scaled_beta_error_set(src, 0.5, dst)
+        self.assertIn("ESC.beta_error_threshold_activate: expected once, found 0",
+                      str(e.exception))
+        self.assertEqual(esc_margin.factors("0.5, 0.3"), [0.5, 0.3])
+        self.assertEqual(esc_margin.factors(""), [])
+        for bad in ("0", "-1", "x", "nan"):
+            with self.assertRaises(argparse.ArgumentTypeError):
+                esc_margin.factors(bad)
+        # the real file, when the checkout has it: both keys found once
+        real = esc_margin.DEFAULT_SET
+        if os.path.exists(real):
+            esc_margin.scaled_beta_error_set(real, 0.3, dst)
+
+    def test_probe_text_judges_claim_d_per_column_and_factor(self):
+        def r(cfg, lap, esc=0, status="completed", f=0.3):
+            x = self.row("vehicle", cfg, "eb30", status, 1.0, (1, 1, 1), esc=esc, lap=lap,
+                         gg=1.025)
+            x.update(factor=f, cs_count="0", abs_count="0", tc_count="0")
+            return x
+        rows = [r("none", 71.495), r("esc", 71.496, esc=1), r("cs", 71.508),
+                r("esc+cs", 71.509, esc=3)]
+        text = "\n".join(report.esc_margin_probe_text(rows))
+        self.assertIn("| shipped, vehicle | 0.3 | 1.025 | 1×, +0.001 s | 3×, +0.014 s | fails on: "
+                      "Δ(ESC) in 0.05–0.40 s; 0 ≤ Δ(ESC + CS) < Δ(ESC) |", text)
+        self.assertIn("In 1 of 1 probes (column × factor) ESC only then acts in a lap `none` "
+                      "completes, changing it by +0.001 to +0.001 s; (d)'s criterion holds in 0 "
+                      "of 1. Acting is not enough", text)
+        rows = [r("none", 71.4), r("esc", 71.6, esc=4), r("cs", 71.45), r("esc+cs", 71.5, esc=2)]
+        text = "\n".join(report.esc_margin_probe_text(rows))
+        self.assertIn("| **holds** |", text)
+        self.assertIn("holds in 1 of 1: shipped × vehicle ×0.3.", text)
+        self.assertEqual(report.esc_margin_probe_text([]), [])
+
     def test_terms_text_and_the_binding_term(self):
         r = self.row("vehicle", "none", "judged", "completed", 0.37, (2.41, 0.37, 3.51))
         self.assertEqual(scwexp.esc_terms_text(r), "β 2.41 · e_β 0.37 · e_ψ 3.51")
