@@ -37,6 +37,7 @@ import sys
 
 import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
 import report  # noqa: E402
+import study2_lateral  # noqa: E402
 
 STUDY = "esc_margin"
 S2 = ["plan_with_nominal_grip=true", "abort.lock_slip_pct=100"]
@@ -47,10 +48,7 @@ SCAN_STEP = 0.0025  # GG: the grid across `none`'s first abort (--scan-step)
 PROBE = "0.5,0.3"  # factors on ESC's sideslip-error thresholds (--threshold-probe)
 BETA_ERROR_KEYS = ("beta_error_threshold_activate", "beta_error_threshold_deactivate")
 DEFAULT_SET = os.path.join(scwexp.ROOT, "params", "stability", "default.yaml")
-CONFIG_OVERRIDES = {"none": "subsystems.esc=false,subsystems.cs=false",
-                    "esc": "subsystems.esc=true,subsystems.cs=false",
-                    "cs": "subsystems.esc=false,subsystems.cs=true",
-                    "esc+cs": "subsystems.esc=true,subsystems.cs=true"}
+CONFIG_OVERRIDES = {n: o for n, o, *_ in study2_lateral.CONFIGS}  # the study's own switches
 
 
 def scan_grid(series, step):
@@ -191,8 +189,7 @@ def main(argv=None):
         for tag, gg in (("judged", gg_d), ("none_abort", gg_a)):
             if gg is None:
                 continue
-            configs += [f"none.{tag}:subsystems.esc=false,subsystems.cs=false,gg_scale={gg}",
-                        f"esc.{tag}:subsystems.esc=true,subsystems.cs=false,gg_scale={gg}"]
+            configs += [f"{c}.{tag}:{CONFIG_OVERRIDES[c]},gg_scale={gg}" for c in ("none", "esc")]
         if not configs:
             continue
         sets = [f"laps={args.laps}", "motion.controller=pmpc"] + S2 + [
