@@ -72,12 +72,13 @@ struct PlantVariationParams {
              .lo = 0.0,
              .hi = 3.0,
              .doc = "Scale of the rear tyre's force loss beyond its peak, lateral and "
-                    "longitudinal: the drop from the peak D to the sliding force D sin(C pi/2) "
-                    "of the Magic Formula is multiplied by this through the shape factor C (PCY1, "
-                    "PCX1); the peak D and the slip stiffness K = B C D stay. 0 = no loss (the "
-                    "force saturates at its peak), 1 = the vehicle file, 2 = twice the loss "
-                    "(EAV24: sliding force 59 % of the peak laterally at 1, 18 % at 2). Values "
-                    "that would need C >= 2 are an error naming the limit.",
+                    "longitudinal (pure slip), on the vehicle file's (tires.rear.falloff): "
+                    "beyond the slip of the peak the force is D - s (D - F_MF), F_MF the Magic "
+                    "Formula's, so the curve up to the peak, the peak D and the slip stiffness "
+                    "stay exactly. 0 = no loss (the force holds its peak), 1 = the vehicle file, "
+                    "2 = twice the loss (EAV24: sliding force 59 % of the peak laterally at 1, "
+                    "18 % at 2). Values at which the sliding force would reach zero are an error "
+                    "naming the limit.",
              .optional = true,
              .omit_default = true});
     v.Field(s.yaw_inertia_scale,

@@ -12,7 +12,9 @@
 // Default values (in-class) are the EAV24/25-class front tyre; see VehicleParams for the sets.
 #pragma once
 
+#include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "params/schema/field.h"
@@ -76,6 +78,8 @@ struct Mf52Params {
   double lmuy = 0.78;
   double lkx = 0.83125;
   double lky = 0.8;
+  // Not a .tir coefficient: the force beyond the peak (see the field's doc).
+  double falloff = 1.0;
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
@@ -290,6 +294,37 @@ struct Mf52Params {
                            "+0.4 ... +0.7 mrad/(m/s^2) over 10-70 m/s (`scw vehicle balance`), "
                            "inside the +0.3 ... +1.0 that a race car is set up with (issue 14). "
                            "With 1.0 the plant is neutral to oversteering."});
+    v.Field(s.falloff,
+            {.key = "falloff",
+             .lo = 0.0,
+             .hi = 3.0,
+             .doc = "Scale of the force loss beyond the peak (not a .tir coefficient; pure slip, "
+                    "longitudinal and lateral): beyond the slip of the peak the force is "
+                    "D - falloff (D - F_MF), F_MF the Magic Formula's, so the curve up to the "
+                    "peak, the peak D and the slip stiffness are the fit's. 1 = the Magic "
+                    "Formula (sliding force D sin(C pi/2)), 0 = the force holds its peak. Needs "
+                    "a force peak (1 < PCX1, PCY1 < 2) unless 1; the sliding force must stay "
+                    "positive (falloff < 1/(1 - sin(C pi/2))).",
+             .optional = true,
+             .omit_default = true});
+  }
+  static void CrossCheck(const Mf52Params& p, Problems& pr) {
+    if (p.falloff == 1.0) return;
+    for (const auto& [name, c] : {std::pair{"PCX1", p.pcx1}, std::pair{"PCY1", p.pcy1}}) {
+      if (!(c > 1.0 && c < 2.0)) {
+        pr.Add("falloff", std::string("needs a force peak with a positive sliding force (") + name +
+                              " in (1, 2)); " + name + " is " + FormatNumber(c) +
+                              ", so only 1 is accepted");
+        return;
+      }
+      const double limit = 1.0 / (1.0 - std::sin(c * M_PI / 2.0));
+      if (!(p.falloff < limit)) {
+        pr.Add("falloff", FormatNumber(p.falloff) + " would make the sliding force zero or less (" +
+                              name + " " + FormatNumber(c) + ": falloff < " +
+                              FormatNumber(std::floor(limit * 100.0) / 100.0) + ")");
+        return;
+      }
+    }
   }
 };
 

@@ -26,6 +26,19 @@ inline double Weight(double num, double b, double c, double e, double shift) noe
   return std::max(0.0, num / std::max(den, 1e-6));
 }
 
+// Mf52Params::falloff: beyond the peak (|argument| > pi/2; the argument grows monotonically with
+// the slip for E <= 1) sin is replaced by 1 - s (1 - |sin|) with the argument's sign, so that the
+// force is D - s (D - F_MF); up to the peak nothing changes.
+inline Double2 ScaleLossBeyondPeak(Double2 argument, Double2 sine, double s) noexcept {
+  for (int j = 0; j < 2; ++j) {
+    if (std::abs(argument[j]) > M_PI / 2.0) {
+      const double v = 1.0 - s * (1.0 - std::abs(sine[j]));
+      sine[j] = argument[j] > 0.0 ? v : -v;
+    }
+  }
+  return sine;
+}
+
 }  // namespace
 
 namespace {
@@ -151,10 +164,15 @@ void EvaluateTires(const TireInput* in, const params::Mf52Params* const* p,
   for (std::size_t i = 0; i < N; ++i)
     for (std::size_t j = 0; j < 2; ++j)
       arg[i][j] = cv[i].c[j] * FastAtan(bx[i][j] - cv[i].e[j] * (bx[i][j] - arg[i][j]));
+  Double2 pure_arg[N];  // kept for the fall-off beyond the peak
+  for (std::size_t i = 0; i < N; ++i) pure_arg[i] = arg[i][0];
   for (std::size_t i = 0; i < N; ++i) {
     arg[i][0] = FastSin(arg[i][0]);
     arg[i][1] = FastCos(arg[i][1]);
   }
+  for (std::size_t i = 0; i < N; ++i)
+    if (p[i]->falloff != 1.0)
+      arg[i][0] = ScaleLossBeyondPeak(pure_arg[i], arg[i][0], p[i]->falloff);
   for (std::size_t i = 0; i < N; ++i)
     out[i] = cv[i].loaded ? Finish(cv[i], arg[i][0], arg[i][1], *p[i]) : TireForce{};
 }

@@ -23,6 +23,9 @@
 //     F_y = G_yk F_y0 + S_Vyk,  G_yk = cos(RCY1 atan(B_yk k_s - E_yk(...))) / (same at S_Hyk)
 //       B_yk = RBY1 cos(atan(RBY2 (a - RBY3))),  E_yk = REY1 + REY2 dfz,  k_s = kappa + S_Hyk
 //       S_Vyk = mu_y F_z (RVY1 + RVY2 dfz) cos(atan(RVY4 a)) sin(RVY5 atan(RVY6 kappa))
+//   Fall-off (Mf52Params::falloff = s, 1 by default): beyond the peak of a pure-slip curve (its
+//   argument C atan(...) past pi/2) the force is D - s (D - F_MF) instead of F_MF: 0 holds the
+//   peak, 2 doubles the loss; up to the peak the curve is the fit's.
 //   Friction-ellipse cap: (F_x/D_x)^2 + (F_y/D_y)^2 <= 1 is enforced by scaling both components
 //   when the cosine weighting overshoots it (it does by up to 8 % in resultant at high loads with
 //   the AV-21 combined-slip coefficients); pure slip without vertical shifts is unaffected.

@@ -18,12 +18,6 @@ std::string Ms(double seconds) { return params::FormatNumber(std::round(seconds 
 // The largest fall-off shape factor C admits: 1 / (1 - sin(C pi/2)) (the sliding force reaches 0).
 double FalloffLimit(double c) { return 1.0 / (1.0 - std::sin(c * M_PI / 2.0)); }
 
-// The shape factor C' with sin(C' pi/2) = 1 - s (1 - sin(C pi/2)), C' in [1, 2).
-double FalloffShape(double c, double falloff) {
-  const double target = 1.0 - falloff * (1.0 - std::sin(c * M_PI / 2.0));
-  return 2.0 - 2.0 / M_PI * std::asin(target);
-}
-
 // One version of the paper's simulator: its brakes' dead time and lag (no rate limit: the
 // schema's largest) and its steering's dead time, PT1 and rate limit (plant_variation.h).
 struct SimulatorActuation {
@@ -149,10 +143,10 @@ Problems CheckSplitAndFalloff(const params::BrakeParams& brakes, double h,
            "needs a rear tyre whose " + std::string(bound.name) +
                " lies in (1, 2) (a force peak and a positive sliding force); the vehicle's is " +
                params::FormatNumber(bound.c) + ", so only 1 is accepted");
-  else if (falloff != 1.0 && !(falloff >= 0.0 && falloff < bound.limit))
+  else if (falloff != 1.0 && !(falloff >= 0.0 && falloff * rear.falloff < bound.limit))
     pr.Add("plant.rear_tire_falloff",
            params::FormatNumber(falloff) + " is outside the feasible range 0 <= falloff < " +
-               params::FormatNumber(std::floor(bound.limit * 100.0) / 100.0) +
+               params::FormatNumber(std::floor(bound.limit / rear.falloff * 100.0) / 100.0) +
                " (the sliding force of the rear tyre's " + bound.name + " = " +
                params::FormatNumber(bound.c) + " would fall to zero or below)");
   return pr;
@@ -191,8 +185,7 @@ params::BrakeParams SplitAt(const params::BrakeParams& brakes, double h, double 
 params::Mf52Params FalloffAt(const params::Mf52Params& tire, double falloff) {
   if (falloff == 1.0) return tire;
   params::Mf52Params t = tire;
-  t.pcy1 = FalloffShape(tire.pcy1, falloff);
-  t.pcx1 = FalloffShape(tire.pcx1, falloff);
+  t.falloff = tire.falloff * falloff;
   return t;
 }
 

@@ -21,11 +21,12 @@
 //
 // Rear tyre fall-off. The Magic Formula F = D sin(C atan(B x - E (B x - atan B x))) tends to the
 // sliding force D sin(C pi/2) at large slip (E < 1). A fall-off s scales the loss beyond the
-// peak, 1 - sin(C pi/2), by s through a new shape factor C' in [1, 2):
-//   sin(C' pi/2) = 1 - s (1 - sin(C pi/2)),  C' = 2 - (2/pi) asin(1 - s (1 - sin(C pi/2))),
-// applied to PCY1 and PCX1 of the rear tyre. The model computes B = K/(C D), so the slip
-// stiffness K and the peak D stay; the slip at the peak moves (outwards for s < 1). C <= 1 has
-// no peak (only s = 1 is accepted then); s with 1 - s (1 - sin(C pi/2)) <= 0 would need C' >= 2.
+// peak: the rear tyre's Mf52Params::falloff is multiplied by s, and the tyre model then gives
+// D - s (D - F) beyond the slip of the peak (plant/tire/magic_formula.h), longitudinal and
+// lateral. The curve up to the peak, the peak D and the slip stiffness stay exactly; the sliding
+// force becomes D (1 - s (1 - sin(C pi/2))). C <= 1 or C >= 2 has no peak with a positive sliding
+// force (only s = 1 is accepted then); s with 1 - s (1 - sin(C pi/2)) <= 0 would make the sliding
+// force zero or negative.
 //
 // Errors are ConfigError with the path `plant.<key>` and the feasible range. ApplyPlantVariation
 // checks the whole section before it changes anything and lists every violation at once.
@@ -86,9 +87,9 @@ DeadTimeRange FeasibleBrakeDeadTimes(const params::BrakeParams& brakes, double h
 params::BrakeParams BrakesWithDeadTime(const params::BrakeParams& brakes, double h,
                                        double dead_time);
 
-/// `tire` with its loss of force beyond the peak scaled by `falloff` (PCY1 and PCX1; see the
-/// header comment). Throws ConfigError (path plant.rear_tire_falloff) where C <= 1 and falloff is
-/// not 1, or where the falloff would need C >= 2.
+/// `tire` with its loss of force beyond the peak scaled by `falloff` (Mf52Params::falloff; see
+/// the header comment). Throws ConfigError (path plant.rear_tire_falloff) where PCY1 or PCX1 lies
+/// outside (1, 2) and falloff is not 1, or where the sliding force would reach zero.
 params::Mf52Params WithFalloff(const params::Mf52Params& tire, double falloff);
 
 /// The simulated car: `vehicle` with `plant` applied (see above). Throws one ConfigError listing

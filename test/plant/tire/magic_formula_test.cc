@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -165,8 +166,10 @@ TEST(MagicFormula, FiniteForEveryInputIncludingZeroLoad) {
 TEST(MagicFormula, FourTyreCallIsBitIdenticalToSingleCalls) {
   const params::VehicleParams vp;
   const params::Mf52Params shifted = ShiftedSet();
+  params::Mf52Params rear_holding = vp.tires.rear;  // with a fall-off beyond the peak
+  rear_holding.falloff = 0.3;
   const std::array<const params::Mf52Params*, 4> sets = {&vp.tires.front, &shifted, &vp.tires.rear,
-                                                         &vp.tires.rear};
+                                                         &rear_holding};
   for (double k : {-1.0, -0.05, 0.0, 0.02, 0.3})
     for (double a : {-0.5, -0.01, 0.0, 0.03, 0.2}) {
       // Different loads (one unloaded), slips and grip per tyre, as on the car.
@@ -181,6 +184,39 @@ TEST(MagicFormula, FourTyreCallIsBitIdenticalToSingleCalls) {
         EXPECT_EQ(out[i].fy, f.fy) << i << " " << k << " " << a;
       }
     }
+}
+
+TEST(MagicFormula, FalloffActsOnlyBeyondThePeakAndKeepsTheSymmetry) {
+  const params::VehicleParams vp;
+  const params::Mf52Params& fit = vp.tires.rear;
+  for (double fz : kLoads) {
+    const double dy = PeakFriction(fz, 1.0, 1.0, fit).mu_y * fz;
+    double a_peak = 0.0, peak = 0.0;  // the fit's peak, scanned at 1 mrad
+    for (int i = 1; i <= 1200; ++i)
+      if (TireForces({fz, 0.0, 0.001 * i, 1.0, 1.0}, fit).fy > peak)
+        peak = TireForces({fz, 0.0, 0.001 * i, 1.0, 1.0}, fit).fy, a_peak = 0.001 * i;
+    for (double s : {0.0, 0.4, 1.7}) {
+      params::Mf52Params t = fit;
+      t.falloff = s;
+      double best = 0.0;
+      for (int i = 1; i <= 1200; ++i) {
+        const double a = 0.001 * i;
+        const double f = TireForces({fz, 0.0, a, 1.0, 1.0}, t).fy;
+        const double g = TireForces({fz, 0.0, a, 1.0, 1.0}, fit).fy;
+        EXPECT_EQ(TireForces({fz, 0.0, -a, 1.0, 1.0}, t).fy, -f);  // still odd
+        if (a < a_peak - 0.001) {
+          EXPECT_EQ(f, g) << s << " " << fz << " " << a;
+        } else if (a > a_peak + 0.001) {
+          EXPECT_NEAR(f, dy - s * (dy - g), 1e-9 * dy) << s << " " << fz << " " << a;
+        }
+        if (s == 0.0) {
+          EXPECT_GE(f, best * (1.0 - 1e-12)) << fz << " " << a;  // holds its peak
+        }
+        best = std::max(best, f);
+      }
+      EXPECT_NEAR(best, peak, 1e-5 * dy) << s << " " << fz;  // peak on a 1 mrad grid
+    }
+  }
 }
 
 TEST(MagicFormula, StiffnessesMatchTheSlopeAtZero) {

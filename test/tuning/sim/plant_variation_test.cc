@@ -221,29 +221,58 @@ double PeakFy(const params::Mf52Params& t) {
 
 TEST(PlantVariationTest, RearTyreFalloffScalesTheLossBeyondThePeak) {
   const params::Mf52Params rear = params::VehicleParams{}.tires.rear;
-  const double sliding = std::sin(rear.pcy1 * M_PI / 2.0);  // 0.588
   EXPECT_EQ(params::ToPlainYaml(WithFalloff(rear, 1.0)), params::ToPlainYaml(rear));
+  // The slip angle of the lateral peak (scanned at 1 mrad).
+  double peak = 0.0, a_peak = 0.0;
+  for (int i = 1; i <= 600; ++i)
+    if (RearFy(rear, 0.001 * i) > peak) peak = RearFy(rear, 0.001 * i), a_peak = 0.001 * i;
+  ASSERT_GT(a_peak, 0.02);
+  ASSERT_LT(a_peak, 0.3);
   for (double s : {0.0, 0.5, 1.5, 2.0}) {
     const params::Mf52Params t = WithFalloff(rear, s);
-    EXPECT_NEAR(std::sin(t.pcy1 * M_PI / 2.0), 1.0 - s * (1.0 - sliding), 1e-12) << s;
-    EXPECT_GE(t.pcy1, 1.0);
-    EXPECT_LT(t.pcy1, 2.0);
-    // Peak friction and cornering stiffness stay; the front tyre is not touched.
-    EXPECT_EQ(plant::PeakFriction(t.fnomin, 1, 1, t).mu_y,
-              plant::PeakFriction(t.fnomin, 1, 1, rear).mu_y);
-    EXPECT_EQ(plant::CorneringStiffness(t.fnomin, t), plant::CorneringStiffness(t.fnomin, rear));
-    EXPECT_NE(t.pcx1, rear.pcx1);  // the longitudinal curve too
+    EXPECT_EQ(t.falloff, s);
+    EXPECT_EQ(t.pcy1, rear.pcy1);  // the fit's coefficients stay
+    EXPECT_EQ(t.pcx1, rear.pcx1);
+    // Up to the peak the curve is the fit's, bit for bit; beyond it the loss is scaled by s.
+    for (int i = 1; i <= 600; ++i) {
+      const double a = 0.001 * i;
+      if (a < a_peak - 0.002) {
+        EXPECT_EQ(RearFy(t, a), RearFy(rear, a)) << s << " " << a;
+      } else if (a > a_peak + 0.002) {
+        EXPECT_NEAR(RearFy(t, a), peak - s * (peak - RearFy(rear, a)), 1e-5 * peak)
+            << s << " " << a;
+      }
+    }
+    EXPECT_NEAR(PeakFy(t) / peak, 1.0, 1e-5) << s;  // both scanned at 1 mrad
+    // The longitudinal curve too: at 50 % slip the force has lost s times the fit's loss.
+    const auto fx = [](const params::Mf52Params& tt, double k) {
+      return plant::TireForces({tt.fnomin, k, 0.0, 1.0, 1.0}, tt).fx;
+    };
+    const double dx = plant::PeakFriction(rear.fnomin, 1, 1, rear).mu_x * rear.fnomin;
+    EXPECT_NEAR(fx(t, 0.5), dx - s * (dx - fx(rear, 0.5)), 1e-6 * dx) << s;
+    EXPECT_EQ(fx(t, 0.01), fx(rear, 0.01)) << s;
   }
-  // At large slip the force falls with the fall-off, and the peak itself stays within 1 %.
-  const double peak = PeakFy(rear);
+  // At large slip the force falls with the fall-off.
   double last = 1e9;
   for (double s : {0.0, 0.5, 1.0, 1.5, 2.0}) {
-    const params::Mf52Params t = WithFalloff(rear, s);
-    const double fy = RearFy(t, 0.35);  // 20 deg
+    const double fy = RearFy(WithFalloff(rear, s), 0.35);  // 20 deg
     EXPECT_LT(fy, last) << s;
     last = fy;
-    EXPECT_NEAR(PeakFy(t) / peak, 1.0, s == 0.0 ? 0.02 : 0.01) << s;
   }
+  // The vehicle file's own fall-off is checked when the file is read (tires.<axle>.falloff).
+  params::Mf52Params bad = rear;
+  bad.falloff = 2.5;
+  const auto items = params::Validate(bad, "tires.rear").items();
+  ASSERT_EQ(items.size(), 1u);
+  EXPECT_EQ(items[0].path, "tires.rear.falloff");
+  EXPECT_TRUE(Contains(items[0].message, "(PCX1 1.6144: falloff < 2.32)")) << items[0].message;
+  bad.falloff = 2.3;
+  EXPECT_TRUE(params::Validate(bad, "tires.rear").empty());
+  // The vehicle file's own fall-off is scaled, not replaced.
+  params::Mf52Params half = rear;
+  half.falloff = 0.5;
+  EXPECT_EQ(WithFalloff(half, 2.0).falloff, 1.0);
+  EXPECT_TRUE(Contains(ErrorOf([&] { WithFalloff(half, 4.7); }), "0 <= falloff < 4.6")) << "";
   // Beyond 1 / (1 - sin(C pi/2)) = 2.43 the sliding force would be negative.
   const std::string e = ErrorOf([&] { WithFalloff(rear, 2.5); });
   EXPECT_TRUE(Contains(e,
