@@ -20,13 +20,19 @@ scale (a GG lost between two completed ones was seen at 0.001 apart), so a bisec
 edge, the scan shows the band. Finally a diagnostic (--threshold-probe, default x0.5 and x0.3):
 all four configurations at the judged GG with ESC's sideslip-error thresholds scaled in the
 column's own set: whether ESC, once it acts in a lap `none` completes, costs what (d) asks. The
-scaled sets are written beside the results and never go to the car; no set is changed.
+scaled sets are written beside the results and never go to the car; no set is changed. And a
+second diagnostic (--falloff-probe, default 0 and 1.5): `none` at its last completed GG and at
+its first abort with the rear tyre's loss beyond its peak scaled (plant.rear_tire_falloff; the
+curve up to the peak unchanged) beside the vehicle file's (1): if its completed lap stays the
+same and it is lost at the abort whatever the loss, the rear never slid past its peak in a lap
+`none` completes, and what makes the limit a cliff is the peak force itself.
 
 Reads results/columns/*/study2_lateral/summary.json (run experiments/run_all.sh first), one
 `scw sweep` per column; writes results/esc_margin/summary.json (read by report.py).
 
     python3 experiments/esc_margin.py [--processes 2] [--reuse] [--resolution 0.001]
                                       [--scan-step 0.0025] [--threshold-probe 0.5,0.3]
+                                      [--falloff-probe 0,1.5]
 """
 
 import argparse
@@ -46,6 +52,7 @@ TERMS = scwexp.ESC_TERMS
 RESOLUTION = 0.001  # GG: how finely `none`'s first abort is bisected (--resolution)
 SCAN_STEP = 0.0025  # GG: the grid across `none`'s first abort (--scan-step)
 PROBE = "0.5,0.3"  # factors on ESC's sideslip-error thresholds (--threshold-probe)
+FALLOFF_PROBE = "0,1.5"  # the rear tyre's loss beyond its peak, beside 1 (--falloff-probe)
 BETA_ERROR_KEYS = ("beta_error_threshold_activate", "beta_error_threshold_deactivate")
 DEFAULT_SET = os.path.join(scwexp.ROOT, "params", "stability", "default.yaml")
 CONFIG_OVERRIDES = {n: o for n, o, *_ in study2_lateral.CONFIGS}  # the study's own switches
@@ -125,6 +132,34 @@ def scaled_beta_error_set(src, factor, dst):
                 "(experiments/esc_margin.py threshold probe; not a set for the car)\n" + text)
 
 
+def falloffs(text):
+    """--falloff-probe: comma-separated scales of the rear tyre's loss beyond its peak (>= 0,
+    not 1: the vehicle file's is always run), or [] for an empty text."""
+    out = []
+    for x in (t.strip() for t in text.split(",") if t.strip()):
+        try:
+            v = float(x)
+        except ValueError:
+            v = float("nan")
+        if not v >= 0 or v == 1:
+            raise argparse.ArgumentTypeError(
+                f"--falloff-probe: {x!r} is not a number >= 0 other than 1 (1 is always run)")
+        out.append(v)
+    return out
+
+
+def falloff_configs(lo, hi, values):
+    """The falloff probe's named configurations: `none` at its last completed GG (lo) and at its
+    first abort (hi), with the vehicle file's loss beyond the peak (1) and each of `values`;
+    the names carry the scale in hundredths (none.fo150_last)."""
+    out = []
+    for f in [1.0] + list(values):
+        for at, g in (("last", lo), ("abort", hi)):
+            out.append(f"none.fo{round(f * 100)}_{at}:{CONFIG_OVERRIDES['none']},gg_scale={g},"
+                       f"plant.rear_tire_falloff={f:g}")
+    return out
+
+
 def factors(text):
     """--threshold-probe: comma-separated positive factors, or [] for an empty text."""
     out = []
@@ -166,6 +201,10 @@ def main(argv=None):
                    help=f"run all four configurations at the judged GG with ESC's sideslip-error "
                         f"thresholds times each factor (default {PROBE}; '': off): whether ESC, "
                         "once it acts where `none` completes, costs what (d) asks; a diagnostic")
+    p.add_argument("--falloff-probe", type=falloffs, default=falloffs(FALLOFF_PROBE),
+                   help=f"run `none` at its last completed GG and its first abort with the rear "
+                        f"tyre's loss beyond its peak scaled by each value, beside 1 (default "
+                        f"{FALLOFF_PROBE}; '': off): whether that force decides the cliff")
     p.add_argument("--scan-step", type=float, default=SCAN_STEP,
                    help=f"run `none` and ESC on a grid of this GG step between `none`'s last "
                         f"completed GG and its first abort (default {SCAN_STEP}; 0: off)")
@@ -238,6 +277,25 @@ def main(argv=None):
             for r in scwexp.read_csv(probe_csv):
                 cfg = r["config"].split(".", 1)[0]
                 rows_out.append(dict(row_of(name, col, cfg, tag, gg_d, fa, r), factor=factor))
+        rows = [dict(r, gg_scale=float(r["gg_scale"])) for r in series["none"].get("runs") or []]
+        bounds = scwexp.series_bounds(rows)
+        if args.falloff_probe and bounds:
+            fo_csv = os.path.join(out, f"falloff_{name}.csv")
+            cmd = [scw, "sweep", "-o", fo_csv, "--processes", str(args.processes or 2),
+                   "--set"] + sets
+            for c in falloff_configs(bounds[0], bounds[1], args.falloff_probe):
+                cmd += ["--config", c]
+            if stab:
+                cmd += ["--stability", stab]
+            scwexp.reuse_or_run(cmd, fo_csv, os.path.join(out, f"scw_falloff_{name}.log"),
+                                args.reuse)
+            commands.append(" ".join(cmd))
+            for r in scwexp.read_csv(fo_csv):
+                cfg, tag = r["config"].split(".", 1)
+                scale, at = tag.split("_", 1)
+                rows_out.append(dict(row_of(name, col, cfg, f"falloff_{at}",
+                                            bounds[0] if at == "last" else bounds[1], fa, r),
+                                     falloff=int(scale[2:]) / 100.0))
     summary = {"study": STUDY, "rows": rows_out, "commands": commands,
                "text": text_of(rows_out), "wall_time_s": timer.seconds(),
                "cpu_time_s": timer.cpu_seconds(),

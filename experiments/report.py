@@ -1238,8 +1238,85 @@ def esc_margin_section():
             "ESC braking in laps that `none` also completes, hardly arises.")
         out.append("")
     out += (esc_margin_terms_text(rows) + esc_margin_finest_text(rows)
-            + esc_margin_scan_text(rows) + esc_margin_probe_text(rows))
+            + esc_margin_scan_text(rows) + esc_margin_probe_text(rows)
+            + esc_margin_falloff_text(rows))
     return out
+
+
+FALLOFF_SAME_LAP = 0.001  # s: a lap "the same" for every loss beyond the peak
+
+
+def esc_margin_falloff_text(rows):
+    """esc_margin.py's falloff probe (rows at falloff_last / falloff_abort with a `falloff`):
+    `none` at its last completed GG and its first abort with the rear tyre's loss beyond its
+    peak scaled; per column its lap and its end, and a sentence on what makes the limit a cliff.
+    Nothing if not run."""
+    fo = [r for r in rows if r.get("falloff") is not None
+          and r["at"] in ("falloff_last", "falloff_abort")]
+    if not fo:
+        return []
+    cols = []
+    for r in fo:
+        if r["column"] not in cols:
+            cols.append(r["column"])
+    values = sorted({r["falloff"] for r in fo})
+    others = [v for v in values if v != 1.0]
+    lines = ["| column | `none`'s last completed GG | lap, loss beyond the peak × 1 | "
+             + " | ".join(f"× {v:g}: Δ lap" for v in others) + " | first abort GG | "
+             + " | ".join(f"× {v:g}" for v in values) + " |",
+             "|---|---|---|" + "---|" * len(others) + "---|" + "---|" * len(values)]
+    same, kept, lost_all, n = 0, 0, 0, 0
+    worst = 0.0
+    for c in cols:
+        at = {(r["at"], r["falloff"]): r for r in fo if r["column"] == c}
+        base = at.get(("falloff_last", 1.0))
+        if base is None:
+            continue
+        n += 1
+        r0 = base
+        deltas, texts = [], []
+        for v in others:
+            x = at.get(("falloff_last", v))
+            if x is None or x["status"] != "completed" or base["status"] != "completed":
+                texts.append(x["status"] if x else "–")
+                continue
+            d = scwexp.to_float(x["mean_lap_time_s"]) - scwexp.to_float(base["mean_lap_time_s"])
+            deltas.append((d, x["mean_lap_time_s"] == base["mean_lap_time_s"]))
+            texts.append("identical" if deltas[-1][1] else f"{d * 1e3:+.2f} ms")
+        if base["status"] == "completed" and len(deltas) == len(others) \
+                and all(abs(d) <= FALLOFF_SAME_LAP for d, _ in deltas):
+            kept += 1
+            same += all(i for _, i in deltas)
+            worst = max([worst] + [abs(d) for d, _ in deltas])
+        ends = [at.get(("falloff_abort", v)) for v in values]
+        lost_all += all(e is not None and e["status"] != "completed" for e in ends)
+        lines.append(f"| {r0['set_label']}, {r0['actuators']} | {g(base['gg'])} | "
+                     + (f"{scwexp.to_float(base['mean_lap_time_s']):.3f} s"
+                        if base["status"] == "completed" else base["status"]) + " | "
+                     + " | ".join(texts) + f" | {g(ends[0]['gg']) if ends[0] else '–'} | "
+                     + " | ".join(e["status"] if e else "–" for e in ends) + " |")
+    if not n:
+        return []
+    text = (f"The rear tyre's force beyond its peak (`plant.rear_tire_falloff` "
+            f"{' / '.join(f'×{v:g}' for v in values)} of the vehicle file's loss, the curve up "
+            "to the peak unchanged; `experiments/esc_margin.py --falloff-probe`), `none` at its "
+            "last completed GG and at its first abort: ")
+    if kept:
+        text += (f"its completed lap is the same for every value in {kept} of {n} columns ("
+                 f"bit for bit in {same}, otherwise within {worst * 1e3:.2f} ms)")
+    else:
+        text += (f"its lap is not the same (within {FALLOFF_SAME_LAP * 1e3:g} ms) for every "
+                 "value in any column")
+    text += (f", and it is lost at its first abort for every value in {lost_all} of {n}. ")
+    if kept == n and lost_all == n:
+        text += ("In a lap `none` completes the rear never slides past its peak, and holding "
+                 "the peak force (×0) does not save the car one step higher: the cliff is where "
+                 "the planner's lateral demand meets the rear's peak force, not the force it "
+                 "loses beyond it.")
+    else:
+        text += ("Where the lap or the end changes, the force beyond the peak takes part in "
+                 "the limit.")
+    return lines + ["", text, ""]
 
 
 def esc_margin_terms_text(rows):

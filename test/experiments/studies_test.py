@@ -372,6 +372,55 @@ class EscMarginTerms(unittest.TestCase):
         self.assertIn("on this grid its loss is monotone in GG in every column",
                       "\n".join(report.esc_margin_scan_text(mono)))
 
+    def test_falloff_probe_runs_none_at_both_edges_and_names_the_cliff(self):
+        self.assertEqual(esc_margin.falloffs("0, 1.5"), [0.0, 1.5])
+        self.assertEqual(esc_margin.falloffs(""), [])
+        for bad in ("1", "-0.5", "x", "nan"):
+            with self.assertRaises(argparse.ArgumentTypeError):
+                esc_margin.falloffs(bad)
+        cfgs = esc_margin.falloff_configs(1.025, 1.05, [0.0, 1.5])
+        self.assertEqual(len(cfgs), 6)
+        self.assertEqual(cfgs[0], "none.fo100_last:subsystems.esc=false,subsystems.cs=false,"
+                                  "gg_scale=1.025,plant.rear_tire_falloff=1")
+        self.assertEqual(cfgs[5], "none.fo150_abort:subsystems.esc=false,subsystems.cs=false,"
+                                  "gg_scale=1.05,plant.rear_tire_falloff=1.5")
+
+        def r(column, at, f, status, lap="71.4949"):
+            x = self.row(column, "none", at, status, 0.4, (1, 0.2, 1), lap=lap,
+                         gg=1.025 if at == "falloff_last" else 1.05)
+            x["mean_lap_time_s"] = lap
+            return dict(x, falloff=f)
+        rows = []
+        for col, lap0 in (("vehicle", "71.4949"), ("paper_sim", "71.5644")):
+            for f in (0.0, 1.0, 1.5):
+                lap = lap0 if col == "vehicle" or f == 1.0 else lap0 + "1"
+                rows += [r(col, "falloff_last", f, "completed", lap),
+                         r(col, "falloff_abort", f, "off_track" if f == 0 else "sideslip")]
+        text = "\n".join(report.esc_margin_falloff_text(rows))
+        self.assertIn("| shipped, vehicle | 1.025 | 71.495 s | identical | identical | 1.05 | "
+                      "off_track | sideslip | sideslip |", text)
+        self.assertIn("| shipped, paper_sim | 1.025 | 71.564 s | +0.01 ms | +0.01 ms |", text)
+        self.assertIn("its completed lap is the same for every value in 2 of 2 columns (bit for "
+                      "bit in 1, otherwise within 0.01 ms), and it is lost at its first abort "
+                      "for every value in 2 of 2.", text)
+        self.assertIn("the cliff is where the planner's lateral demand meets the rear's peak "
+                      "force", text)
+        # holding the peak saves the car one step higher in one column: no such sentence
+        saved = [dict(x, status="completed") if x["column"] == "vehicle" and x["falloff"] == 0.0
+                 and x["at"] == "falloff_abort" else x for x in rows]
+        text = "\n".join(report.esc_margin_falloff_text(saved))
+        self.assertIn("lost at its first abort for every value in 1 of 2", text)
+        self.assertIn("the force beyond the peak takes part in the limit", text)
+        # a lap 2 ms slower with the peak held is not "the same"
+        slow = [dict(x, mean_lap_time_s="71.4969") if x["column"] == "vehicle"
+                and x["falloff"] == 0.0 and x["at"] == "falloff_last" else x for x in rows]
+        text = "\n".join(report.esc_margin_falloff_text(slow))
+        self.assertIn("| shipped, vehicle | 1.025 | 71.495 s | +2.00 ms | identical |", text)
+        self.assertIn("the same for every value in 1 of 2 columns", text)
+        self.assertIn("the force beyond the peak takes part in the limit", text)
+        self.assertEqual(report.esc_margin_falloff_text(
+            [x for x in rows if x.get("falloff") is None]), [])
+
     def test_threshold_probe_set_scales_only_the_sideslip_error_thresholds(self):
         src = os.path.join(WORK, "set.yaml")
         with open(src, "w") as f:
