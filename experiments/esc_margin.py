@@ -132,20 +132,26 @@ def scaled_beta_error_set(src, factor, dst):
                 "(experiments/esc_margin.py threshold probe; not a set for the car)\n" + text)
 
 
-def falloffs(text):
-    """--falloff-probe: comma-separated scales of the rear tyre's loss beyond its peak (>= 0,
-    not 1: the vehicle file's is always run), or [] for an empty text."""
+def numbers(text, ok, error):
+    """Comma-separated numbers each satisfying `ok`, or [] for an empty text; an
+    argparse.ArgumentTypeError `error.format(x)` names the first that does not."""
     out = []
     for x in (t.strip() for t in text.split(",") if t.strip()):
         try:
             v = float(x)
         except ValueError:
             v = float("nan")
-        if not v >= 0 or v == 1:
-            raise argparse.ArgumentTypeError(
-                f"--falloff-probe: {x!r} is not a number >= 0 other than 1 (1 is always run)")
+        if not ok(v):
+            raise argparse.ArgumentTypeError(error.format(repr(x)))
         out.append(v)
     return out
+
+
+def falloffs(text):
+    """--falloff-probe: comma-separated scales of the rear tyre's loss beyond its peak (>= 0,
+    not 1: the vehicle file's is always run), or [] for an empty text."""
+    return numbers(text, lambda v: v >= 0 and v != 1,
+                   "--falloff-probe: {} is not a number >= 0 other than 1 (1 is always run)")
 
 
 def falloff_configs(lo, hi, values):
@@ -162,16 +168,7 @@ def falloff_configs(lo, hi, values):
 
 def factors(text):
     """--threshold-probe: comma-separated positive factors, or [] for an empty text."""
-    out = []
-    for x in (t.strip() for t in text.split(",") if t.strip()):
-        try:
-            v = float(x)
-        except ValueError:
-            v = float("nan")
-        if not v > 0:
-            raise argparse.ArgumentTypeError(f"--threshold-probe: {x!r} is not a positive number")
-        out.append(v)
-    return out
+    return numbers(text, lambda v: v > 0, "--threshold-probe: {} is not a positive number")
 
 
 def judged_gg(series):

@@ -1246,6 +1246,11 @@ def esc_margin_section():
 FALLOFF_SAME_LAP = 0.001  # s: a lap "the same" for every loss beyond the peak
 
 
+def lap_change(d, sign=""):
+    """A small lap-time change: in ms, or in µs below 0.01 ms."""
+    return f"{d * 1e3:{sign}.2f} ms" if abs(d) >= 1e-5 else f"{d * 1e6:{sign}.2g} µs"
+
+
 def esc_margin_falloff_text(rows):
     """esc_margin.py's falloff probe (rows at falloff_last / falloff_abort with a `falloff`):
     `none` at its last completed GG and its first abort with the rear tyre's loss beyond its
@@ -1282,7 +1287,7 @@ def esc_margin_falloff_text(rows):
                 continue
             d = scwexp.to_float(x["mean_lap_time_s"]) - scwexp.to_float(base["mean_lap_time_s"])
             deltas.append((d, x["mean_lap_time_s"] == base["mean_lap_time_s"]))
-            texts.append("identical" if deltas[-1][1] else f"{d * 1e3:+.2f} ms")
+            texts.append("identical" if deltas[-1][1] else lap_change(d, "+"))
         if base["status"] == "completed" and len(deltas) == len(others) \
                 and all(abs(d) <= FALLOFF_SAME_LAP for d, _ in deltas):
             kept += 1
@@ -1303,7 +1308,7 @@ def esc_margin_falloff_text(rows):
             "last completed GG and at its first abort: ")
     if kept:
         text += (f"its completed lap is the same for every value in {kept} of {n} columns ("
-                 f"bit for bit in {same}, otherwise within {worst * 1e3:.2f} ms)")
+                 f"bit for bit in {same}, otherwise within {lap_change(worst)})")
     else:
         text += (f"its lap is not the same (within {FALLOFF_SAME_LAP * 1e3:g} ms) for every "
                  "value in any column")

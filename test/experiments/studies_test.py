@@ -399,9 +399,9 @@ class EscMarginTerms(unittest.TestCase):
         text = "\n".join(report.esc_margin_falloff_text(rows))
         self.assertIn("| shipped, vehicle | 1.025 | 71.495 s | identical | identical | 1.05 | "
                       "off_track | sideslip | sideslip |", text)
-        self.assertIn("| shipped, paper_sim | 1.025 | 71.564 s | +0.01 ms | +0.01 ms |", text)
+        self.assertIn("| shipped, paper_sim | 1.025 | 71.564 s | +10 µs | +10 µs |", text)
         self.assertIn("its completed lap is the same for every value in 2 of 2 columns (bit for "
-                      "bit in 1, otherwise within 0.01 ms), and it is lost at its first abort "
+                      "bit in 1, otherwise within 10 µs), and it is lost at its first abort "
                       "for every value in 2 of 2.", text)
         self.assertIn("the cliff is where the planner's lateral demand meets the rear's peak "
                       "force", text)
