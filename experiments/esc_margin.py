@@ -58,11 +58,16 @@ DEFAULT_SET = os.path.join(scwexp.ROOT, "params", "stability", "default.yaml")
 CONFIG_OVERRIDES = {n: o for n, o, *_ in study2_lateral.CONFIGS}  # the study's own switches
 
 
+def none_bounds(series):
+    """(`none`'s last completed GG, its first abort) in the study's runs, or None."""
+    return scwexp.series_bounds(
+        [dict(r, gg_scale=float(r["gg_scale"])) for r in series["none"].get("runs") or []])
+
+
 def scan_grid(series, step):
     """GGs strictly between `none`'s last completed GG and its first abort (the study's runs),
     `step` apart (rounded to 1e-6), or [] without such a pair or with step 0."""
-    rows = [dict(r, gg_scale=float(r["gg_scale"])) for r in series["none"].get("runs") or []]
-    bounds = scwexp.series_bounds(rows)
+    bounds = none_bounds(series)
     if not bounds or not step:
         return []
     lo, hi = bounds
@@ -274,8 +279,7 @@ def main(argv=None):
             for r in scwexp.read_csv(probe_csv):
                 cfg = r["config"].split(".", 1)[0]
                 rows_out.append(dict(row_of(name, col, cfg, tag, gg_d, fa, r), factor=factor))
-        rows = [dict(r, gg_scale=float(r["gg_scale"])) for r in series["none"].get("runs") or []]
-        bounds = scwexp.series_bounds(rows)
+        bounds = none_bounds(series)
         if args.falloff_probe and bounds:
             fo_csv = os.path.join(out, f"falloff_{name}.csv")
             cmd = [scw, "sweep", "-o", fo_csv, "--processes", str(args.processes or 2),

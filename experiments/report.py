@@ -1278,7 +1278,6 @@ def esc_margin_falloff_text(rows):
         if base is None:
             continue
         n += 1
-        r0 = base
         deltas, texts = [], []
         for v in others:
             x = at.get(("falloff_last", v))
@@ -1295,7 +1294,7 @@ def esc_margin_falloff_text(rows):
             worst = max([worst] + [abs(d) for d, _ in deltas])
         ends = [at.get(("falloff_abort", v)) for v in values]
         lost_all += all(e is not None and e["status"] != "completed" for e in ends)
-        lines.append(f"| {r0['set_label']}, {r0['actuators']} | {g(base['gg'])} | "
+        lines.append(f"| {base['set_label']}, {base['actuators']} | {g(base['gg'])} | "
                      + (f"{scwexp.to_float(base['mean_lap_time_s']):.3f} s"
                         if base["status"] == "completed" else base["status"]) + " | "
                      + " | ".join(texts) + f" | {g(ends[0]['gg']) if ends[0] else '–'} | "

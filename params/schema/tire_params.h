@@ -14,12 +14,25 @@
 
 #include <cmath>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "params/schema/field.h"
 
 namespace scw::params {
+
+struct Mf52Params;
+
+/// What bounds a tyre's fall-off (Mf52Params::falloff): the shape factor, PCY1 or PCX1, that
+/// admits the smaller fall-off before its sliding force D (1 - falloff (1 - sin(C pi/2))) reaches
+/// zero, or the first of them without a force peak with a positive sliding force (C outside
+/// (1, 2)), where only a fall-off of 1 is accepted.
+struct FalloffBound {
+  const char* name = "";
+  double c = 0.0;
+  bool has_peak = true;
+  double limit = 0.0;  ///< feasible: 0 <= falloff < limit
+};
+inline FalloffBound FalloffBoundOf(const Mf52Params& tire);
 
 /// Magic Formula 5.2 combined-slip force coefficients of one tyre (one axle).
 struct Mf52Params {
@@ -310,23 +323,27 @@ struct Mf52Params {
   }
   static void CrossCheck(const Mf52Params& p, Problems& pr) {
     if (p.falloff == 1.0) return;
-    for (const auto& [name, c] : {std::pair{"PCX1", p.pcx1}, std::pair{"PCY1", p.pcy1}}) {
-      if (!(c > 1.0 && c < 2.0)) {
-        pr.Add("falloff", std::string("needs a force peak with a positive sliding force (") + name +
-                              " in (1, 2)); " + name + " is " + FormatNumber(c) +
-                              ", so only 1 is accepted");
-        return;
-      }
-      const double limit = 1.0 / (1.0 - std::sin(c * M_PI / 2.0));
-      if (!(p.falloff < limit)) {
-        pr.Add("falloff", FormatNumber(p.falloff) + " would make the sliding force zero or less (" +
-                              name + " " + FormatNumber(c) + ": falloff < " +
-                              FormatNumber(std::floor(limit * 100.0) / 100.0) + ")");
-        return;
-      }
-    }
+    const FalloffBound b = FalloffBoundOf(p);
+    if (!b.has_peak)
+      pr.Add("falloff", std::string("needs a force peak with a positive sliding force (") + b.name +
+                            " in (1, 2)); " + b.name + " is " + FormatNumber(b.c) +
+                            ", so only 1 is accepted");
+    else if (!(p.falloff < b.limit))
+      pr.Add("falloff", FormatNumber(p.falloff) + " would make the sliding force zero or less (" +
+                            b.name + " " + FormatNumber(b.c) + ": falloff < " +
+                            FormatNumber(std::floor(b.limit * 100.0) / 100.0) + ")");
   }
 };
+
+inline FalloffBound FalloffBoundOf(const Mf52Params& tire) {
+  const auto limit = [](double c) { return 1.0 / (1.0 - std::sin(c * M_PI / 2.0)); };
+  const FalloffBound shapes[] = {{"PCY1", tire.pcy1}, {"PCX1", tire.pcx1}};
+  for (FalloffBound b : shapes)
+    if (!(b.c > 1.0 && b.c < 2.0)) return {b.name, b.c, false, 0.0};
+  FalloffBound b = shapes[limit(tire.pcy1) <= limit(tire.pcx1) ? 0 : 1];
+  b.limit = limit(b.c);
+  return b;
+}
 
 /// Slip kinematics, relaxation and low-speed behaviour, common to all four tyres.
 struct TireKinematicsParams {

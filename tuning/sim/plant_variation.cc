@@ -15,9 +15,6 @@ bool NotLater(double t, double limit, double h) { return t <= limit + 1e-6 * h; 
 
 std::string Ms(double seconds) { return params::FormatNumber(std::round(seconds * 1e4) / 1e4); }
 
-// The largest fall-off shape factor C admits: 1 / (1 - sin(C pi/2)) (the sliding force reaches 0).
-double FalloffLimit(double c) { return 1.0 / (1.0 - std::sin(c * M_PI / 2.0)); }
-
 // One version of the paper's simulator: its brakes' dead time and lag (no rate limit: the
 // schema's largest) and its steering's dead time, PT1 and rate limit (plant_variation.h).
 struct SimulatorActuation {
@@ -105,23 +102,6 @@ bool DeadTimeFeasible(const params::BrakeParams& brakes, double h, double d) {
          !NotLater(response(kMaxLag), total - 0.5 * h, h);
 }
 
-// The rear tyre's shape factor the fall-off is bounded by (the tighter of PCY1 and PCX1), or the
-// first one without a force peak.
-struct FalloffBound {
-  const char* name = "";
-  double c = 0.0;
-  bool has_peak = true;
-  double limit = 0.0;  // feasible: 0 <= falloff < limit
-};
-FalloffBound FalloffBoundOf(const params::Mf52Params& tire) {
-  const FalloffBound shapes[] = {{"PCY1", tire.pcy1}, {"PCX1", tire.pcx1}};
-  for (FalloffBound b : shapes)
-    if (!(b.c > 1.0 && b.c < 2.0)) return {b.name, b.c, false, 0.0};
-  FalloffBound b = shapes[FalloffLimit(tire.pcy1) <= FalloffLimit(tire.pcx1) ? 0 : 1];
-  b.limit = FalloffLimit(b.c);
-  return b;
-}
-
 // Every violation of a brake dead time and a rear-tyre fall-off, listed together (STYLE §6);
 // an absent value is not checked, nor the brakes' own dead time or a fall-off of 1 (no change).
 Problems CheckSplitAndFalloff(const params::BrakeParams& brakes, double h,
@@ -137,7 +117,7 @@ Problems CheckSplitAndFalloff(const params::BrakeParams& brakes, double h,
                " s, and the rate limit of " + params::FormatNumber(brakes.rate_limit) +
                " bar/s alone needs " + Ms(range.total - range.max) + " s");
   }
-  const FalloffBound bound = FalloffBoundOf(rear);
+  const params::FalloffBound bound = params::FalloffBoundOf(rear);
   if (falloff != 1.0 && !bound.has_peak)
     pr.Add("plant.rear_tire_falloff",
            "needs a rear tyre whose " + std::string(bound.name) +
