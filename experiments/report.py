@@ -1268,8 +1268,9 @@ def esc_margin_falloff_text(rows):
     others = [v for v in values if v != 1.0]
     lines = ["| column | `none`'s last completed GG | lap, loss beyond the peak × 1 | "
              + " | ".join(f"× {v:g}: Δ lap" for v in others) + " | first abort GG | "
-             + " | ".join(f"× {v:g}" for v in values) + " |",
-             "|---|---|---|" + "---|" * len(others) + "---|" + "---|" * len(values)]
+             + " | ".join(f"× {v:g}" for v in values) + " | ESC/CS/ABS/TC "
+             + " · ".join(f"×{v:g}" for v in values) + ": last GG | at the abort |",
+             "|---|---|---|" + "---|" * len(others) + "---|" + "---|" * len(values) + "---|---|"]
     same, kept, lost_all, n = 0, 0, 0, 0
     worst = 0.0
     for c in cols:
@@ -1298,7 +1299,10 @@ def esc_margin_falloff_text(rows):
                      + (f"{scwexp.to_float(base['mean_lap_time_s']):.3f} s"
                         if base["status"] == "completed" else base["status"]) + " | "
                      + " | ".join(texts) + f" | {g(ends[0]['gg']) if ends[0] else '–'} | "
-                     + " | ".join(e["status"] if e else "–" for e in ends) + " |")
+                     + " | ".join(e["status"] if e else "–" for e in ends) + " | "
+                     + " · ".join(acts(x) if x else "–"
+                                  for x in (at.get(("falloff_last", v)) for v in values))
+                     + " | " + " · ".join(acts(e) if e else "–" for e in ends) + " |")
     if not n:
         return []
     text = (f"The rear tyre's force beyond its peak (`plant.rear_tire_falloff` "

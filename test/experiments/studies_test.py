@@ -389,6 +389,7 @@ class EscMarginTerms(unittest.TestCase):
             x = self.row(column, "none", at, status, 0.4, (1, 0.2, 1), lap=lap,
                          gg=1.025 if at == "falloff_last" else 1.05)
             x["mean_lap_time_s"] = lap
+            x.update(cs_count="0", abs_count="0", tc_count="0" if status == "completed" else "1")
             return dict(x, falloff=f)
         rows = []
         for col, lap0 in (("vehicle", "71.4949"), ("paper_sim", "71.5644")):
@@ -398,7 +399,9 @@ class EscMarginTerms(unittest.TestCase):
                          r(col, "falloff_abort", f, "off_track" if f == 0 else "sideslip")]
         text = "\n".join(report.esc_margin_falloff_text(rows))
         self.assertIn("| shipped, vehicle | 1.025 | 71.495 s | identical | identical | 1.05 | "
-                      "off_track | sideslip | sideslip |", text)
+                      "off_track | sideslip | sideslip | 0/0/0/0 · 0/0/0/0 · 0/0/0/0 | "
+                      "0/0/0/1 · 0/0/0/1 · 0/0/0/1 |", text)
+        self.assertIn("| ESC/CS/ABS/TC ×0 · ×1 · ×1.5: last GG | at the abort |", text)
         self.assertIn("| shipped, paper_sim | 1.025 | 71.564 s | +10 µs | +10 µs |", text)
         self.assertIn("its completed lap is the same for every value in 2 of 2 columns (bit for "
                       "bit in 1, otherwise within 10 µs), and it is lost at its first abort "
