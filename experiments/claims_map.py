@@ -29,7 +29,16 @@ The unknowns and their ranges (docs/plant-calibration.md, docs/scenarios.md `pla
   at "conservative targets";
 - the lateral-acceleration request the PMPC publishes as the ESC's yaw reference
   (motion.pmpc.esc_target=commanded: the one its steering follows, plan plus ancillary feedback;
-  the default is the plan's), which the paper does not state.
+  the default is the plan's), which the paper does not state;
+- claim (d)'s remaining candidates, on the axis GG 0.7:0.05:1.8 (a car more oversteering than
+  the vehicle file is lost at 1.0): the rear axle's cornering stiffness (tires.rear.lky 0.8 /
+  0.9 against the file's 1.0: the compliance the file assumes for the front axle, applied to the
+  rear; ESC's sideslip reference assumes its own, tire_stiffness_rear); the speed of the load
+  transfer (chassis.load_transfer_time_constant 0.01 / 0.1 s against 0.04: roll and pitch modes
+  of 2-5 Hz, the paper's simulator models them as body degrees of freedom); the front share of
+  the lateral load transfer (chassis.roll_stiffness_share_front 0.4 / 0.6 against 0.5); the
+  PMPC's lateral feedback (motion.pmpc.lookahead_time 0.3 / 1.0 s against 0.6), a motion
+  controller choice, not the plant's.
 
 Every variant runs in a few `scw sweep` calls, the studies' configurations as named
 configurations of one sweep (study-specific keys in each), the variant as a varied key, runs in
@@ -86,6 +95,16 @@ FAMILIES = [
      ["plant.grip_scaling=curve"], "0.7:0.05:1.8"),
     ("esc_target", "the PMPC's ESC target: the commanded lateral acceleration",
      ["motion.pmpc.esc_target=commanded"]),
+    # claim (d)'s remaining candidates (what lets `none` survive an excursion past ESC's
+    # thresholds?): the plant's rear cornering stiffness against ESC's reference model, the
+    # load transfer's speed and split, the motion controller's lateral feedback. A car more
+    # oversteering than the vehicle file is lost at GG 1.0 already (as with grip_curve), so
+    # these run on the longer axis, the same for every configuration.
+    ("rear_stiffness", "the rear axle's cornering stiffness", None, "0.7:0.05:1.8"),
+    ("load_transfer", "the speed of the load transfer (roll/pitch modes)", None, "0.7:0.05:1.8"),
+    ("roll_split", "the front share of the lateral load transfer", None, "0.7:0.05:1.8"),
+    ("pmpc_lookahead", "the PMPC's lateral feedback: its lookahead time",
+     ["motion.pmpc.lookahead_time=0.3,1.0"], "0.7:0.05:1.8"),
 ]
 NO_DYN = "no brake dynamics (no dead time, 1 ms lag, 100 000 bar/s)"
 # the heat map's columns: the brake dead times at the fixed 150 ms response, then no dynamics
@@ -106,31 +125,77 @@ def map_study(set_label):
     return STUDY if set_label == "shipped" else f"{STUDY}_{set_label}"
 
 
-def no_brake_dynamics_vehicle(scw, path):
-    """The built-in vehicle file with brakes that act at once: no dead time, the smallest lag,
-    the largest rate limit (the vehicle file's gains and pressure limit)."""
+def edit_yaml_lines(lines, edits):
+    """The plain block YAML `scw vehicle init` writes (two spaces per level), with the scalar at
+    each dotted key path of `edits` replaced; the paths not found are returned."""
+    left = dict(edits)
+    stack = []  # (indent, key) of the enclosing mappings
+    out = []
+    for line in lines:
+        body = line.lstrip(" ")
+        indent = len(line) - len(body)
+        key = body.split(":", 1)[0] if ":" in body and not body.startswith("#") else None
+        while stack and stack[-1][0] >= indent:
+            stack.pop()
+        if key is not None:
+            path = ".".join([k for _, k in stack] + [key])
+            if path in left:
+                line = " " * indent + f"{key}: {left.pop(path)}"
+            stack.append((indent, key))
+        out.append(line)
+    return out, list(left)
+
+
+def edited_vehicle(scw, path, edits):
+    """The built-in vehicle file with the values at the dotted key paths of `edits` replaced
+    (`scw vehicle init`, then a line edit that keeps the file's comments and order)."""
     scwexp.run([scw, "vehicle", "init", "-o", path], log=path + ".log")
     with open(path) as f:
-        lines = f.read().splitlines()
-    new = {"delay": "0.0", "time_constant": "0.001", "rate_limit": "100000.0"}
-    section = ""
-    for i, line in enumerate(lines):
-        if not line.startswith(" "):
-            section = line.split(":")[0]
-        elif section == "brakes" and line.strip().split(":")[0] in new:
-            key = line.strip().split(":")[0]
-            lines[i] = line[:len(line) - len(line.lstrip())] + f"{key}: {new.pop(key)}"
-    if new:
-        sys.exit(f"error: {path}: brakes lacks {', '.join(new)}")
+        lines, missing = edit_yaml_lines(f.read().splitlines(), edits)
+    if missing:
+        sys.exit(f"error: {path}: the built-in vehicle file lacks {', '.join(missing)}")
     with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
     return path
 
 
+def no_brake_dynamics_vehicle(scw, path):
+    """The built-in vehicle file with brakes that act at once: no dead time, the smallest lag,
+    the largest rate limit (the vehicle file's gains and pressure limit)."""
+    return edited_vehicle(scw, path, {"brakes.delay": "0.0", "brakes.time_constant": "0.001",
+                                      "brakes.rate_limit": "100000.0"})
+
+
+# Families that vary a value of the vehicle file (one edited file per value, the files as the
+# varied key `vehicle`): tag -> (dotted key in the file, values, label, unit). The file's own
+# values (1.0, 0.04 s, 0.5) are the real-car column's.
+VEHICLE_EDITS = {
+    "rear_stiffness": ("tires.rear.lky", [0.8, 0.9], "rear cornering stiffness (LKY)", "×"),
+    "load_transfer": ("chassis.load_transfer_time_constant", [0.01, 0.1], "load-transfer lag",
+                      "s"),
+    "roll_split": ("chassis.roll_stiffness_share_front", [0.4, 0.6],
+                   "front share of the lateral load transfer", ""),
+}
+VEHICLE_LABELS = {}  # edited vehicle file -> its label (filled by vehicle_variants)
+
+
+def vehicle_variants(scw, out, tag):
+    """The edited vehicle files of a VEHICLE_EDITS family, as a --vary argument."""
+    key, values, name, unit = VEHICLE_EDITS[tag]
+    paths = []
+    for v in values:
+        path = os.path.join(out, f"vehicle_{tag}_{v:g}.yaml")
+        edited_vehicle(scw, path, {key: repr(float(v))})
+        VEHICLE_LABELS[path] = f"{name} {v:g} {unit}".strip()
+        paths.append(path)
+    return [f"vehicle={','.join(paths)}"]
+
+
 # The vehicle file's value of each varied key (the real-car column of the studies); choices by
 # name (an actuator model counts as one modelling choice).
 VEHICLE_FILE = {"plant.brake_dead_time": 0.116, "plant.steering_delay": 0.03,
-                "plant.rear_tire_falloff": 1.0, "plant.yaw_inertia_scale": 1.0}
+                "plant.rear_tire_falloff": 1.0, "plant.yaw_inertia_scale": 1.0,
+                "motion.pmpc.lookahead_time": 0.6}
 VEHICLE_FILE_CHOICE = {"plant.actuators": "vehicle", "plant.grip_scaling": "peak",
                        "motion.pmpc.esc_target": "plan"}
 
@@ -140,7 +205,9 @@ def changes_of(tag, keys, vals):
     one entry per modelling choice (an actuator model counts as one)."""
     out = [NO_DYN] if tag == "no_brake_dyn" else []
     for k, v in zip(keys, vals):
-        if k in VEHICLE_FILE_CHOICE:
+        if k == "vehicle":
+            out.append(VEHICLE_LABELS.get(v, v))
+        elif k in VEHICLE_FILE_CHOICE:
             if v != VEHICLE_FILE_CHOICE[k]:
                 out.append(label_of([k], [v]))
         elif abs(float(v) - VEHICLE_FILE[k]) > 1e-12:
@@ -273,11 +340,15 @@ def label_of(keys, vals):
              "plant.yaw_inertia_scale": ("yaw inertia", 1, "×"),
              "plant.actuators": ("actuators", None, ""),
              "plant.grip_scaling": ("grip reduction on the", None, ""),
-             "motion.pmpc.esc_target": ("PMPC ESC target", None, "")}
+             "motion.pmpc.esc_target": ("PMPC ESC target", None, ""),
+             "motion.pmpc.lookahead_time": ("PMPC lookahead time", 1, "s")}
     words = {("plant.grip_scaling", "curve"): "whole tyre curve",
              ("plant.grip_scaling", "peak"): "peak only"}
     parts = []
     for k, v in zip(keys, vals):
+        if k == "vehicle":
+            parts.append(VEHICLE_LABELS.get(v, os.path.basename(v)))
+            continue
         n, scale, unit = names.get(k, (k, None, ""))
         v = words.get((k, v), v)
         parts.append(f"{n} {float(v) * scale:g} {unit}".strip() if scale else f"{n} {v}")
@@ -325,6 +396,8 @@ def main(argv=None):
         if tag == "no_brake_dyn":
             veh = no_brake_dynamics_vehicle(scw, os.path.join(out, "vehicle_no_brake_dyn.yaml"))
             sets.append(f"vehicle={veh}")
+        if tag in VEHICLE_EDITS:
+            vary = vehicle_variants(scw, out, tag)
         keys = [v.split("=", 1)[0] for v in vary]
         csv_path = os.path.join(out, f"sweep_{tag}.csv")
         cmd = scwexp.mpc_sweep_cmd(scw, args, sets, [f"gg_scale={axis}"] + vary, configs,

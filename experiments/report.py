@@ -1576,6 +1576,44 @@ def map_blockers(cm, k):
         text += (f" ESC acts at the highest GG all four configurations complete in {acted} of "
                  f"{len(vs)} variants: it intervenes only in runs that would otherwise be lost, "
                  "so it costs no lap time where `none` also finishes.")
+        text += none_margin_band(vs)
+    return text
+
+
+def none_edge_margins(series):
+    """`none`'s ESC activation margin (max_esc_margin: > 1, ESC's condition held, computed with
+    ESC off) in its run at the last GG it completes and in its first abort; None where a run or
+    the column is missing (a summary written before the margin was kept)."""
+    runs = series.get("runs", [])
+    fa = series.get("first_abort")
+    done = [r for r in runs if r["status"] == "completed" and (fa is None or r["gg_scale"] < fa)]
+    lost = next((r for r in runs if fa is not None and abs(r["gg_scale"] - fa) < EPS), None)
+
+    def m(r):
+        x = r and r.get("max_esc_margin")
+        return float(x) if x is not None and float(x) == float(x) else None
+    return (m(max(done, key=lambda r: r["gg_scale"])) if done else None), m(lost)
+
+
+def none_margin_band(vs):
+    """Claim (d)'s premise over a whole map: whether `none` ever meets ESC's activation
+    condition in a lap it completes (the band (d) needs), from its runs at the edge."""
+    pairs = [(v["label"], *none_edge_margins(v["series"]["none"])) for v in vs
+             if v["series"].get("none")]
+    done = [(n, a) for n, a, _ in pairs if a is not None]
+    lost = [b for _, _, b in pairs if b is not None]
+    if not done or not lost:
+        return ""
+    met = [n for n, a in done if a >= 1]
+    text = (f" `none`'s closest approach to ESC's activation condition (margin, > 1: it held) "
+            f"at its last completed GG is {min(a for _, a in done):.2f}–"
+            f"{max(a for _, a in done):.2f}, ≥ 1 in {len(met)} of {len(done)} variants"
+            + (f" ({'; '.join(met[:6])})" if met else "") + "; in its first abort "
+            f"{min(lost):.2f}–{max(lost):.2f}, ≥ 1 in {sum(1 for b in lost if b >= 1)} of "
+            f"{len(lost)}.")
+    if not met and all(b >= 1 for b in lost):
+        text += (" Whatever the single choice, ESC's thresholds are met only where the car "
+                 "without lateral control is lost, never in a lap it completes.")
     return text
 
 

@@ -233,6 +233,57 @@ class ClaimsMaps(unittest.TestCase):
         # no scored column of the tuned set: no single choice is named against one
         self.assertNotIn("single modelling choice", b)
 
+    def test_a_vehicle_file_value_is_edited_in_place_and_named_as_one_choice(self):
+        import claims_map
+        lines = ["name: \"eav24\"", "chassis:", "  mass: 720.0",
+                 "  roll_stiffness_share_front: 0.5", "tires:", "  front:", "    lky: 0.8",
+                 "  rear:", "    fnomin: 4000.0", "    lky: 1.0", "brakes:", "  delay: 0.116"]
+        out, missing = claims_map.edit_yaml_lines(
+            lines, {"tires.rear.lky": "0.9", "brakes.delay": "0.0", "chassis.nothing": "1"})
+        # only the named paths change: the front axle's lky of the same name stays
+        self.assertEqual(out[6], "    lky: 0.8")
+        self.assertEqual(out[9], "    lky: 0.9")
+        self.assertEqual(out[11], "  delay: 0.0")
+        self.assertEqual([i for i, (a, b) in enumerate(zip(lines, out)) if a != b], [9, 11])
+        self.assertEqual(missing, ["chassis.nothing"])
+        # an edited file is a varied `vehicle`: its label is the one change it makes
+        claims_map.VEHICLE_LABELS["/x/vehicle_rear_stiffness_0.9.yaml"] = \
+            "rear cornering stiffness (LKY) 0.9 ×"
+        self.assertEqual(claims_map.changes_of("rear_stiffness", ["vehicle"],
+                                               ["/x/vehicle_rear_stiffness_0.9.yaml"]),
+                         ["rear cornering stiffness (LKY) 0.9 ×"])
+        self.assertEqual(claims_map.label_of(["vehicle"], ["/x/vehicle_rear_stiffness_0.9.yaml"]),
+                         "rear cornering stiffness (LKY) 0.9 ×")
+        self.assertEqual(claims_map.changes_of("pmpc_lookahead", ["motion.pmpc.lookahead_time"],
+                                               ["0.6"]), [])
+        self.assertEqual(claims_map.label_of(["motion.pmpc.lookahead_time"], ["1.0"]),
+                         "PMPC lookahead time 1 s")
+
+    def test_nones_margin_at_its_edge_is_read_over_the_map(self):
+        def series(last_m, lost_m, gg_lost=1.05):
+            runs = [{"gg_scale": 1.0, "status": "completed", "max_esc_margin": 0.2},
+                    {"gg_scale": 1.025, "status": "completed", "max_esc_margin": last_m},
+                    {"gg_scale": gg_lost, "status": "sideslip", "max_esc_margin": lost_m}]
+            return {"runs": runs, "first_abort": gg_lost}
+        self.assertEqual(report.none_edge_margins(series(0.4, 3.0)), (0.4, 3.0))
+        # a summary written before the margin was kept: nothing is claimed
+        old = series(0.4, 3.0)
+        for r in old["runs"]:
+            del r["max_esc_margin"]
+        self.assertEqual(report.none_edge_margins(old), (None, None))
+        self.assertEqual(report.none_margin_band([{"label": "a", "series": {"none": old}}]), "")
+        vs = [{"label": "a", "series": {"none": series(0.4, 3.0)}},
+              {"label": "b", "series": {"none": series(0.6, 1.2)}}]
+        text = report.none_margin_band(vs)
+        self.assertIn("at its last completed GG is 0.40–0.60, ≥ 1 in 0 of 2 variants", text)
+        self.assertIn("in its first abort 1.20–3.00, ≥ 1 in 2 of 2", text)
+        self.assertIn("never in a lap it completes", text)
+        # one variant meets ESC's condition in a completed lap: it is named, no general claim
+        vs.append({"label": "c", "series": {"none": series(1.1, 2.0)}})
+        text = report.none_margin_band(vs)
+        self.assertIn("≥ 1 in 1 of 3 variants (c)", text)
+        self.assertNotIn("never in a lap it completes", text)
+
     def test_the_single_choice_is_named_against_the_sets_real_car_column(self):
         import json
         import claims_map
