@@ -29,7 +29,9 @@ The unknowns and their ranges (docs/plant-calibration.md, docs/scenarios.md `pla
   at "conservative targets";
 - the lateral-acceleration request the PMPC publishes as the ESC's yaw reference
   (motion.pmpc.esc_target=commanded: the one its steering follows, plan plus ancillary feedback;
-  the default is the plan's), which the paper does not state;
+  steering: none, so ESC takes its curvature from the steering request through its single-track
+  model, the paper's other reference; the default is the plan's), which the paper does not
+  state for studies 1-2 (it names a_y for study 3);
 - claim (d)'s remaining candidates, on the axis GG 0.7:0.05:1.8 (a car more oversteering than
   the vehicle file is lost at 1.0): the rear axle's cornering stiffness (tires.rear.lky 0.8 /
   0.9 against the file's 1.0: the compliance the file assumes for the front axle, applied to the
@@ -93,8 +95,8 @@ FAMILIES = [
     # (tag, label, vary, GG axis of this family when it is not the studies')
     ("grip_curve", "the rear grip reduction on the whole tyre curve",
      ["plant.grip_scaling=curve"], "0.7:0.05:1.8"),
-    ("esc_target", "the PMPC's ESC target: the commanded lateral acceleration",
-     ["motion.pmpc.esc_target=commanded"]),
+    ("esc_target", "the PMPC's ESC target: the commanded lateral acceleration, or none (ESC's "
+     "curvature from the steering)", ["motion.pmpc.esc_target=commanded,steering"]),
     # claim (d)'s remaining candidates (what lets `none` survive an excursion past ESC's
     # thresholds?): the plant's rear cornering stiffness against ESC's reference model, the
     # load transfer's speed and split, the motion controller's lateral feedback. A car more

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "controller/motion/nlp_solver.h"
@@ -236,7 +237,9 @@ PointMassMpc::PointMassMpc(const PmpcOptions& options, GgTable limits, Corridor 
                            std::shared_ptr<const Path> path)
     : MpcController(std::move(limits), std::move(corridor), std::move(path)),
       options_(options),
-      commanded_target_(options.esc_target == "commanded") {
+      esc_target_(options.esc_target == "commanded"  ? EscTarget::kCommanded
+                  : options.esc_target == "steering" ? EscTarget::kSteering
+                                                     : EscTarget::kPlan) {
   Problems pr = ValidateInputs();
   const auto& o = options_;
   pr.Append(params::Validate(static_cast<const params::PmpcParams&>(o)));  // bounds, cross-checks
@@ -513,8 +516,12 @@ MotionOutput PointMassMpc::Step(const MotionInput& in, MotionState* base) const 
   ax = std::clamp(ax, -o.headroom * limits().AxBrakeMax(v),
                   std::max(o.headroom * limits().AxDriveMax(v), 0.5));
   out.ax_request = std::isfinite(ax) ? ax : 0.0;
-  const double ay_target = commanded_target_ ? an_cmd : an_nom;
-  out.ay_request = std::isfinite(ay_target) ? ay_target : 0.0;
+  if (esc_target_ == EscTarget::kSteering) {
+    out.ay_request = std::numeric_limits<double>::quiet_NaN();  // not published
+  } else {
+    const double ay_target = esc_target_ == EscTarget::kCommanded ? an_cmd : an_nom;
+    out.ay_request = std::isfinite(ay_target) ? ay_target : 0.0;
+  }
   return out;
 }
 

@@ -115,7 +115,9 @@ class PointMassMpc final : public MpcController {
  private:
   bool Solve(const MotionInput& in, double s, double n, double w, double v, State* st) const;
   PmpcOptions options_;
-  bool commanded_target_ = false;  // options_.esc_target == "commanded" (once, not per step)
+  /// options_.esc_target, read once (not per step): which a_y request the ESC gets.
+  enum class EscTarget { kPlan, kCommanded, kSteering };
+  EscTarget esc_target_ = EscTarget::kPlan;
   std::vector<double> slope_, offset_;
 };
 

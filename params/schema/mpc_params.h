@@ -92,7 +92,7 @@ struct PmpcParams {
   double projection_window = 60.0;  ///< [m]
   int max_iter = 60;
   double tol = 1e-6;
-  std::string esc_target = "plan";  ///< plan | commanded
+  std::string esc_target = "plan";  ///< plan | commanded | steering
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
@@ -186,9 +186,13 @@ struct PmpcParams {
              .doc = "Lateral-acceleration request published as the ESC's yaw reference: plan = "
                     "the nominal plan's normal acceleration now; commanded = the one the "
                     "steering is computed from (the plan plus the ancillary feedback that "
-                    "returns the car to it). Which one the paper's PMPC published is not public.",
+                    "returns the car to it); steering = none, so the ESC takes its curvature "
+                    "from the steering request through its single-track model "
+                    "(tire_stiffness_front/rear), the paper's other reference. Which one the "
+                    "paper's PMPC gave in studies 1-2 is not public (it names a_y only for "
+                    "study 3).",
              .optional = true,
-             .choices = "plan|commanded"});
+             .choices = "plan|commanded|steering"});
     detail::VisitMpcCommon(s, v);
   }
   static void CrossCheck(const PmpcParams& p, Problems& pr) {

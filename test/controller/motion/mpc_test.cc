@@ -408,8 +408,10 @@ TEST(MpcLapTest, NmpcLapsTheDefaultTrackWithoutStabilityControl) { Lap("nmpc"); 
 // ancillary feedback). Right after a solve from the car's state both agree; one sample later,
 // before the next solve, with the car 1 m left of where the plan has it on a straight, the
 // commanded one steers back (to the right) while the plan's stays as it was, and the steering
-// request is the kinematic steering of the commanded one in both.
-TEST(PmpcTest, EscTargetIsThePlanOrTheCommandedLateralAcceleration) {
+// request is the kinematic steering of the commanded one in both. `steering` publishes none
+// (NaN: the stability node then takes its curvature from the steering request) and steers
+// exactly as `plan`.
+TEST(PmpcTest, EscTargetIsThePlanOrTheCommandedLateralAccelerationOrNone) {
   const ResolvedScenario plan = Resolve(DefaultScenario({"motion.controller=pmpc"}));
   const ResolvedScenario cmd =
       Resolve(DefaultScenario({"motion.controller=pmpc", "motion.pmpc.esc_target=commanded"}));
@@ -439,12 +441,23 @@ TEST(PmpcTest, EscTargetIsThePlanOrTheCommandedLateralAcceleration) {
   const double kinematic = std::atan(plan.vehicle.chassis.wheelbase * b1.ay_request / (v1 * v1)) +
                            pb.options().understeer_gradient * b1.ay_request;
   EXPECT_NEAR(b1.steering_request, kinematic, 1e-9);
+  const ResolvedScenario st =
+      Resolve(DefaultScenario({"motion.controller=pmpc", "motion.pmpc.esc_target=steering"}));
+  const auto c = MakeMotionController(st);
+  const auto& pc = dynamic_cast<const cm::PointMassMpc&>(*c);
+  auto sc = pc.MakeState();
+  const auto c0 = pc.Step(OnPath(*st.path, 0.0, s0), sc.get());
+  const auto c1 = pc.Step(OnPath(*st.path, dt, s1, 1.0), sc.get());
+  EXPECT_TRUE(std::isnan(c0.ay_request) && std::isnan(c1.ay_request));
+  EXPECT_EQ(c0.steering_request, a0.steering_request);
+  EXPECT_EQ(c1.steering_request, a1.steering_request);
+  EXPECT_EQ(c1.ax_request, a1.ax_request);
   try {
     (void)DefaultScenario({"motion.controller=pmpc", "motion.pmpc.esc_target=total"});
     ADD_FAILURE() << "esc_target=total accepted";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("motion.pmpc.esc_target"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("plan|commanded"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("plan|commanded|steering"), std::string::npos) << e.what();
   }
 }
 
