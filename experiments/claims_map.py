@@ -40,7 +40,8 @@ The unknowns and their ranges (docs/plant-calibration.md, docs/scenarios.md `pla
   of 2-5 Hz, the paper's simulator models them as body degrees of freedom); the front share of
   the lateral load transfer (chassis.roll_stiffness_share_front 0.4 / 0.6 against 0.5); the
   PMPC's lateral feedback (motion.pmpc.lookahead_time 0.3 / 1.0 s against 0.6), a motion
-  controller choice, not the plant's.
+  controller choice, not the plant's; and a yaw-rate feedback in the PMPC's steering
+  (motion.pmpc.yaw_rate_gain 0.15 / 0.3 / 0.5 s against none), also a controller choice.
 
 Every variant runs in a few `scw sweep` calls, the studies' configurations as named
 configurations of one sweep (study-specific keys in each), the variant as a varied key, runs in
@@ -107,6 +108,10 @@ FAMILIES = [
     ("roll_split", "the front share of the lateral load transfer", None, "0.7:0.05:1.8"),
     ("pmpc_lookahead", "the PMPC's lateral feedback: its lookahead time",
      ["motion.pmpc.lookahead_time=0.3,1.0"], "0.7:0.05:1.8"),
+    # a yaw-rate feedback in the PMPC's steering (not in the published description): the first
+    # choice found that lets `none` meet ESC's thresholds in laps it completes (k >= 0.3 s)
+    ("pmpc_yaw_feedback", "the PMPC's yaw-rate feedback in its steering",
+     ["motion.pmpc.yaw_rate_gain=0.15,0.3,0.5"]),
 ]
 NO_DYN = "no brake dynamics (no dead time, 1 ms lag, 100 000 bar/s)"
 # the heat map's columns: the brake dead times at the fixed 150 ms response, then no dynamics
@@ -197,7 +202,7 @@ def vehicle_variants(scw, out, tag):
 # name (an actuator model counts as one modelling choice).
 VEHICLE_FILE = {"plant.brake_dead_time": 0.116, "plant.steering_delay": 0.03,
                 "plant.rear_tire_falloff": 1.0, "plant.yaw_inertia_scale": 1.0,
-                "motion.pmpc.lookahead_time": 0.6}
+                "motion.pmpc.lookahead_time": 0.6, "motion.pmpc.yaw_rate_gain": 0.0}
 VEHICLE_FILE_CHOICE = {"plant.actuators": "vehicle", "plant.grip_scaling": "peak",
                        "motion.pmpc.esc_target": "plan"}
 
@@ -343,7 +348,8 @@ def label_of(keys, vals):
              "plant.actuators": ("actuators", None, ""),
              "plant.grip_scaling": ("grip reduction on the", None, ""),
              "motion.pmpc.esc_target": ("PMPC ESC target", None, ""),
-             "motion.pmpc.lookahead_time": ("PMPC lookahead time", 1, "s")}
+             "motion.pmpc.lookahead_time": ("PMPC lookahead time", 1, "s"),
+             "motion.pmpc.yaw_rate_gain": ("PMPC yaw-rate feedback gain", 1, "s")}
     words = {("plant.grip_scaling", "curve"): "whole tyre curve",
              ("plant.grip_scaling", "peak"): "peak only"}
     parts = []

@@ -89,6 +89,7 @@ struct PmpcParams {
   double lookahead_time = 0.6;      ///< [s]
   double min_lookahead = 10.0;      ///< [m]
   double speed_gain = 0.5;          ///< [1/s]
+  double yaw_rate_gain = 0.0;       ///< [s]
   double projection_window = 60.0;  ///< [m]
   int max_iter = 60;
   double tol = 1e-6;
@@ -175,6 +176,16 @@ struct PmpcParams {
                               .hi = 500.0,
                               .doc = "Minimum lookahead distance of the steering law.",
                               .optional = true});
+    v.Field(s.yaw_rate_gain,
+            {.key = "yaw_rate_gain",
+             .unit = "s",
+             .lo = 0.0,
+             .hi = 2.0,
+             .doc = "Yaw-rate feedback of the steering law: the steering request is reduced by "
+                    "this gain times (measured yaw rate - a_n,cmd / v), so the car is steered out "
+                    "when it yaws faster than its commanded path. 0 = none (the default; not in "
+                    "the published PMPC description, a claims-map candidate for claim (d)).",
+             .optional = true});
     v.Field(s.speed_gain, {.key = "speed_gain",
                            .unit = "1/s",
                            .lo = 0.0,

@@ -461,6 +461,40 @@ TEST(PmpcTest, EscTargetIsThePlanOrTheCommandedLateralAccelerationOrNone) {
   }
 }
 
+// motion.pmpc.yaw_rate_gain: the steering request is reduced by k (r - a_n,cmd / v), so a car
+// that yaws faster than its commanded path is steered out; 0 (the default) leaves the law as it
+// was. With esc_target=commanded the published a_y request is a_n,cmd.
+TEST(PmpcTest, YawRateFeedbackSteersOutWhenTheCarYawsFasterThanItsPath) {
+  const ResolvedScenario base =
+      Resolve(DefaultScenario({"motion.controller=pmpc", "motion.pmpc.esc_target=commanded"}));
+  const ResolvedScenario fb =
+      Resolve(DefaultScenario({"motion.controller=pmpc", "motion.pmpc.esc_target=commanded",
+                               "motion.pmpc.yaw_rate_gain=0.3"}));
+  const auto a = MakeMotionController(base);
+  const auto b = MakeMotionController(fb);
+  const auto& pa = dynamic_cast<const cm::PointMassMpc&>(*a);
+  const auto& pb = dynamic_cast<const cm::PointMassMpc&>(*b);
+  EXPECT_EQ(pa.options().yaw_rate_gain, 0.0);
+  EXPECT_EQ(pb.options().yaw_rate_gain, 0.3);
+  auto sa = pa.MakeState();
+  auto sb = pb.MakeState();
+  for (const double s0 : {50.0, 700.0, 1400.0}) {
+    for (const double dr : {0.0, 0.1, -0.05}) {
+      cm::MotionInput in = OnPath(*base.path, 0.0, s0, 0.2);
+      in.yaw_rate += dr;
+      const auto oa = pa.Step(in, sa.get());
+      const auto ob = pb.Step(in, sb.get());
+      EXPECT_EQ(oa.ay_request, ob.ay_request) << "the plan and its feedback are the same";
+      EXPECT_EQ(oa.ax_request, ob.ax_request);
+      const double expected = -0.3 * (in.yaw_rate - ob.ay_request / in.v_x);
+      EXPECT_NEAR(ob.steering_request - oa.steering_request, expected, 1e-12)
+          << "s " << s0 << ", yaw-rate offset " << dr;
+    }
+  }
+  EXPECT_THROW((void)DefaultScenario({"motion.controller=pmpc", "motion.pmpc.yaw_rate_gain=-0.1"}),
+               ConfigError);
+}
+
 TEST(MpcScenarioKeysTest, SettingsComeFromTheScenarioAndAreChecked) {
   const ResolvedScenario p = Resolve(DefaultScenario(
       {"motion.controller=pmpc", "motion.pmpc.horizon_steps=24", "motion.pmpc.q_v=3.5"}));
