@@ -212,8 +212,8 @@ def changes_of(tag, keys, vals):
     one entry per modelling choice (an actuator model counts as one)."""
     out = [NO_DYN] if tag == "no_brake_dyn" else []
     for k, v in zip(keys, vals):
-        if k == "vehicle":
-            out.append(VEHICLE_LABELS.get(v, v))
+        if k == "vehicle":  # an edited vehicle file changes one value (VEHICLE_EDITS)
+            out.append(label_of([k], [v]))
         elif k in VEHICLE_FILE_CHOICE:
             if v != VEHICLE_FILE_CHOICE[k]:
                 out.append(label_of([k], [v]))
