@@ -41,7 +41,11 @@ The unknowns and their ranges (docs/plant-calibration.md, docs/scenarios.md `pla
   the lateral load transfer (chassis.roll_stiffness_share_front 0.4 / 0.6 against 0.5); the
   PMPC's lateral feedback (motion.pmpc.lookahead_time 0.3 / 1.0 s against 0.6), a motion
   controller choice, not the plant's; and a yaw-rate feedback in the PMPC's steering
-  (motion.pmpc.yaw_rate_gain 0.15 / 0.3 / 0.5 s against none), also a controller choice.
+  (motion.pmpc.yaw_rate_gain 0.05 / 0.1 / 0.15 / 0.3 s against none), also a controller
+  choice, with the vehicle file's actuators and with the paper's simulator's (pairwise: one
+  change from the scored column "paper's sim"); the steering loop limit-cycles at 3-5 Hz from
+  k = 0.2 s (0.15 s with the simulator's 60 ms steering dead time), which the report reads from
+  `none`'s steer_hf_rms_deg and sets aside.
 
 Every variant runs in a few `scw sweep` calls, the studies' configurations as named
 configurations of one sweep (study-specific keys in each), the variant as a varied key, runs in
@@ -108,10 +112,14 @@ FAMILIES = [
     ("roll_split", "the front share of the lateral load transfer", None, "0.7:0.05:1.8"),
     ("pmpc_lookahead", "the PMPC's lateral feedback: its lookahead time",
      ["motion.pmpc.lookahead_time=0.3,1.0"], "0.7:0.05:1.8"),
-    # a yaw-rate feedback in the PMPC's steering (not in the published description): the first
-    # choice found that lets `none` meet ESC's thresholds in laps it completes (k >= 0.3 s)
+    # a yaw-rate feedback in the PMPC's steering (not in the published description); with
+    # k >= 0.2 s (0.15 s on the paper's simulator) the steering loop limit-cycles
     ("pmpc_yaw_feedback", "the PMPC's yaw-rate feedback in its steering",
-     ["motion.pmpc.yaw_rate_gain=0.15,0.3,0.5"]),
+     ["motion.pmpc.yaw_rate_gain=0.05,0.1,0.15,0.3"]),
+    # the same with the paper's simulator's actuators: one change from the scored column
+    # "paper's sim" of the set (the pair is two changes from the vehicle file)
+    ("pmpc_yaw_paper_sim", "the PMPC's yaw-rate feedback with the paper's simulator's actuators",
+     ["plant.actuators=paper_sim", "motion.pmpc.yaw_rate_gain=0.05,0.1,0.15,0.3"]),
 ]
 NO_DYN = "no brake dynamics (no dead time, 1 ms lag, 100 000 bar/s)"
 # the heat map's columns: the brake dead times at the fixed 150 ms response, then no dynamics
@@ -207,6 +215,10 @@ VEHICLE_FILE_CHOICE = {"plant.actuators": "vehicle", "plant.grip_scaling": "peak
                        "motion.pmpc.esc_target": "plan"}
 
 
+# keys the paper's simulator's actuator model sets itself (its steering dead time is 60 ms)
+PAPER_SIM_OWN = ("plant.brake_dead_time", "plant.steering_delay")
+
+
 def changes_of(tag, keys, vals):
     """What a variant changes from the vehicle file, i.e. from the real-car column of its set:
     one entry per modelling choice (an actuator model counts as one)."""
@@ -220,6 +232,22 @@ def changes_of(tag, keys, vals):
         elif abs(float(v) - VEHICLE_FILE[k]) > 1e-12:
             out.append(label_of([k], [v]))
     return out
+
+
+def nearest_column(keys, vals):
+    """The scored column of the set a variant is closest to, by its actuator model ("vehicle":
+    the vehicle file's, the real-car column; "paper_sim": the paper's simulator's column), and
+    what it changes from that column: one entry per modelling choice."""
+    act = dict(zip(keys, vals)).get("plant.actuators", "vehicle")
+    if act != "paper_sim":
+        return "vehicle", None
+    out = []
+    for k, v in zip(keys, vals):
+        if k in PAPER_SIM_OWN:  # a dead time set beside the model replaces the model's own
+            out.append(label_of([k], [v]))
+        elif k != "plant.actuators":
+            out += changes_of("", [k], [v])
+    return "paper_sim", out
 
 
 def split(rows, keys):
@@ -445,6 +473,9 @@ def main(argv=None):
             v = {"family": flabel, "label": lab, "claims": evaluate(s1, s2),
                  "series": {**s1, **s2}, "command": " ".join(cmd),
                  "changes": changes_of(tag, keys, vals)}
+            act, from_col = nearest_column(keys, vals)
+            if from_col is not None:  # a variant of the paper's simulator's column
+                v["column_actuators"], v["column_changes"] = act, from_col
             if tag == "brake_steer" and len(keys) == 2:
                 v["grid"] = (float(vals[0]), float(vals[1]))
             elif tag == "no_brake_dyn":
@@ -469,7 +500,8 @@ def main(argv=None):
     one = [v for v in variants if "grid" not in v or v["grid"][1] == 0.03]
     one_path = bars(one, os.path.join(out, "claims_map_one_at_a_time.png"), set_label)
     figures.append(os.path.relpath(one_path, out))
-    table = ["| variant | (a) | (b) | (c) | (d) |", "|---|---|---|---|---|"]
+    table = ["| variant | (a) | (b) | (c) | (d) | `none`'s steering above 1.6 Hz |",
+             "|---|---|---|---|---|---|"]
     for v in variants:
         cells = []
         for k in ("a", "b", "c", "d"):
@@ -478,8 +510,12 @@ def main(argv=None):
             cells.append(f"{'**holds**' if c['ok'] else 'fails'} {c['margin']:+.3f}{unit} "
                          f"({c['acts']})" + ("" if c["ok"] else
                                             f"; fails on: {', '.join(c['failed'])[:100]}"))
+        hf = report.steer_hf(v)
+        cells.append("–" if hf is None else f"{hf:.2f}° RMS" + (
+            " (limit-cycling)" if report.limit_cycling(v) else ""))
         table.append(f"| {v['label']} | " + " | ".join(cells) + " |")
-    holds = {k: [v["label"] for v in variants if v["claims"][k]["ok"]] for k in "abcd"}
+    holds = {k: [v["label"] + (" (limit-cycling)" if report.limit_cycling(v) else "")
+                 for v in variants if v["claims"][k]["ok"]] for k in "abcd"}
     text = ("One perturbation per study (study 1 sensor-noise seed 1, study 2 rear μy 0.80), "
             f"the {set_label} stability set, {args.laps} laps, GG "
             f"{args.gg} with the first abort bisected" + "".join(

@@ -1119,6 +1119,45 @@ def claims_maps(root):
     return maps
 
 
+# A motion controller whose steering limit-cycles is not a model of the paper's PMPC. Measured
+# (docs/plant-calibration.md "PMPC yaw-rate feedback"; study 2 `none`, GG 0.7/1.0/1.05, one lap,
+# shipped set, both actuator models): the steering request's RMS above ~1.6 Hz (sweep column
+# steer_hf_rms_deg) is 0.07-0.28° without the feedback and with k ≤ 0.1 s (≤ 0.15 s with the
+# vehicle file's actuators), 0.37-1.4° where the steering loop limit-cycles at 2.5-5 Hz (k ≥ 0.2 s,
+# ≥ 0.15 s with the paper's simulator's 60 ms steering dead time). The threshold lies between.
+STEER_LIMIT_CYCLE_DEG = 0.35
+
+
+def steer_hf(v):
+    """The largest steer_hf_rms_deg over `none`'s completed study-2 runs of a claims-map variant
+    (the motion controller without lateral stability control), or None (no such run, or a
+    summary written before the column)."""
+    runs = (v.get("series", {}).get("none") or {}).get("runs", [])
+    xs = [scwexp.to_float(r.get("steer_hf_rms_deg")) for r in runs
+          if r["status"] == "completed"]
+    xs = [x for x in xs if not math.isnan(x)]
+    return max(xs) if xs else None
+
+
+def limit_cycling(v):
+    x = steer_hf(v)
+    return x is not None and x >= STEER_LIMIT_CYCLE_DEG
+
+
+def steer_hf_text(v):
+    x = steer_hf(v)
+    return "–" if x is None else f"steering above 1.6 Hz {x:.2f}° RMS"
+
+
+def from_column(v):
+    """(actuator model of the scored column a claims-map variant is nearest to, its changes
+    from that column): the paper's simulator's column for a variant that runs its actuators
+    (claims_map.nearest_column), else the real-car column (the vehicle file)."""
+    if "column_actuators" in v:
+        return v["column_actuators"], v.get("column_changes")
+    return "vehicle", v.get("changes")
+
+
 def goal_section(results, cols):
     """Each of (a)-(d): reproduced where (with its credited subsystem acting, P5 being part of
     every criterion), else what the claims maps (one per parameter set) show flips it."""
@@ -1134,22 +1173,29 @@ def goal_section(results, cols):
             line += "reproduced in no scored column."
             flips = [(cm, v) for cm in maps for v in cm.get("variants", [])
                      if v["claims"].get(k, {}).get("ok")]
+            cycling = [(cm, v) for cm, v in flips if limit_cycling(v)]
+            flips = [p for p in flips if not limit_cycling(p[1])]
+            if cycling:
+                line += (" It holds with a limit-cycling motion controller only in: " + "; ".join(
+                    f"{v['label']} ({cm['set_label']} set; {steer_hf_text(v)})"
+                    for cm, v in cycling[:6]) + ": not a model of the paper's PMPC, set aside.")
             if flips:
-                # the fewest changes from the vehicle file (the real-car column) first
-                flips.sort(key=lambda p: len(p[1].get("changes", [None, None])))
+                # the fewest changes from the nearest scored column first
+                flips.sort(key=lambda p: len(from_column(p[1])[1] or [None, None]))
                 cm, v = flips[0]
                 line += (" The claims maps (one perturbation, everything else as the vehicle "
                          "file) find it holding with: " +
                          "; ".join(f"{x['label']} ({m['set_label']} set)"
                                    for m, x in flips[:8]) + ".")
-                ch = v.get("changes")
-                real = [c for c in cols if column_of(c)["set_label"] == cm["set_label"]
-                        and column_of(c)["actuators"] == "vehicle"]
-                if ch is not None and len(ch) == 1 and real:
+                act, ch = from_column(v)
+                near = [c for c in cols if column_of(c)["set_label"] == cm["set_label"]
+                        and column_of(c)["actuators"] == act]
+                if ch is not None and len(ch) == 1 and near:
                     line += (f" **The single modelling choice that flips it: {ch[0]}**, one "
-                             f"change from the scored column {col_title(real[0])} (the vehicle "
-                             "file's actuators), where it "
-                             + ("holds too." if results.get((k, real[0][0])) else "fails."))
+                             f"change from the scored column {col_title(near[0])} ("
+                             + ("the vehicle file's actuators" if act == "vehicle" else
+                                "the paper's simulator's actuators") + "), where it "
+                             + ("holds too." if results.get((k, near[0][0])) else "fails."))
                 line += (f" The run that shows it, {v['label']}, {cm['set_label']} set: " +
                          "; ".join(f"{n} ({'yes' if o else 'no'}: {t})"
                                    for n, o, t in v["claims"][k]["items"]) +
@@ -1168,14 +1214,19 @@ def goal_section(results, cols):
                                  "axis step and not once the abort is resolved to half a step.")
             elif maps:
                 vs = [(cm, x) for cm in maps for x in cm.get("variants", [])
-                      if not math.isnan(x["claims"][k].get("margin", math.nan))]
+                      if not math.isnan(x["claims"][k].get("margin", math.nan))
+                      and not limit_cycling(x)]
                 # closest: the largest margin, then the fewest failing criterion items
                 best = max(vs, key=lambda p: (p[1]["claims"][k]["margin"],
                                               -len(p[1]["claims"][k]["failed"]))) if vs else None
                 line += (f" No variant of the claims map{'s' if len(maps) > 1 else ''} ("
                          + ", ".join(f"{m['set_label']} set" for m in maps)
                          + ") makes it hold either" + (
-                             f"; the closest is {best[1]['label']}, {best[0]['set_label']} set "
+                             "; the closest" + (
+                                 " with a motion controller that does not limit-cycle"
+                                 if any(limit_cycling(x) for cm in maps
+                                        for x in cm.get("variants", [])) else "")
+                             + f" is {best[1]['label']}, {best[0]['set_label']} set "
                              f"(margin {best[1]['claims'][k]['margin']:+.3f}; fails on: "
                              + ", ".join(f"{n} ({t})" for n, o, t in
                                          best[1]["claims"][k]["items"] if o is False)
@@ -1573,10 +1624,12 @@ def map_blockers(cm, k):
     if k == "d":
         acted = sum(1 for v in vs for n, o, _ in v["claims"]["d"]["items"]
                     if n.startswith("ESC active") and o)
+        prem = d_premise_runs(vs)
         text += (f" ESC acts at the highest GG all four configurations complete in {acted} of "
-                 f"{len(vs)} variants: it intervenes only in runs that would otherwise be lost, "
-                 "so it costs no lap time where `none` also finishes.")
-        text += none_margin_band(vs)
+                 f"{len(vs)} variants" + (
+                     ": it intervenes only in runs that would otherwise be lost, so it costs no "
+                     "lap time where `none` also finishes." if not acted and not prem else "."))
+        text += none_margin_band(vs) + d_premise_text(prem)
     return text
 
 
@@ -1598,8 +1651,8 @@ def none_edge_margins(series):
 def none_margin_band(vs):
     """Claim (d)'s premise over a whole map: whether `none` ever meets ESC's activation
     condition in a lap it completes (the band (d) needs), from its runs at the edge."""
-    pairs = [(v["label"], *none_edge_margins(v["series"]["none"])) for v in vs
-             if v["series"].get("none")]
+    pairs = [(v["label"] + (" (limit-cycling)" if limit_cycling(v) else ""),
+              *none_edge_margins(v["series"]["none"])) for v in vs if v["series"].get("none")]
     done = [(n, a) for n, a, _ in pairs if a is not None]
     lost = [b for _, _, b in pairs if b is not None]
     if not done or not lost:
@@ -1615,6 +1668,59 @@ def none_margin_band(vs):
         text += (" Whatever the single choice, ESC's thresholds are met only where the car "
                  "without lateral control is lost, never in a lap it completes.")
     return text
+
+
+def d_premise_runs(vs):
+    """Claim (d)'s premise at any GG of a map, not only where (d) is judged: every run in which
+    ESC only acts (≥ 1 activation) and completes a lap `none` completes at the same GG, as
+    (variant label, GG, Δ(ESC), Δ(ESC + CS) or None when ESC + CS did not complete, ESC's
+    activations in ESC only and in ESC + CS, whether the variant's motion controller
+    limit-cycles)."""
+    out = []
+    for v in vs:
+        ser = v["series"]
+        if not all(ser.get(n) for n in ("none", "esc", "esc+cs")):
+            continue
+        for r in done_runs(ser["esc"]):
+            n = run_at(ser["none"], r["gg_scale"])
+            if not r["esc_count"] or not n or n["status"] != "completed":
+                continue
+            b = run_at(ser["esc+cs"], r["gg_scale"])
+            both = b is not None and b["status"] == "completed"
+            out.append((v["label"], r["gg_scale"], r["mean_lap_time_s"] - n["mean_lap_time_s"],
+                        b["mean_lap_time_s"] - n["mean_lap_time_s"] if both else None,
+                        int(r["esc_count"]), int(b["esc_count"]) if both else 0,
+                        limit_cycling(v)))
+    return out
+
+
+def d_premise_text(prem):
+    """What ESC costs wherever (d)'s premise holds (d_premise_runs): the lap-time pattern of the
+    paper (Δ(ESC) in 0.05-0.40 s, ESC + CS less, ESC acting in both) counted at every such GG,
+    a diagnostic beside the criterion, which judges one GG."""
+    if not prem:
+        return ""
+    lo, hi = CLAIM_D_COST
+    d = sorted(x[2] for x in prem)
+    inside = sum(1 for x in d if lo <= x <= hi)
+    pattern = [x for x in prem if lo <= x[2] <= hi and x[3] is not None
+               and 0 <= x[3] < x[2] and x[5] > 0]
+    nv = len({x[0] for x in prem})
+    cyc = [x for x in prem if x[6]]
+    return (f" Wherever ESC only acts in a lap `none` completes at the same GG ({len(prem)} "
+            f"run{'s' * (len(prem) != 1)} in {nv} variant{'s' * (nv != 1)}, any GG of the axis), "
+            "Δ(ESC) is "
+            f"{d[0]:+.3f} to {d[-1]:+.3f} s (median {d[len(d) // 2]:+.3f}), in 0.05–0.40 s in "
+            f"{inside}, below 0 in {sum(1 for x in d if x < 0)}; the paper's pattern (Δ(ESC) "
+            "in 0.05–0.40 s and 0 ≤ Δ(ESC + CS) < Δ(ESC), ESC acting in both) appears at "
+            f"{len(pattern)} of them" + (" (" + "; ".join(
+                f"{x[0]} at GG {g(x[1])}: {x[2]:+.3f}/{x[3]:+.3f} s, ESC {x[4]}×/{x[5]}×"
+                for x in pattern[:4]) + ")" if pattern else "") + "." + (
+                f" {len(cyc)} of the {len(prem)} runs ({sum(1 for x in pattern if x[6])} of "
+                f"the pattern's) are of variants whose motion controller limit-cycles "
+                f"(`none`'s steering above 1.6 Hz ≥ {STEER_LIMIT_CYCLE_DEG}° RMS): ESC's "
+                "activations there follow the oscillation, not an excursion `none` recovers "
+                "from." if cyc else ""))
 
 
 def cliff_mechanism(cols, everywhere):

@@ -326,6 +326,123 @@ class ClaimsMaps(unittest.TestCase):
         self.assertIn("The run that shows it, one change", c)
 
 
+    def test_a_paper_sim_variant_is_one_change_from_the_paper_sim_column(self):
+        import json
+        import claims_map
+        # the pair (paper's simulator, yaw-rate feedback) is two changes from the vehicle file
+        # and one from the set's paper's-sim column; a dead time varied beside the simulator's
+        # actuators replaces the model's own, so it is a change even at the vehicle file's value
+        keys = ["plant.actuators", "motion.pmpc.yaw_rate_gain"]
+        self.assertEqual(claims_map.changes_of("pmpc_yaw_paper_sim", keys, ["paper_sim", "0.3"]),
+                         ["actuators paper_sim", "PMPC yaw-rate feedback gain 0.3 s"])
+        self.assertEqual(claims_map.nearest_column(keys, ["paper_sim", "0.3"]),
+                         ("paper_sim", ["PMPC yaw-rate feedback gain 0.3 s"]))
+        self.assertEqual(claims_map.nearest_column(keys, ["paper_sim", "0"]), ("paper_sim", []))
+        self.assertEqual(claims_map.nearest_column(
+            ["plant.actuators", "plant.steering_delay"], ["paper_sim", "0.03"]),
+            ("paper_sim", ["steering dead time 30 ms"]))
+        self.assertEqual(claims_map.nearest_column(["plant.steering_delay"], ["0.0"]),
+                         ("vehicle", None))
+        root = os.path.join(WORK, "maps_paper_sim")
+        os.makedirs(os.path.join(root, "claims_map_tuned"), exist_ok=True)
+        claims = {k: {"ok": k == "d", "margin": 0.1, "failed": [],
+                      "items": [["item", k == "d", "numbers"]], "acts": ""} for k in "abcd"}
+        v = {"label": "pair", "claims": claims, "series": {},
+             "changes": ["actuators paper_sim", "PMPC yaw-rate feedback gain 0.3 s"],
+             "column_actuators": "paper_sim",
+             "column_changes": ["PMPC yaw-rate feedback gain 0.3 s"]}
+        with open(os.path.join(root, "claims_map_tuned", "summary.json"), "w") as f:
+            json.dump({"set_label": "tuned", "variants": [v], "commands": []}, f)
+        cols = [(f"tuned__{a}", "", {"study2_lateral": {
+            "column": {"set_label": "tuned", "actuators": a}}}) for a in ("vehicle", "paper_sim")]
+        old = scwexp.ROOT_RESULTS
+        scwexp.ROOT_RESULTS = root
+        try:
+            goal = report.goal_section({}, cols)
+        finally:
+            scwexp.ROOT_RESULTS = old
+        d = [x for x in goal if x.startswith("- **(d)**")][0]
+        self.assertIn("**The single modelling choice that flips it: PMPC yaw-rate feedback gain "
+                      "0.3 s**, one change from the scored column tuned set, paper's sim (the "
+                      "paper's simulator's actuators), where it fails", d)
+
+    def test_claim_ds_lap_time_pattern_wherever_esc_acts_in_a_lap_none_completes(self):
+        def run(gg, status, lap, esc=0):
+            return {"gg_scale": gg, "status": status, "mean_lap_time_s": lap, "esc_count": esc}
+
+        def ser(*runs):
+            return {"runs": list(runs)}
+        v = {"label": "k", "series": {
+            "none": ser(run(1.0, "completed", 70.0), run(1.05, "completed", 69.0),
+                        run(1.1, "completed", 68.0), run(1.15, "sideslip", 0.0)),
+            # 1.0: ESC idle; 1.05: the paper's pattern; 1.1: ESC faster than none, ESC + CS
+            # lost; 1.15: none lost, so no pair
+            "esc": ser(run(1.0, "completed", 70.0), run(1.05, "completed", 69.15, 5),
+                       run(1.1, "completed", 67.9, 2), run(1.15, "completed", 67.5, 9)),
+            "esc+cs": ser(run(1.0, "completed", 70.0), run(1.05, "completed", 69.05, 3),
+                          run(1.1, "lateral_error", 0.0, 1))}}
+        prem = report.d_premise_runs([v, {"label": "no esc+cs", "series": {"none": ser()}}])
+        self.assertEqual([(x[0], x[1], x[4], x[5]) for x in prem],
+                         [("k", 1.05, 5, 3), ("k", 1.1, 2, 0)])
+        self.assertAlmostEqual(prem[0][2], 0.15)
+        self.assertAlmostEqual(prem[0][3], 0.05)
+        self.assertIsNone(prem[1][3])
+        text = report.d_premise_text(prem)
+        self.assertIn("(2 runs in 1 variant, any GG of the axis), Δ(ESC) is -0.100 to +0.150 s", text)
+        self.assertIn("in 0.05–0.40 s in 1, below 0 in 1", text)
+        self.assertIn("appears at 1 of them (k at GG 1.05: +0.150/+0.050 s, ESC 5×/3×)", text)
+        self.assertNotIn("limit-cycles", text)
+        self.assertEqual(report.d_premise_text([]), "")
+        # the same runs with a motion controller that limit-cycles (none's steering above
+        # 1.6 Hz at or over the threshold in a completed run): counted apart
+        for r in v["series"]["none"]["runs"]:
+            r["steer_hf_rms_deg"] = 0.2
+        self.assertFalse(report.limit_cycling(v))
+        self.assertEqual(report.steer_hf(v), 0.2)
+        v["series"]["none"]["runs"][1]["steer_hf_rms_deg"] = report.STEER_LIMIT_CYCLE_DEG
+        v["series"]["none"]["runs"][3]["steer_hf_rms_deg"] = 9.0  # a lost run does not count
+        self.assertTrue(report.limit_cycling(v))
+        self.assertEqual(report.steer_hf(v), report.STEER_LIMIT_CYCLE_DEG)
+        text = report.d_premise_text(report.d_premise_runs([v]))
+        self.assertIn("2 of the 2 runs (1 of the pattern's) are of variants whose motion "
+                      "controller limit-cycles", text)
+        # a summary without the column: not judged
+        self.assertIsNone(report.steer_hf({"series": {"none": {"runs": [
+            {"status": "completed", "steer_hf_rms_deg": None}]}}}))
+
+    def test_a_flip_by_a_limit_cycling_motion_controller_is_set_aside(self):
+        import json
+        root = os.path.join(WORK, "maps_cycling")
+        os.makedirs(os.path.join(root, "claims_map"), exist_ok=True)
+
+        def variant(label, hf):
+            claims = {k: {"ok": k == "b", "margin": 0.05, "failed": [],
+                          "items": [["item", k == "b", "numbers"]], "acts": ""} for k in "abcd"}
+            return {"label": label, "claims": claims, "changes": [label], "series": {
+                "none": {"runs": [{"gg_scale": 1.0, "status": "completed",
+                                   "steer_hf_rms_deg": hf}]}}}
+        with open(os.path.join(root, "claims_map", "summary.json"), "w") as f:
+            json.dump({"set_label": "shipped", "commands": [],
+                       "variants": [variant("k 0.3", 2.0), variant("k 0.1", 0.1)]}, f)
+        col = ("shipped__vehicle", "", {"study2_lateral": {
+            "column": {"set_label": "shipped", "actuators": "vehicle"}}})
+        old = scwexp.ROOT_RESULTS
+        scwexp.ROOT_RESULTS = root
+        try:
+            b = [x for x in report.goal_section({}, [col]) if x.startswith("- **(b)**")][0]
+            with open(os.path.join(root, "claims_map", "summary.json"), "w") as f:
+                json.dump({"set_label": "shipped", "commands": [],
+                           "variants": [variant("k 0.3", 2.0)]}, f)
+            only = [x for x in report.goal_section({}, [col]) if x.startswith("- **(b)**")][0]
+        finally:
+            scwexp.ROOT_RESULTS = old
+        self.assertIn("with a limit-cycling motion controller only in: k 0.3 (shipped set; "
+                      "steering above 1.6 Hz 2.00° RMS)", b)
+        self.assertIn("**The single modelling choice that flips it: k 0.1**", b)
+        self.assertNotIn("flips it: k 0.3", only)
+        self.assertNotIn("single modelling choice", only)
+
+
 class EscMargin(unittest.TestCase):
     """The GG claim (d) is judged at, as report.claim_d picks it."""
 

@@ -57,6 +57,11 @@ struct RunMetrics {
   double max_esc_beta_ratio = 0.0;
   double max_esc_beta_error_ratio = 0.0;
   double max_esc_yaw_rate_error_ratio = 0.0;
+  /// [rad] RMS over the run of the steering request's content above ~1.6 Hz (its second-order
+  /// high-pass, MetricsAccumulator): a motion controller limit-cycling at a few Hz shows here;
+  /// a racing line's own steering hardly does.
+  /// A diagnostic of the motion controller, not of the stability parameters: sweep CSV only.
+  double steer_hf_rms = 0.0;
   /// Maneuver runs (tuning/maneuver/maneuver.h) only: the standard's pass/fail criteria checked
   /// and failed, and Σ over the failed ones of min(1, |value − limit| / |limit|).
   int criteria_checked = 0;
@@ -138,6 +143,13 @@ struct RunMetrics {
     v.Output(m.max_esc_yaw_rate_error_ratio,
              OutputMeta{.key = "max_esc_yaw_rate_error_ratio",
                         .doc = "largest |e_ψ,f|/Eψ_a while ESC's oversteer signs held",
+                        .summary = false});
+    v.Output(m.steer_hf_rms,
+             OutputMeta{.key = "steer_hf_rms_deg",
+                        .unit = "deg",
+                        .doc = "RMS of the steering request's content above ~1.6 Hz (a "
+                               "limit-cycling motion controller)",
+                        .rad_to_deg = true,
                         .summary = false});
     v.Output(m.esc_count, OutputMeta{.key = "esc_count", .doc = "ESC activations (rising edges)"});
     v.Output(m.esc_time,

@@ -57,6 +57,17 @@ void MetricsAccumulator::Add(const TickRecord& r, RunMetrics* m) noexcept {
   m->sideslip_excess_integral +=
       std::max(0.0, std::abs(r.beta) * kRadToDeg - sideslip_allowed_deg_) * ts;
   const controller::StabilityInput& in = r.input;
+  // two first-order high-passes in series, each the input minus its low-pass
+  const double a = ts / (kSteerHfTau + ts);
+  const double steer = in.steering_request;
+  if (ticks_ == 0.0) steer_lp_ = steer;
+  steer_lp_ += a * (steer - steer_lp_);
+  const double h1 = steer - steer_lp_;
+  steer_lp2_ += a * (h1 - steer_lp2_);
+  const double h2 = h1 - steer_lp2_;
+  ticks_ += 1.0;
+  steer_hf_sq_ += h2 * h2 * ts;
+  m->steer_hf_rms = std::sqrt(steer_hf_sq_ / (ticks_ * ts));
   const controller::StabilityOutput& out = r.output;
   for (std::size_t i = 0; i < 4; ++i) {
     const double slip_pct = 100.0 * r.plant.kappa[i];

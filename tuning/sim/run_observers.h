@@ -94,6 +94,11 @@ class InterventionCounter {
 ///   max_speed              max speed [m/s]
 ///   max_esc_margin         max of the stability output's esc_margin
 ///   max_esc_*_ratio        max of each of its terms (esc_margin_terms)
+///   steer_hf_rms           √(Σ h₂² · tS / (ticks · tS)) [rad], the steering request's
+///                          second-order high-pass: h₁ = δ_req − y₁, h₂ = h₁ − y₂, with the
+///                          first-order low-passes y₁ += a(δ_req − y₁), y₂ += a(h₁ − y₂),
+///                          a = tS/(τ + tS), τ = kSteerHfTau (y₁ = δ_req, y₂ = 0 before the
+///                          first tick): a steady steering rate leaves nothing
 ///   sideslip_excess_integral  Σ max(0, |β|·180/π − β_allowed) · tS [deg·s]
 ///   max_slip_front/rear    max |100 κ_i| over the axle's wheels [%] (the plant's slips)
 ///   esc_brake_energy       Σ over the front wheels while ESC acts of
@@ -116,8 +121,17 @@ class MetricsAccumulator {
   /// Adds tick `r` to `*m`.
   void Add(const TickRecord& r, RunMetrics* m) noexcept;
 
+  /// [s] the time constant of each of steer_hf_rms's two high-passes: corner 1/(2π τ) ≈ 1.6 Hz,
+  /// between a racing line's steering (below 1 Hz) and a limit cycle of the steering loop
+  /// (2.5-5 Hz measured, docs/plant-calibration.md).
+  static constexpr double kSteerHfTau = 0.1;
+
  private:
   double ts_;
+  double steer_lp_ = 0.0;     ///< [rad] y₁, low-pass of the steering request (steer_hf_rms)
+  double steer_lp2_ = 0.0;    ///< [rad] y₂, low-pass of its first high-pass
+  double steer_hf_sq_ = 0.0;  ///< [rad²·s] Σ h₂² · tS so far
+  double ticks_ = 0.0;        ///< ticks added so far
   double sideslip_allowed_deg_;
   PerWheel<double> brake_gain_;
   InterventionCounter esc_, cs_, abs_, tc_;

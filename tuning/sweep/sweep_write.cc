@@ -90,6 +90,7 @@ void WriteSweepCsv(const std::string& path, const SweepResult& r) {
                                                   "max_esc_beta_ratio",
                                                   "max_esc_beta_error_ratio",
                                                   "max_esc_yaw_rate_error_ratio",
+                                                  "steer_hf_rms_deg",
                                                   "end_lap",
                                                   "end_s_m"};
   for (std::string_view c : kColumns) header.emplace_back(c);

@@ -27,8 +27,8 @@ std::string TraceFileName(const SweepResult& r, const SweepRun& run);
 /// config, the varied keys, status, progress, laps_completed, lap_1_s..lap_N_s, mean_lap_time_s,
 /// max_abs_sideslip_deg, max_slip_front_pct, max_slip_rear_pct, max_abs_lateral_error_m,
 /// max_abs_heading_error_deg, max_speed_mps, {esc,cs,abs,tc}_count, {esc,cs,abs,tc}_time_s,
-/// esc_brake_energy_J, max_esc_margin, max_esc_{beta,beta_error,yaw_rate_error}_ratio, end_lap,
-/// end_s_m, ideal_lap_time_s. The metric columns are
+/// esc_brake_energy_J, max_esc_margin, max_esc_{beta,beta_error,yaw_rate_error}_ratio,
+/// steer_hf_rms_deg, end_lap, end_s_m, ideal_lap_time_s. The metric columns are
 /// those of RunMetrics::Visit (names, units and conversions: RenderedMetric).
 void WriteSweepCsv(const std::string& path, const SweepResult& r);
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -193,6 +194,53 @@ TEST(MetricsAccumulatorTest, AbsReleaseAndTcCutCountOnlyWhereTheyAct) {
   acc.Add(x.Record(), &m);
   EXPECT_EQ(m.abs_pressure_released, 20.0 * kTs);  // FL released 20 bar, RL (held) none
   EXPECT_EQ(m.tc_throttle_cut, 0.5 * kTs);
+}
+
+// The steering request's RMS above ~1.6 Hz (a second-order high-pass): nothing from a constant
+// or a steady steering rate, exact on the first ticks of a step, and it tells a 4 Hz limit cycle
+// from a racing line's 0.2 Hz steering of the same amplitude.
+TEST(MetricsAccumulatorTest, SteeringHighPassRmsSeparatesALimitCycleFromTheLine) {
+  constexpr double ts = 0.01;
+  constexpr double tau = MetricsAccumulator::kSteerHfTau;
+  constexpr double a = ts / (tau + ts);
+  {
+    MetricsAccumulator acc(ts, 5.0, kGain);
+    RunMetrics m;
+    TickSignals x;
+    x.input.steering_request = 0.3;  // the first tick starts the low-pass on the request
+    acc.Add(x.Record(), &m);
+    EXPECT_EQ(m.steer_hf_rms, 0.0);
+    x.input.steering_request = 0.4;  // a step of 0.1 rad
+    acc.Add(x.Record(), &m);
+    const double h1 = 0.1 * (1 - a);  // y₁ = 0.3 + 0.1a
+    const double h2 = h1 - a * h1;    // y₂ = a h₁
+    EXPECT_NEAR(m.steer_hf_rms, std::sqrt(h2 * h2 / 2.0), 1e-15);
+  }
+  auto rms_of = [&](auto steer) {
+    MetricsAccumulator acc(ts, 5.0, kGain);
+    RunMetrics m;
+    TickSignals x;
+    for (int k = 0; k < 4000; ++k) {  // 40 s
+      x.input.steering_request = steer(k * ts);
+      acc.Add(x.Record(), &m);
+    }
+    return m.steer_hf_rms;
+  };
+  // a steady steering rate of 0.02 rad/s: only the start-up transient, which dies out
+  EXPECT_LT(rms_of([](double t) { return 0.02 * t; }), 1e-4);
+  auto sine = [](double hz) {
+    return [hz](double t) { return 0.05 * std::sin(2 * std::numbers::pi * hz * t); };
+  };
+  // the sine's RMS 0.05/√2 through two of the discrete high-passes, each
+  // H(z) = (1 − a)(1 − z⁻¹)/(1 − (1 − a) z⁻¹) at z = e^{jω tS}
+  auto expected = [&](double hz) {
+    const std::complex<double> zi = std::polar(1.0, -2 * std::numbers::pi * hz * ts);
+    const double h = std::abs((1 - a) * (1.0 - zi) / (1.0 - (1 - a) * zi));
+    return 0.05 / std::sqrt(2.0) * h * h;
+  };
+  EXPECT_NEAR(rms_of(sine(4.0)), expected(4.0), 0.02 * expected(4.0));
+  EXPECT_NEAR(rms_of(sine(0.2)), expected(0.2), 0.05 * expected(0.2));
+  EXPECT_GT(rms_of(sine(4.0)), 30.0 * rms_of(sine(0.2)));
 }
 
 TEST(MetricsAccumulatorTest, CountsActivationsOfEachIntervention) {
