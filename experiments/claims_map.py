@@ -514,8 +514,8 @@ def main(argv=None):
         cells.append("–" if hf is None else f"{hf:.2f}° RMS" + (
             " (limit-cycling)" if report.limit_cycling(v) else ""))
         table.append(f"| {v['label']} | " + " | ".join(cells) + " |")
-    holds = {k: [v["label"] + (" (limit-cycling)" if report.limit_cycling(v) else "")
-                 for v in variants if v["claims"][k]["ok"]] for k in "abcd"}
+    holds = {k: [report.cycling_label(v) for v in variants if v["claims"][k]["ok"]]
+             for k in "abcd"}
     text = ("One perturbation per study (study 1 sensor-noise seed 1, study 2 rear μy 0.80), "
             f"the {set_label} stability set, {args.laps} laps, GG "
             f"{args.gg} with the first abort bisected" + "".join(

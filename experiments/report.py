@@ -1144,6 +1144,11 @@ def limit_cycling(v):
     return x is not None and x >= STEER_LIMIT_CYCLE_DEG
 
 
+def cycling_label(v):
+    """A claims-map variant's label, marked when its motion controller limit-cycles."""
+    return v["label"] + (" (limit-cycling)" if limit_cycling(v) else "")
+
+
 def steer_hf_text(v):
     x = steer_hf(v)
     return "–" if x is None else f"steering above 1.6 Hz {x:.2f}° RMS"
@@ -1171,10 +1176,11 @@ def goal_section(results, cols):
                      "criterion), in: " + ", ".join(yes) + ".")
         else:
             line += "reproduced in no scored column."
-            flips = [(cm, v) for cm in maps for v in cm.get("variants", [])
-                     if v["claims"].get(k, {}).get("ok")]
-            cycling = [(cm, v) for cm, v in flips if limit_cycling(v)]
-            flips = [p for p in flips if not limit_cycling(p[1])]
+            flips, cycling = [], []
+            for cm in maps:
+                for v in cm.get("variants", []):
+                    if v["claims"].get(k, {}).get("ok"):
+                        (cycling if limit_cycling(v) else flips).append((cm, v))
             if cycling:
                 line += (" It holds with a limit-cycling motion controller only in: " + "; ".join(
                     f"{v['label']} ({cm['set_label']} set; {steer_hf_text(v)})"
@@ -1651,8 +1657,8 @@ def none_edge_margins(series):
 def none_margin_band(vs):
     """Claim (d)'s premise over a whole map: whether `none` ever meets ESC's activation
     condition in a lap it completes (the band (d) needs), from its runs at the edge."""
-    pairs = [(v["label"] + (" (limit-cycling)" if limit_cycling(v) else ""),
-              *none_edge_margins(v["series"]["none"])) for v in vs if v["series"].get("none")]
+    pairs = [(cycling_label(v), *none_edge_margins(v["series"]["none"])) for v in vs
+             if v["series"].get("none")]
     done = [(n, a) for n, a, _ in pairs if a is not None]
     lost = [b for _, _, b in pairs if b is not None]
     if not done or not lost:
