@@ -41,11 +41,14 @@ The unknowns and their ranges (docs/plant-calibration.md, docs/scenarios.md `pla
   the lateral load transfer (chassis.roll_stiffness_share_front 0.4 / 0.6 against 0.5); the
   PMPC's lateral feedback (motion.pmpc.lookahead_time 0.3 / 1.0 s against 0.6), a motion
   controller choice, not the plant's; and a yaw-rate feedback in the PMPC's steering
-  (motion.pmpc.yaw_rate_gain 0.05 / 0.1 / 0.15 / 0.3 s against none), also a controller
+  (motion.pmpc.yaw_rate_gain 0.1 / 0.15 / 0.3 s against none), also a controller
   choice, with the vehicle file's actuators and with the paper's simulator's (pairwise: one
   change from the scored column "paper's sim"); the steering loop limit-cycles at 3-5 Hz from
   k = 0.2 s (0.15 s with the simulator's 60 ms steering dead time), which the report reads from
-  `none`'s steer_hf_rms_deg and sets aside.
+  `none`'s steer_hf_rms_deg and sets aside; and the TUM tube MPC's lower-level lateral
+  controller, a feedback of the lateral-acceleration error into the steering
+  (motion.pmpc.lat_accel_gain 1.5 / 3 m against none; 3 m is the TUM stack's loop-analysis
+  value), with both actuator models.
 
 Every variant runs in a few `scw sweep` calls, the studies' configurations as named
 configurations of one sweep (study-specific keys in each), the variant as a varied key, runs in
@@ -115,11 +118,18 @@ FAMILIES = [
     # a yaw-rate feedback in the PMPC's steering (not in the published description); with
     # k >= 0.2 s (0.15 s on the paper's simulator) the steering loop limit-cycles
     ("pmpc_yaw_feedback", "the PMPC's yaw-rate feedback in its steering",
-     ["motion.pmpc.yaw_rate_gain=0.05,0.1,0.15,0.3"]),
+     ["motion.pmpc.yaw_rate_gain=0.1,0.15,0.3"]),
     # the same with the paper's simulator's actuators: one change from the scored column
     # "paper's sim" of the set (the pair is two changes from the vehicle file)
     ("pmpc_yaw_paper_sim", "the PMPC's yaw-rate feedback with the paper's simulator's actuators",
-     ["plant.actuators=paper_sim", "motion.pmpc.yaw_rate_gain=0.05,0.1,0.15,0.3"]),
+     ["plant.actuators=paper_sim", "motion.pmpc.yaw_rate_gain=0.1,0.15,0.3"]),
+    # the TUM tube MPC's own lower-level lateral controller: a feedback of the IMU's
+    # lateral-acceleration error into the steering (gain 3 m in the TUM stack's loop analysis,
+    # half of it as the other end of the range), with both actuator models
+    ("pmpc_ay_feedback", "the PMPC's lateral-acceleration feedback in its steering (TUM TMPC)",
+     ["motion.pmpc.lat_accel_gain=1.5,3"]),
+    ("pmpc_ay_paper_sim", "the PMPC's lateral-acceleration feedback with the paper's simulator's "
+     "actuators", ["plant.actuators=paper_sim", "motion.pmpc.lat_accel_gain=1.5,3"]),
 ]
 NO_DYN = "no brake dynamics (no dead time, 1 ms lag, 100 000 bar/s)"
 # the heat map's columns: the brake dead times at the fixed 150 ms response, then no dynamics
@@ -210,7 +220,8 @@ def vehicle_variants(scw, out, tag):
 # name (an actuator model counts as one modelling choice).
 VEHICLE_FILE = {"plant.brake_dead_time": 0.116, "plant.steering_delay": 0.03,
                 "plant.rear_tire_falloff": 1.0, "plant.yaw_inertia_scale": 1.0,
-                "motion.pmpc.lookahead_time": 0.6, "motion.pmpc.yaw_rate_gain": 0.0}
+                "motion.pmpc.lookahead_time": 0.6, "motion.pmpc.yaw_rate_gain": 0.0,
+                "motion.pmpc.lat_accel_gain": 0.0}
 VEHICLE_FILE_CHOICE = {"plant.actuators": "vehicle", "plant.grip_scaling": "peak",
                        "motion.pmpc.esc_target": "plan"}
 
@@ -377,7 +388,8 @@ def label_of(keys, vals):
              "plant.grip_scaling": ("grip reduction on the", None, ""),
              "motion.pmpc.esc_target": ("PMPC ESC target", None, ""),
              "motion.pmpc.lookahead_time": ("PMPC lookahead time", 1, "s"),
-             "motion.pmpc.yaw_rate_gain": ("PMPC yaw-rate feedback gain", 1, "s")}
+             "motion.pmpc.yaw_rate_gain": ("PMPC yaw-rate feedback gain", 1, "s"),
+             "motion.pmpc.lat_accel_gain": ("PMPC lateral-acceleration feedback gain", 1, "m")}
     words = {("plant.grip_scaling", "curve"): "whole tyre curve",
              ("plant.grip_scaling", "peak"): "peak only"}
     parts = []

@@ -511,6 +511,8 @@ MotionOutput PointMassMpc::Step(const MotionInput& in, MotionState* base) const 
       std::clamp(an_nom - 2.0 * v * v * (e_n + look * e_xi) / (look * look), -ay_cap, ay_cap);
   double delta = std::atan(o.wheelbase * an_cmd / (v * v)) + o.understeer_gradient * an_cmd;
   if (o.yaw_rate_gain != 0.0) delta -= o.yaw_rate_gain * (in.yaw_rate - an_cmd / v);
+  if (o.lat_accel_gain != 0.0 && std::isfinite(in.a_y))
+    delta += o.lat_accel_gain * (an_cmd - in.a_y) / (v * v);
   if (!std::isfinite(delta)) delta = 0.0;
   out.steering_request = std::clamp(delta, -o.max_steering, o.max_steering);
   double ax = at_nom + o.speed_gain * (v_nom - v);

@@ -90,6 +90,7 @@ struct PmpcParams {
   double min_lookahead = 10.0;      ///< [m]
   double speed_gain = 0.5;          ///< [1/s]
   double yaw_rate_gain = 0.0;       ///< [s]
+  double lat_accel_gain = 0.0;      ///< [m]
   double projection_window = 60.0;  ///< [m]
   int max_iter = 60;
   double tol = 1e-6;
@@ -185,6 +186,17 @@ struct PmpcParams {
                     "this gain times (measured yaw rate - a_n,cmd / v), so the car is steered out "
                     "when it yaws faster than its commanded path. 0 = none (the default; not in "
                     "the published PMPC description, a claims-map candidate for claim (d)).",
+             .optional = true});
+    v.Field(s.lat_accel_gain,
+            {.key = "lat_accel_gain",
+             .unit = "m",
+             .lo = 0.0,
+             .hi = 20.0,
+             .doc = "Lateral-acceleration feedback of the steering law, the lower-level lateral "
+                    "controller of the TUM tube MPC: the steering request is increased by this "
+                    "gain times (a_n,cmd - measured a_y) / v^2, so a car that falls short of its "
+                    "commanded lateral acceleration is steered in. 0 = none (the default); the "
+                    "TUM stack's loop analysis uses 3 m. A claims-map candidate for claim (d).",
              .optional = true});
     v.Field(s.speed_gain, {.key = "speed_gain",
                            .unit = "1/s",

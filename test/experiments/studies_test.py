@@ -343,6 +343,12 @@ class ClaimsMaps(unittest.TestCase):
             ("paper_sim", ["steering dead time 30 ms"]))
         self.assertEqual(claims_map.nearest_column(["plant.steering_delay"], ["0.0"]),
                          ("vehicle", None))
+        # the lateral-acceleration feedback: named with its unit, none at the vehicle file's 0
+        ay = ["plant.actuators", "motion.pmpc.lat_accel_gain"]
+        self.assertEqual(claims_map.nearest_column(ay, ["paper_sim", "1.5"]),
+                         ("paper_sim", ["PMPC lateral-acceleration feedback gain 1.5 m"]))
+        self.assertEqual(claims_map.changes_of("pmpc_ay_feedback", ay[1:], ["0"]), [])
+        self.assertIn("pmpc_ay_paper_sim", [f[0] for f in claims_map.FAMILIES])
         root = os.path.join(WORK, "maps_paper_sim")
         os.makedirs(os.path.join(root, "claims_map_tuned"), exist_ok=True)
         claims = {k: {"ok": k == "d", "margin": 0.1, "failed": [],

@@ -461,37 +461,82 @@ TEST(PmpcTest, EscTargetIsThePlanOrTheCommandedLateralAccelerationOrNone) {
   }
 }
 
+// Two PMPCs on the default scenario that publish their commanded a_y: `a` as built in, `b` with
+// one more override (a steering-law term under test).
+struct PmpcPair {
+  explicit PmpcPair(const std::string& extra)
+      : base(Resolve(
+            DefaultScenario({"motion.controller=pmpc", "motion.pmpc.esc_target=commanded"}))),
+        with(Resolve(DefaultScenario(
+            {"motion.controller=pmpc", "motion.pmpc.esc_target=commanded", extra}))),
+        ca(MakeMotionController(base)),
+        cb(MakeMotionController(with)) {}
+  const cm::PointMassMpc& a() const { return dynamic_cast<const cm::PointMassMpc&>(*ca); }
+  const cm::PointMassMpc& b() const { return dynamic_cast<const cm::PointMassMpc&>(*cb); }
+  /// Steps both on `in` and returns b's steering request minus a's; the plan, its feedback and
+  /// the speed law must be the same (`ay_request`: the a_y both publish).
+  double SteeringChange(const cm::MotionInput& in, double* ay_request) {
+    if (!sa) sa = a().MakeState();
+    if (!sb) sb = b().MakeState();
+    const auto oa = a().Step(in, sa.get());
+    const auto ob = b().Step(in, sb.get());
+    EXPECT_EQ(oa.ay_request, ob.ay_request) << "the plan and its feedback are the same";
+    EXPECT_EQ(oa.ax_request, ob.ax_request);
+    *ay_request = ob.ay_request;
+    return ob.steering_request - oa.steering_request;
+  }
+  ResolvedScenario base, with;
+  std::unique_ptr<cm::MotionController> ca, cb;
+  std::unique_ptr<cm::MotionState> sa, sb;
+};
+
 // motion.pmpc.yaw_rate_gain: the steering request is reduced by k (r - a_n,cmd / v), so a car
 // that yaws faster than its commanded path is steered out; 0 (the default) leaves the law as it
 // was. With esc_target=commanded the published a_y request is a_n,cmd.
 TEST(PmpcTest, YawRateFeedbackSteersOutWhenTheCarYawsFasterThanItsPath) {
-  const ResolvedScenario base =
-      Resolve(DefaultScenario({"motion.controller=pmpc", "motion.pmpc.esc_target=commanded"}));
-  const ResolvedScenario fb =
-      Resolve(DefaultScenario({"motion.controller=pmpc", "motion.pmpc.esc_target=commanded",
-                               "motion.pmpc.yaw_rate_gain=0.3"}));
-  const auto a = MakeMotionController(base);
-  const auto b = MakeMotionController(fb);
-  const auto& pa = dynamic_cast<const cm::PointMassMpc&>(*a);
-  const auto& pb = dynamic_cast<const cm::PointMassMpc&>(*b);
-  EXPECT_EQ(pa.options().yaw_rate_gain, 0.0);
-  EXPECT_EQ(pb.options().yaw_rate_gain, 0.3);
-  auto sa = pa.MakeState();
-  auto sb = pb.MakeState();
+  PmpcPair pair("motion.pmpc.yaw_rate_gain=0.3");
+  EXPECT_EQ(pair.a().options().yaw_rate_gain, 0.0);
+  EXPECT_EQ(pair.b().options().yaw_rate_gain, 0.3);
   for (const double s0 : {50.0, 700.0, 1400.0}) {
     for (const double dr : {0.0, 0.1, -0.05}) {
-      cm::MotionInput in = OnPath(*base.path, 0.0, s0, 0.2);
+      cm::MotionInput in = OnPath(*pair.base.path, 0.0, s0, 0.2);
       in.yaw_rate += dr;
-      const auto oa = pa.Step(in, sa.get());
-      const auto ob = pb.Step(in, sb.get());
-      EXPECT_EQ(oa.ay_request, ob.ay_request) << "the plan and its feedback are the same";
-      EXPECT_EQ(oa.ax_request, ob.ax_request);
-      const double expected = -0.3 * (in.yaw_rate - ob.ay_request / in.v_x);
-      EXPECT_NEAR(ob.steering_request - oa.steering_request, expected, 1e-12)
+      double ay = 0.0;
+      const double change = pair.SteeringChange(in, &ay);
+      EXPECT_NEAR(change, -0.3 * (in.yaw_rate - ay / in.v_x), 1e-12)
           << "s " << s0 << ", yaw-rate offset " << dr;
     }
   }
   EXPECT_THROW((void)DefaultScenario({"motion.controller=pmpc", "motion.pmpc.yaw_rate_gain=-0.1"}),
+               ConfigError);
+}
+
+// motion.pmpc.lat_accel_gain: the TUM tube MPC's lateral-acceleration feedback. The steering
+// request is increased by k (a_n,cmd - a_y) / v², so a car that falls short of its commanded
+// lateral acceleration is steered in and one that exceeds it is steered out; the plan, the
+// speed law and the published a_y request are untouched, and 0 (the default) leaves the law as
+// it was.
+TEST(PmpcTest, LateralAccelerationFeedbackSteersInWhenTheCarFallsShortOfItsCommand) {
+  PmpcPair pair("motion.pmpc.lat_accel_gain=3");
+  EXPECT_EQ(pair.a().options().lat_accel_gain, 0.0);
+  EXPECT_EQ(pair.b().options().lat_accel_gain, 3.0);
+  int steered_in = 0, steered_out = 0;
+  for (const double s0 : {50.0, 700.0, 1400.0}) {
+    for (const double ay : {0.0, 12.0, -8.0}) {
+      cm::MotionInput in = OnPath(*pair.base.path, 0.0, s0, 0.2);
+      in.a_y = ay;
+      double ay_request = 0.0;
+      const double change = pair.SteeringChange(in, &ay_request);
+      const double v = std::hypot(in.v_x, in.v_y);
+      const double expected = 3.0 * (ay_request - ay) / (v * v);
+      EXPECT_NEAR(change, expected, 1e-12) << "s " << s0 << ", a_y " << ay;
+      steered_in += expected > 1e-4 ? 1 : 0;
+      steered_out += expected < -1e-4 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(steered_in, 0);
+  EXPECT_GT(steered_out, 0);
+  EXPECT_THROW((void)DefaultScenario({"motion.controller=pmpc", "motion.pmpc.lat_accel_gain=-1"}),
                ConfigError);
 }
 
