@@ -14,13 +14,13 @@
 # Environment: ACTUATORS (default "vehicle paper_sim"), STUDY3_CONTROLLERS (default
 # pure_pursuit,pmpc; add nmpc for the nonlinear MPC, ~5 min per column), SENSITIVITY=1 (also the
 # unscored sensitivity runs, shipped set and vehicle actuators only), PROCESSES (default 2),
-# CLAIMS_MAP=1 (also experiments/claims_map.py, the map of what decides each claim: ~28 min on
+# CLAIMS_MAP=1 (also experiments/claims_map.py, the map of what decides each claim: ~30 min on
 # an idle 2-vCPU machine for the shipped set with every family, claim (d)'s candidates included,
 # and for each given set its actuator families, brake x steering dead time, no brake dynamics
 # and the paper's simulator's actuators (also with its steering dead time at 0 and 30 ms, and
 # as its IV-2024 code had them), the grip reduction on the whole tyre curve and the PMPC's
 # commanded and steering-based ESC targets, and the PMPC's yaw-rate and lateral-acceleration
-# feedbacks with both actuator models, 17-19 min each),
+# feedbacks with both actuator models, about 18-20 min each),
 # STUDY_ARGS (extra options of every study, e.g. "--gg 1.0,1.05 --laps 1" for a quick check).
 # Shipped + one tuned set, both actuator models: see experiments/README.md for the measured time.
 # To refresh the committed reference copy afterwards:
