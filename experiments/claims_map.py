@@ -523,8 +523,7 @@ def main(argv=None):
                          f"({c['acts']})" + ("" if c["ok"] else
                                             f"; fails on: {', '.join(c['failed'])[:100]}"))
         hf = report.steer_hf(v)
-        cells.append("–" if hf is None else f"{hf:.2f}° RMS" + (
-            " (limit-cycling)" if report.limit_cycling(v) else ""))
+        cells.append("–" if hf is None else f"{hf:.2f}° RMS" + report.cycling_mark(v))
         table.append(f"| {v['label']} | " + " | ".join(cells) + " |")
     holds = {k: [report.cycling_label(v) for v in variants if v["claims"][k]["ok"]]
              for k in "abcd"}

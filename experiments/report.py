@@ -1144,9 +1144,15 @@ def limit_cycling(v):
     return x is not None and x >= STEER_LIMIT_CYCLE_DEG
 
 
+def cycling_mark(v):
+    """' (limit-cycling)' after a claims-map variant's label or steering figure when its motion
+    controller limit-cycles, else ''."""
+    return " (limit-cycling)" if limit_cycling(v) else ""
+
+
 def cycling_label(v):
     """A claims-map variant's label, marked when its motion controller limit-cycles."""
-    return v["label"] + (" (limit-cycling)" if limit_cycling(v) else "")
+    return v["label"] + cycling_mark(v)
 
 
 def steer_hf_text(v):

@@ -58,7 +58,7 @@ void MetricsAccumulator::Add(const TickRecord& r, RunMetrics* m) noexcept {
       std::max(0.0, std::abs(r.beta) * kRadToDeg - sideslip_allowed_deg_) * ts;
   const controller::StabilityInput& in = r.input;
   // two first-order high-passes in series, each the input minus its low-pass
-  const double a = ts / (kSteerHfTau + ts);
+  const double a = steer_hf_a_;
   const double steer = in.steering_request;
   if (ticks_ == 0.0) steer_lp_ = steer;
   steer_lp_ += a * (steer - steer_lp_);

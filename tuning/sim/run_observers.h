@@ -116,7 +116,10 @@ class MetricsAccumulator {
   /// per wheel, the plant's brake torque per pressure.
   MetricsAccumulator(double ts, double sideslip_allowed_deg,
                      const PerWheel<double>& brake_gain) noexcept
-      : ts_(ts), sideslip_allowed_deg_(sideslip_allowed_deg), brake_gain_(brake_gain) {}
+      : ts_(ts),
+        steer_hf_a_(ts / (kSteerHfTau + ts)),
+        sideslip_allowed_deg_(sideslip_allowed_deg),
+        brake_gain_(brake_gain) {}
 
   /// Adds tick `r` to `*m`.
   void Add(const TickRecord& r, RunMetrics* m) noexcept;
@@ -128,6 +131,7 @@ class MetricsAccumulator {
 
  private:
   double ts_;
+  double steer_hf_a_;         ///< a = tS/(τ + tS) of both low-passes (steer_hf_rms)
   double steer_lp_ = 0.0;     ///< [rad] y₁, low-pass of the steering request (steer_hf_rms)
   double steer_lp2_ = 0.0;    ///< [rad] y₂, low-pass of its first high-pass
   double steer_hf_sq_ = 0.0;  ///< [rad²·s] Σ h₂² · tS so far
