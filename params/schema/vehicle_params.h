@@ -38,6 +38,8 @@ struct ChassisParams {
   double cg_height = 0.342;
   double roll_stiffness_share_front = 0.5;
   double load_transfer_time_constant = 0.04;
+  double load_transfer_frequency = 0.0;
+  double load_transfer_damping_ratio = 0.4;
   double gravity = 9.81;
 
   template <class Self, class V>
@@ -100,7 +102,29 @@ struct ChassisParams {
              .doc = "First-order lag of the accelerations that drive the quasi-static load "
                     "transfer; stands in for the omitted roll/pitch modes (stiff race-car "
                     "suspension, 3-4 Hz, well damped: 0.04 s, assumption) and breaks the "
-                    "algebraic loop load -> tyre force -> acceleration -> load."});
+                    "algebraic loop load -> tyre force -> acceleration -> load. Used when "
+                    "load_transfer_frequency is 0."});
+    v.Field(s.load_transfer_frequency,
+            {.key = "load_transfer_frequency",
+             .unit = "Hz",
+             .lo = 0.0,
+             .hi = 50.0,
+             .doc = "Natural frequency of the body's roll and pitch modes. Above 0 the "
+                    "accelerations that drive the load transfer follow a second-order mode "
+                    "(this frequency, load_transfer_damping_ratio) instead of the first-order "
+                    "lag, so the load transfer can overshoot as a sprung body does. 0 = the "
+                    "first-order lag (default). AV-21 suspension data (TUM sim_vehicle_dynamics, "
+                    "springs and tyres in series, dampers, front anti-roll bar): roll 7.4 Hz, "
+                    "pitch 6.5 Hz; EAV24 unknown.",
+             .optional = true});
+    v.Field(s.load_transfer_damping_ratio,
+            {.key = "load_transfer_damping_ratio",
+             .lo = 0.05,
+             .hi = 2.0,
+             .doc = "Damping ratio of the roll and pitch modes (with load_transfer_frequency > "
+                    "0). AV-21 suspension data: 0.39 roll, 0.40 pitch; 0.4 (assumption for the "
+                    "EAV24).",
+             .optional = true});
     v.Field(s.gravity, {.key = "gravity",
                         .unit = "m/s^2",
                         .lo = 1.0,

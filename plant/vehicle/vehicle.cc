@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 
 #include "plant/common/fast_math.h"
 #include "plant/tire/magic_formula.h"
@@ -82,6 +83,10 @@ Vehicle::Vehicle(const params::VehicleParams& p)
   side_arm_ = p_.aero.side_force_arm;
   inv_tau_lt_ = 1.0 / c.load_transfer_time_constant;
   lt_gain_ = 1.0 - std::exp(-h_ * inv_tau_lt_);
+  lt_second_order_ = c.load_transfer_frequency > 0.0;
+  const double w_n = 2.0 * std::numbers::pi * c.load_transfer_frequency;
+  lt_w2_ = w_n * w_n;
+  lt_2zw_ = 2.0 * c.load_transfer_damping_ratio * w_n;
   crr_ = p_.wheels.rolling_resistance;
   clutch_slip_speed_ = RpmToRadPerSec(p_.engine.clutch_slip_rpm);
   engine_inertia_ = p_.engine.inertia;
@@ -268,8 +273,19 @@ StateVector Vehicle::Derivatives(const StateVector& x, const PlantInputs& u) con
     d[kKappa + i] = (kk[i] - x[kKappa + i]) * itk[i];
     d[kAlpha + i] = (ka[i] - x[kAlpha + i]) * ita[i];
   }
-  d[kAxLoadTransfer] = (e.fx / m_ - x[kAxLoadTransfer]) * inv_tau_lt_;
-  d[kAyLoadTransfer] = (e.fy / m_ - x[kAyLoadTransfer]) * inv_tau_lt_;
+  if (lt_second_order_) {
+    d[kAxLoadTransfer] = x[kAxLoadTransferRate];
+    d[kAyLoadTransfer] = x[kAyLoadTransferRate];
+    d[kAxLoadTransferRate] =
+        lt_w2_ * (e.fx / m_ - x[kAxLoadTransfer]) - lt_2zw_ * x[kAxLoadTransferRate];
+    d[kAyLoadTransferRate] =
+        lt_w2_ * (e.fy / m_ - x[kAyLoadTransfer]) - lt_2zw_ * x[kAyLoadTransferRate];
+  } else {
+    d[kAxLoadTransfer] = (e.fx / m_ - x[kAxLoadTransfer]) * inv_tau_lt_;
+    d[kAyLoadTransfer] = (e.fy / m_ - x[kAyLoadTransfer]) * inv_tau_lt_;
+    d[kAxLoadTransferRate] = 0.0;
+    d[kAyLoadTransferRate] = 0.0;
+  }
   return d;
 }
 
@@ -357,9 +373,20 @@ void Vehicle::StepOn(const Actuators& u, const Environment* env, State* state) c
     x[kOmegaRR] = wr;
   }
 
-  // Load-transfer lag (exact for the held accelerations).
-  x[kAxLoadTransfer] += lt_gain_ * (e.fx / m_ - x[kAxLoadTransfer]);
-  x[kAyLoadTransfer] += lt_gain_ * (e.fy / m_ - x[kAyLoadTransfer]);
+  if (lt_second_order_) {
+    // Roll/pitch modes: rate first, then the acceleration with the new rate.
+    const double a_in[2] = {e.fx / m_, e.fy / m_};
+    for (int k = 0; k < 2; ++k) {
+      double& a = x[kAxLoadTransfer + k];
+      double& rate = x[kAxLoadTransferRate + k];
+      rate += h * (lt_w2_ * (a_in[k] - a) - lt_2zw_ * rate);
+      a += h * rate;
+    }
+  } else {
+    // Load-transfer lag (exact for the held accelerations).
+    x[kAxLoadTransfer] += lt_gain_ * (e.fx / m_ - x[kAxLoadTransfer]);
+    x[kAyLoadTransfer] += lt_gain_ * (e.fy / m_ - x[kAyLoadTransfer]);
+  }
 
   // 4. Tyre relaxation, backward Euler towards the slips of the new velocities.
   PerWheel<double> kk, ka, itk, ita;

@@ -17,6 +17,8 @@
 //   omega_i [rad/s]             wheel spin speeds (spool: omega_RL = omega_RR)
 //   kappa_i [-], alpha_i [rad]  relaxed (lagged) tyre slips fed to MF5.2
 //   ax_lt, ay_lt [m/s^2]        lagged accelerations that drive the load transfer
+//   ax_lt_rate, ay_lt_rate      their rates [m/s^3]: the roll/pitch modes' second state, used only
+//                               with chassis.load_transfer_frequency > 0 (else they stay 0)
 //
 // Equations (h = fixed step, see Step):
 //   Body:  v_x' = F_x/m + r v_y,  v_y' = F_y/m - r v_x,  r' = M_z/I_z,
@@ -47,6 +49,11 @@
 //          with e_f = roll_stiffness_share_front, e_r = 1 - e_f, clipped at F_z >= 0 (lift-off);
 //          ax_lt' = (F_x/m - ax_lt)/tau_lt, ay_lt' = (F_y/m - ay_lt)/tau_lt. The lag stands in for
 //          the roll/pitch modes and removes the algebraic loop load -> force -> acceleration.
+//          With chassis.load_transfer_frequency f_n > 0 the modes are second order instead
+//          (omega_n = 2 pi f_n, damping ratio zeta = chassis.load_transfer_damping_ratio):
+//          ay_lt'' = omega_n^2 (F_y/m - ay_lt) - 2 zeta omega_n ay_lt', the same for ax_lt, so the
+//          load transfer overshoots a step in acceleration as a sprung body's does; Step
+//          advances the rate first, then the acceleration with the new rate (symplectic Euler).
 //   Tyres: wheel-plane velocities (v_x,t, v_y,t) from the body motion rotated by the steer angle
 //          (fronts, parallel steer). Kinematic slips
 //            kappa_kin = clamp((omega r_e - v_x,t)/max(|v_x,t|, v_k), +-slip_limit),
@@ -121,18 +128,21 @@ enum StateIndex : int {
   kAlphaRR,
   kAxLoadTransfer,
   kAyLoadTransfer,
+  kAxLoadTransferRate,
+  kAyLoadTransferRate,
   kNumStates
 };
 
 /// CSV column names of the continuous state (index = StateIndex).
 inline constexpr std::array<std::string_view, kNumStates> kStateNames = {
-    "x",        "y",        "psi",      "v_x",      "v_y",      "yaw_rate", "omega_fl",
-    "omega_fr", "omega_rl", "omega_rr", "kappa_fl", "kappa_fr", "kappa_rl", "kappa_rr",
-    "alpha_fl", "alpha_fr", "alpha_rl", "alpha_rr", "ax_lt",    "ay_lt"};
+    "x",        "y",        "psi",        "v_x",       "v_y",      "yaw_rate",
+    "omega_fl", "omega_fr", "omega_rl",   "omega_rr",  "kappa_fl", "kappa_fr",
+    "kappa_rl", "kappa_rr", "alpha_fl",   "alpha_fr",  "alpha_rl", "alpha_rr",
+    "ax_lt",    "ay_lt",    "ax_lt_rate", "ay_lt_rate"};
 /// Units of the continuous state (index = StateIndex).
 inline constexpr std::array<std::string_view, kNumStates> kStateUnits = {
-    "m", "m", "rad", "m/s", "m/s", "rad/s", "rad/s", "rad/s", "rad/s", "rad/s",
-    "-", "-", "-",   "-",   "rad", "rad",   "rad",   "rad",   "m/s^2", "m/s^2"};
+    "m", "m", "rad", "m/s", "m/s", "rad/s", "rad/s", "rad/s", "rad/s", "rad/s", "-",
+    "-", "-", "-",   "rad", "rad", "rad",   "rad",   "m/s^2", "m/s^2", "m/s^3", "m/s^3"};
 
 using StateVector = Eigen::Matrix<double, kNumStates, 1>;
 
@@ -282,6 +292,9 @@ class Vehicle {
   double drag_k_ = 0.0, lift_kf_ = 0.0, lift_kr_ = 0.0, side_k_ = 0.0;  // 1/2 rho c A
   double side_arm_ = 0.0;  // centre of pressure of the side force ahead of the CoG [m]
   double inv_tau_lt_ = 0.0, lt_gain_ = 1.0;
+  // Roll/pitch modes (chassis.load_transfer_frequency > 0): omega_n^2 and 2 zeta omega_n.
+  bool lt_second_order_ = false;
+  double lt_w2_ = 0.0, lt_2zw_ = 0.0;
   double crr_ = 0.0;
   double clutch_slip_speed_ = 0.0, engine_inertia_ = 0.0;
   EngineMap engine_;

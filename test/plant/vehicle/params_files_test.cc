@@ -2,6 +2,7 @@
 // the plain YAML round trip is exact.
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <string>
 
 #include "params/io/load.h"
@@ -34,6 +35,26 @@ TEST(VehicleParamsFiles, Av21FileIsValidAndDiffersWhereExpected) {
   EXPECT_EQ(p.gearbox.ratios.size(), 6u);
   const plant::Vehicle v(p);  // validates
   EXPECT_GT(v.time_step(), 0.0);
+}
+
+// The roll/pitch modes came later and are optional: a vehicle file written before them loads
+// with the first-order load-transfer lag it was made for.
+TEST(VehicleParamsFiles, AFileWithoutTheRollPitchModesKeepsTheFirstOrderLag) {
+  std::ifstream in(kDir + "eav24.yaml");
+  std::string text, line;
+  int dropped = 0;
+  while (std::getline(in, line)) {
+    if (line.find("load_transfer_frequency") != std::string::npos ||
+        line.find("load_transfer_damping_ratio") != std::string::npos) {
+      ++dropped;
+      continue;
+    }
+    text += line + "\n";
+  }
+  ASSERT_EQ(dropped, 2);
+  const VehicleParams p = LoadPlainText<VehicleParams>(text, "eav24 without the modes");
+  EXPECT_EQ(p.chassis.load_transfer_frequency, 0.0);
+  EXPECT_TRUE(DifferingKeys(p, VehicleParams{}).empty());
 }
 
 TEST(VehicleParamsFiles, PlainYamlRoundTripIsExact) {

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <set>
 #include <string>
 
@@ -326,31 +327,75 @@ TEST(Vehicle, ReferenceManeuverStaysFinite) {
   EXPECT_GT(sum.max_abs_ay, 10.0);
 }
 
-// The velocity equations of Step are the explicit part of Derivatives.
+// The velocity equations of Step are the explicit part of Derivatives; so are the rates of the
+// roll/pitch modes when they are on (the first-order lag is integrated exactly instead).
 TEST(Vehicle, StepAgreesWithDerivatives) {
-  params::VehicleParams p = Eav24();
-  p.steering.delay = 0.0;
-  p.steering.time_constant = 0.0;
-  p.steering.rate_limit = 20.0;
-  const Vehicle v(p);
-  State s = v.MakeState({.speed = 30.0});
-  Actuators u;
-  u.steer_req = 0.02;
-  u.throttle = 0.4;
-  for (int k = 0; k < 500; ++k) v.Step(u, &s);
-  PlantInputs in;
-  in.steer = s.steering.angle;
-  in.throttle = 0.4;
-  in.gear = s.gearbox.engaged;
-  const StateVector d = v.Derivatives(s.x, in);
-  const StateVector x0 = s.x;
-  v.Step(u, &s);
-  for (int i : {kVx, kVy, kYawRate})
-    EXPECT_NEAR((s.x[i] - x0[i]) / v.time_step(), d[i], 1e-9 * (1 + std::abs(d[i])))
-        << kStateNames[i];
-  for (int i : {kOmegaFL, kKappaFL, kAlphaRL, kX, kY})
-    EXPECT_NEAR((s.x[i] - x0[i]) / v.time_step(), d[i], 0.02 * (1 + std::abs(d[i])))
-        << kStateNames[i];
+  for (double f_n : {0.0, 7.0}) {
+    SCOPED_TRACE(f_n);
+    params::VehicleParams p = Eav24();
+    p.steering.delay = 0.0;
+    p.steering.time_constant = 0.0;
+    p.steering.rate_limit = 20.0;
+    p.chassis.load_transfer_frequency = f_n;
+    const Vehicle v(p);
+    State s = v.MakeState({.speed = 30.0});
+    Actuators u;
+    u.steer_req = 0.02;
+    u.throttle = 0.4;
+    for (int k = 0; k < 500; ++k) v.Step(u, &s);
+    PlantInputs in;
+    in.steer = s.steering.angle;
+    in.throttle = 0.4;
+    in.gear = s.gearbox.engaged;
+    const StateVector d = v.Derivatives(s.x, in);
+    const StateVector x0 = s.x;
+    v.Step(u, &s);
+    for (int i : {kVx, kVy, kYawRate, kAxLoadTransferRate, kAyLoadTransferRate})
+      EXPECT_NEAR((s.x[i] - x0[i]) / v.time_step(), d[i], 1e-9 * (1 + std::abs(d[i])))
+          << kStateNames[i];
+    for (int i : {kOmegaFL, kKappaFL, kAlphaRL, kX, kY, kAxLoadTransfer, kAyLoadTransfer})
+      EXPECT_NEAR((s.x[i] - x0[i]) / v.time_step(), d[i], 0.02 * (1 + std::abs(d[i])))
+          << kStateNames[i];
+    if (f_n == 0.0) {
+      EXPECT_EQ(s.x[kAxLoadTransferRate], 0.0);
+      EXPECT_EQ(s.x[kAyLoadTransferRate], 0.0);
+    } else {
+      EXPECT_NE(s.x[kAyLoadTransferRate], 0.0);
+    }
+  }
+}
+
+// A lateral load transfer left over from a corner, released on a straight: the first-order lag
+// decays without crossing zero; the roll mode swings through with the overshoot and at the time of
+// a second-order system, exp(-zeta pi / sqrt(1 - zeta^2)) at pi / omega_d.
+TEST(Vehicle, LoadTransferModesSwingThroughLikeASprungBody) {
+  struct Swing {
+    double min_ay, t_min;
+  };
+  auto release = [](double f_n, double zeta) {
+    params::VehicleParams p = Eav24();
+    p.chassis.load_transfer_frequency = f_n;
+    p.chassis.load_transfer_damping_ratio = zeta;
+    const Vehicle v(p);
+    State s = v.MakeState({.speed = 30.0});
+    s.x[kAyLoadTransfer] = 3.0;
+    Swing out{3.0, 0.0};
+    for (int k = 0; k < 400; ++k) {
+      v.Step(Actuators{}, &s);
+      if (s.x[kAyLoadTransfer] < out.min_ay) out = {s.x[kAyLoadTransfer], s.time};
+    }
+    return out;
+  };
+  const Swing lag = release(0.0, 0.4);
+  EXPECT_GT(lag.min_ay, -0.03);
+  for (double zeta : {0.2, 0.4, 0.7}) {
+    SCOPED_TRACE(zeta);
+    const double f_n = 7.0;
+    const double root = std::sqrt(1.0 - zeta * zeta);
+    const Swing roll = release(f_n, zeta);
+    EXPECT_NEAR(roll.min_ay, -3.0 * std::exp(-zeta * std::numbers::pi / root), 0.05);
+    EXPECT_NEAR(roll.t_min, 0.5 / (f_n * root), 0.004);
+  }
 }
 
 TEST(Vehicle, RearGripReductionLowersTheLateralLimit) {
