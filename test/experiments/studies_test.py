@@ -326,6 +326,22 @@ class ClaimsMaps(unittest.TestCase):
         self.assertIn("The run that shows it, one change", c)
 
 
+    def test_every_vehicle_edit_family_finds_its_key_in_the_vehicle_file(self):
+        import claims_map
+        # the edited copies start from `scw vehicle init`, the same text as the repository's
+        # eav24.yaml; a key the file does not write (an omitted default) could not be edited
+        path = os.path.join(os.path.dirname(os.path.abspath(EXP)), "params", "vehicles",
+                            "eav24.yaml")
+        with open(path) as f:
+            lines = f.read().splitlines()
+        self.assertIn("body_modes", claims_map.VEHICLE_EDITS)
+        for tag, (key, values, _, _) in claims_map.VEHICLE_EDITS.items():
+            out, missing = claims_map.edit_yaml_lines(lines, {key: repr(float(values[-1]))})
+            self.assertEqual(missing, [], tag)
+            depth, leaf = key.count("."), key.rsplit(".", 1)[1]
+            self.assertIn("  " * depth + f"{leaf}: {float(values[-1])!r}", out, tag)
+            self.assertEqual(len(out), len(lines), tag)
+
     def test_a_paper_sim_variant_is_one_change_from_the_paper_sim_column(self):
         import json
         import claims_map
