@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include "params/schema/field.h"
@@ -115,7 +116,8 @@ struct ChassisParams {
                     "lag, so the load transfer can overshoot as a sprung body does. 0 = the "
                     "first-order lag (default). AV-21 suspension data (TUM sim_vehicle_dynamics, "
                     "springs and tyres in series, dampers, front anti-roll bar): roll 7.4 Hz, "
-                    "pitch 6.5 Hz; EAV24 unknown.",
+                    "pitch 6.5 Hz; EAV24 unknown. At most 0.1 / (2 pi simulation.time_step): "
+                    "15.9 Hz at the 1 ms step.",
              .optional = true});
     v.Field(s.load_transfer_damping_ratio,
             {.key = "load_transfer_damping_ratio",
@@ -333,6 +335,12 @@ struct VehicleParams {
     const double h = p.simulation.time_step;
     if (h > 0 && (p.brakes.delay / h > 100000.0 || p.steering.delay / h > 100000.0))
       pr.Add("simulation.time_step", "delay / time_step exceeds 100000 steps");
+    // The roll/pitch modes are stepped explicitly (symplectic Euler: stable for omega_n h < 2);
+    // keep ten steps per radian of the mode so that its overshoot and period stay right.
+    if (h > 0 && 2.0 * std::numbers::pi * p.chassis.load_transfer_frequency * h > 0.1)
+      pr.Add("chassis.load_transfer_frequency",
+             "2 pi * frequency * simulation.time_step must be at most 0.1 (the roll/pitch modes "
+             "need at least ten plant steps per radian)");
   }
 };
 

@@ -41,6 +41,23 @@ TEST(Vehicle, InvalidParametersThrowOneErrorListingEveryProblem) {
   }
 }
 
+// The roll/pitch modes are stepped explicitly: a mode too fast for the plant step is refused by
+// name, the same mode with a finer step is accepted.
+TEST(Vehicle, RollPitchModesTooFastForThePlantStepAreRefused) {
+  params::VehicleParams p;
+  p.chassis.load_transfer_frequency = 7.0;
+  p.simulation.time_step = 0.005;  // 2 pi 7 Hz 5 ms = 0.22
+  try {
+    const Vehicle v(p);
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("chassis.load_transfer_frequency"), std::string::npos)
+        << e.what();
+  }
+  p.simulation.time_step = 0.002;  // 0.088
+  EXPECT_NO_THROW(Vehicle{p});
+}
+
 TEST(Vehicle, RestsWithoutCreepOrChatter) {
   const Vehicle v(Eav24());
   State s = v.MakeState();
