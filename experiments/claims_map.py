@@ -201,7 +201,7 @@ def no_brake_dynamics_vehicle(scw, path):
 
 # Families that vary a value of the vehicle file (one edited file per value, the files as the
 # varied key `vehicle`): tag -> (dotted key in the file, values, label, unit). The file's own
-# values (1.0, 0.04 s, 0.5) are the real-car column's.
+# values (1.0, 0 Hz = the first-order lag, 0.5) are the real-car column's.
 VEHICLE_EDITS = {
     "rear_stiffness": ("tires.rear.lky", [0.8, 0.9], "rear cornering stiffness (LKY)", "×"),
     "body_modes": ("chassis.load_transfer_frequency", [3.0, 7.0], "roll/pitch modes at", "Hz"),

@@ -101,10 +101,10 @@ struct ChassisParams {
              .lo = 0.001,
              .hi = 1.0,
              .doc = "First-order lag of the accelerations that drive the quasi-static load "
-                    "transfer; stands in for the omitted roll/pitch modes (stiff race-car "
-                    "suspension, 3-4 Hz, well damped: 0.04 s, assumption) and breaks the "
-                    "algebraic loop load -> tyre force -> acceleration -> load. Used when "
-                    "load_transfer_frequency is 0."});
+                    "transfer; stands in for the roll/pitch modes when they are not modelled "
+                    "(stiff race-car suspension, 3-4 Hz, well damped: 0.04 s, assumption) and "
+                    "breaks the algebraic loop load -> tyre force -> acceleration -> load. Used "
+                    "when load_transfer_frequency is 0."});
     v.Field(s.load_transfer_frequency,
             {.key = "load_transfer_frequency",
              .unit = "Hz",
