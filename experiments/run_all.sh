@@ -20,7 +20,8 @@
 # and the paper's simulator's actuators (also with its steering dead time at 0 and 30 ms, and
 # as its IV-2024 code had them), the grip reduction on the whole tyre curve and the PMPC's
 # commanded and steering-based ESC targets, and the PMPC's yaw-rate and lateral-acceleration
-# feedbacks with both actuator models, the body's roll/pitch modes, about 20-24 min each),
+# feedbacks with both actuator models, the body's roll/pitch modes and the paper's setup as a whole
+# (paper_setup), about 25-30 min each),
 # STUDY_ARGS (extra options of every study, e.g. "--gg 1.0,1.05 --laps 1" for a quick check).
 # Shipped + one tuned set, both actuator models: see experiments/README.md for the measured time.
 # To refresh the committed reference copy afterwards:
@@ -67,6 +68,7 @@ if [ "${CLAIMS_MAP:-0}" = 1 ]; then
   "$py" "$here/claims_map.py" --no-report --processes "$procs"
   fams=brake_steer,no_brake_dyn,paper_sim,paper_sim_steer,paper_sim_v1,grip_curve,esc_target
   fams+=,pmpc_yaw_feedback,pmpc_yaw_paper_sim,pmpc_ay_feedback,pmpc_ay_paper_sim,body_modes
+  fams+=,paper_setup
   for f in "$@"; do
     "$py" "$here/claims_map.py" --no-report --processes "$procs" --stability "$f" --families "$fams"
   done

@@ -342,6 +342,37 @@ class ClaimsMaps(unittest.TestCase):
             self.assertIn("  " * depth + f"{leaf}: {float(values[-1])!r}", out, tag)
             self.assertEqual(len(out), len(lines), tag)
 
+    def test_the_paper_setup_family_counts_each_of_its_choices(self):
+        import claims_map
+        fam = [f for f in claims_map.FAMILIES if f[0] == "paper_setup"]
+        self.assertEqual(len(fam), 1)
+        edits = [x for x in fam[0][2] if x.startswith("@")]
+        self.assertEqual(edits, ["@body_modes=7"])
+        # in the default map; the lookahead family only on request
+        self.assertIn("paper_setup", [f[0] for f in claims_map.DEFAULT_FAMILIES])
+        self.assertNotIn("pmpc_lookahead", [f[0] for f in claims_map.DEFAULT_FAMILIES])
+        self.assertIn("pmpc_lookahead", [f[0] for f in claims_map.FAMILIES])
+        for x in edits:
+            self.assertIn(x[1:].split("=")[0], claims_map.VEHICLE_EDITS)
+        # an unknown edit is refused by name before any run
+        with self.assertRaises(SystemExit) as cm:
+            claims_map.expand_vehicle_edits("scw", WORK, ["plant.actuators=paper_sim",
+                                                          "@no_such_edit=1"])
+        self.assertIn("no_such_edit", str(cm.exception))
+        self.assertEqual(claims_map.expand_vehicle_edits("scw", WORK, ["a=1", "b=2,3"]),
+                         ["a=1", "b=2,3"])
+        # four choices from the vehicle file, three from the paper's-sim column
+        path = os.path.join(WORK, "vehicle_body_modes_7.yaml")
+        claims_map.VEHICLE_LABELS[path] = "roll/pitch modes at 7 Hz"
+        keys = ["plant.actuators", "plant.grip_scaling", "vehicle", "motion.pmpc.lat_accel_gain"]
+        vals = ["paper_sim", "curve", path, "3"]
+        self.assertEqual(claims_map.changes_of("paper_setup", keys, vals),
+                         ["actuators paper_sim", "grip reduction on the whole tyre curve",
+                          "roll/pitch modes at 7 Hz", "PMPC lateral-acceleration feedback gain 3 m"])
+        self.assertEqual(claims_map.nearest_column(keys, vals)[1],
+                         ["grip reduction on the whole tyre curve", "roll/pitch modes at 7 Hz",
+                          "PMPC lateral-acceleration feedback gain 3 m"])
+
     def test_a_paper_sim_variant_is_one_change_from_the_paper_sim_column(self):
         import json
         import claims_map
