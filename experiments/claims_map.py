@@ -94,7 +94,8 @@ CONFIGS = [
 ]
 BRAKES = [0.0, 0.04, 0.116]
 STEERS = [0.0, 0.03, 0.06]
-# (tag, label, varied keys as --vary arguments after gg_scale, or a vehicle-file edit)
+# (tag, label, varied keys as --vary arguments after gg_scale; "@tag" or "@tag=v1,v2": a
+# vehicle-file edit of VEHICLE_EDITS, see expand_vehicle_edits)
 FAMILIES = [
     ("brake_steer", "brake dead time × steering dead time",
      [f"plant.brake_dead_time={','.join(map(str, BRAKES))}",
@@ -119,15 +120,16 @@ FAMILIES = [
     # load transfer's speed and split, the motion controller's lateral feedback. A car more
     # oversteering than the vehicle file is lost at GG 1.0 already (as with grip_curve), so
     # these run on the longer axis, the same for every configuration.
-    ("rear_stiffness", "the rear axle's cornering stiffness", None, "0.7:0.05:1.8"),
+    ("rear_stiffness", "the rear axle's cornering stiffness", ["@rear_stiffness"], "0.7:0.05:1.8"),
     # the load transfer as the body's roll/pitch modes, second order (chassis.
     # load_transfer_frequency; damping ratio 0.4 from the AV-21 suspension data): the paper's
     # simulator has these as body degrees of freedom, the vehicle file a first-order lag. On the
     # studies' axis: the modes do not make the car more oversteering (hand runs: every
     # configuration completes GG 1.0)
     ("body_modes", "the load transfer as the body's roll/pitch modes (second order, damping "
-     "ratio 0.4)", None),
-    ("roll_split", "the front share of the lateral load transfer", None, "0.7:0.05:1.8"),
+     "ratio 0.4)", ["@body_modes"]),
+    ("roll_split", "the front share of the lateral load transfer", ["@roll_split"],
+     "0.7:0.05:1.8"),
     ("pmpc_lookahead", "the PMPC's lateral feedback: its lookahead time",
      ["motion.pmpc.lookahead_time=0.3,1.0"], "0.7:0.05:1.8"),
     # a yaw-rate feedback in the PMPC's steering (not in the published description); with
@@ -248,8 +250,9 @@ def vehicle_variants(scw, out, tag, values=None):
 
 
 def expand_vehicle_edits(scw, out, vary):
-    """A family's --vary arguments with each "@tag=v1,v2" (a vehicle-file edit of VEHICLE_EDITS
-    at those values) replaced by the edited files as `vehicle=...`, in place."""
+    """A family's --vary arguments with each "@tag" or "@tag=v1,v2" (a vehicle-file edit of
+    VEHICLE_EDITS at its own or at those values) replaced by the edited files as `vehicle=...`,
+    in place."""
     res = []
     for x in vary:
         if not x.startswith("@"):
@@ -258,7 +261,8 @@ def expand_vehicle_edits(scw, out, vary):
         tag, _, vals = x[1:].partition("=")
         if tag not in VEHICLE_EDITS:
             sys.exit(f"error: family vary {x}: no vehicle edit {tag!r}")
-        res += vehicle_variants(scw, out, tag, [float(v) for v in vals.split(",")])
+        res += vehicle_variants(scw, out, tag,
+                                [float(v) for v in vals.split(",")] if vals else None)
     return res
 
 
@@ -491,8 +495,6 @@ def main(argv=None):
         if tag == "no_brake_dyn":
             veh = no_brake_dynamics_vehicle(scw, os.path.join(out, "vehicle_no_brake_dyn.yaml"))
             sets.append(f"vehicle={veh}")
-        if tag in VEHICLE_EDITS:
-            vary = vehicle_variants(scw, out, tag)
         vary = expand_vehicle_edits(scw, out, vary)
         keys = [v.split("=", 1)[0] for v in vary]
         csv_path = os.path.join(out, f"sweep_{tag}.csv")
