@@ -2,7 +2,7 @@
 // its K-th pass, so that tests of interruption and of a dying MPI rank inject the fault at a
 // defined point instead of racing a timer (docs/robustness.md#fault-injection-in-tests).
 //
-//   SCW_TEST_FAULT=POINT:K:SIGNAL     e.g. worker-job:3:KILL, tune-eval:2:INT,
+//   SCW_TEST_FAULT=POINT:K:SIGNAL     e.g. worker-job:3:KILL, tune-eval:2:INT, tune-screen:1:INT,
 //   simulate-step:500:TERM
 //
 // POINT names the place (the callers below), K ≥ 1 counts its passes in this process, SIGNAL is one
@@ -10,6 +10,7 @@
 // that does not parse is reported once on stderr and ignored. The points:
 //   worker-job     an MPI worker rank has received its K-th job (before running it);
 //   tune-eval      scw tune has logged its K-th evaluation (evaluation 0 is the first);
+//   tune-screen    scw tune's screen (before the search) has finished its K-th run;
 //   simulate-step  scw simulate's stability controller has run its K-th step (100 Hz).
 #pragma once
 

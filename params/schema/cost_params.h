@@ -17,6 +17,8 @@ struct CostWeights {
   double tc_cut_weight = 0.5;
   double max_sideslip_weight = 0.5;
   double failed_criterion_weight = 100.0;
+  double lateral_error_allowed_m = 3.0;
+  double lateral_error_weight = 0.0;
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
@@ -91,6 +93,25 @@ struct CostWeights {
              .doc = "Cost of each failed pass/fail criterion of a maneuver scenario (kind: "
                     "maneuver, docs/maneuvers.md), times 1 + its relative miss (capped at 1): a "
                     "yaw-rate ratio of 45 % against the 35 % limit costs 1.29 x this.",
+             .optional = true,
+             .omit_default = true});
+    v.Field(s.lateral_error_allowed_m,
+            {.key = "lateral_error_allowed_m",
+             .unit = "m",
+             .lo = 0.0,
+             .hi = 1e3,
+             .doc = "Largest lateral error from the reference that is free on critical scenarios "
+                    "(3 m: the paper's simulation studies stop a run beyond it).",
+             .optional = true,
+             .omit_default = true});
+    v.Field(s.lateral_error_weight,
+            {.key = "lateral_error_weight",
+             .unit = "s/m",
+             .lo = 0.0,
+             .hi = 1e6,
+             .doc = "Cost per metre of the largest lateral error above lateral_error_allowed_m, on "
+                    "critical scenarios: a car saved from a spin that ends metres off its line "
+                    "is not saved well (0: not counted).",
              .optional = true,
              .omit_default = true});
   }

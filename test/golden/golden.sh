@@ -4,7 +4,8 @@
 #   golden.sh record CASE SCW WORKDIR   rewrite the committed files (never in CI; state why in
 #                                       the commit message)
 # CASE: simulate (the default scenario, 3 laps: the trace's SHA-256 and the summary), tune (a
-# short fixed-seed tune on a small set with crs2+sbplx, the algorithm it was recorded with:
+# short fixed-seed tune on a small set with crs2+sbplx and the weighted-sum objective, which it
+# was recorded with:
 # evaluations.csv and the tuned file below its provenance header), sweep (a GG sweep with two configurations: the CSV), scenarios (the expansion of the
 # shipped Monte-Carlo set params/scenarios/robust_set.yaml, `scw tune --print-scenarios`: its
 # SHA-256).
@@ -52,7 +53,8 @@ case $test_case in
     ;;
   tune)
     "$scw" tune --scenarios "$here/golden_set.yaml" --algorithm crs2+sbplx --max-evals 12 --seed 1 \
-      --threads 2 --no-sensitivity --progress never --out-dir out >out.txt 2>&1 ||
+      --objective sum --threads 2 --no-sensitivity --no-neighbourhood --progress never \
+      --out-dir out >out.txt 2>&1 ||
       fail "scw tune failed: $(cat out.txt)"
     grep -v '^#' out/stability_tuned.yaml >tuned_body.yaml
     settle out/evaluations.csv tune_evaluations.csv

@@ -134,4 +134,33 @@ TEST(TuneInterruptTest, CtrlCKeepsLogAndBestAndResumeContinues) {
   fs::remove_all(dir);
 }
 
+// Issue 50 finding 14: Ctrl-C during the screen (before the search) ended the program with 130,
+// no message and an empty run folder left behind.
+TEST(TuneInterruptTest, CtrlCBeforeTheSearchSaysSoAndLeavesNoEmptyFolder) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("scw_tune_interrupt_screen_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string set = (dir / "set.yaml").string();
+  std::ofstream(set) << "name: tiny\n"
+                        "training:\n"
+                        "  - {name: one_lap, weight: 1.0, set: [laps=1, gg_scale=1.1]}\n";
+  const fs::path run = dir / "run";
+  ::setenv("SCW_TEST_FAULT", "tune-screen:1:INT", 1);
+  const pid_t pid = Start({"tune", "--scenarios", set, "--threads", "1", "--progress", "never",
+                           "--out-dir", run.string()},
+                          (dir / "out.txt").string());
+  ::unsetenv("SCW_TEST_FAULT");
+  ASSERT_GT(pid, 0);
+  const int status = Wait(pid);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const std::string out = Slurp((dir / "out.txt").string());
+  EXPECT_NE(out.find("interrupted during the screen: nothing was written (the empty folder"),
+            std::string::npos)
+      << out;
+  EXPECT_FALSE(fs::exists(run)) << out;
+  fs::remove_all(dir);
+}
+
 }  // namespace

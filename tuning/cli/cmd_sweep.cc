@@ -49,6 +49,7 @@ int RunSweepCommand(const SweepOptions& o) {
   if (to.dir.empty() && !to.at.empty())
     throw ConfigError("scw sweep", "--trace-at", "needs --trace-dir DIR (where to write)");
 
+  NoteThreads("scw sweep", o.threads);
   const auto t0 = std::chrono::steady_clock::now();
   tuning::sweep::SweepExecution exec;
   exec.threads = o.threads;
@@ -124,16 +125,18 @@ void AddSweep(CLI::App& app) {
                   "different keys: all must match; default: every reported run)")
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  WholeNumberIn(cmd->add_option("--threads", o->threads,
-                                "Worker threads per process (0: all cores; under mpirun with "
-                                "more than one rank: 1 per rank)"),
-                0, 1024);
+  auto* threads = WholeNumberIn(cmd->add_option("--threads", o->threads,
+                                                "Worker threads per process (0: all cores; under "
+                                                "mpirun with more than one rank: 1 per rank)"),
+                                0, 1024);
   WholeNumberIn(cmd->add_option("--processes", o->processes,
                                 "Run the jobs in N worker processes (copies of this scw) instead "
                                 "of threads: use for pmpc/nmpc, whose Ipopt calls are serialised "
                                 "within a process; same table as with threads (0: threads; "
-                                "under mpirun: the ranks, unless this is given)"),
-                0, 256);
+                                "under mpirun: the ranks, unless this is given); an alternative "
+                                "to --threads, not a multiplier"),
+                0, 256)
+      ->excludes(threads);
   WholeNumberIn(
       cmd->add_option("--worker-fd", o->worker_fd, "(internal) run as a worker of --processes"), 3,
       1024)

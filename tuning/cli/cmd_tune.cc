@@ -16,6 +16,8 @@
 #include <optional>
 #include <sstream>
 
+#include <unistd.h>
+
 #include "params/io/atomic_file.h"
 #include "params/io/load.h"
 #include "params/io/sha256.h"
@@ -27,6 +29,7 @@
 #include "tuning/cli/revision.h"  // generated: SCW_GIT_REVISION
 #include "tuning/cli/tune_plots.h"
 #include "tuning/exec/mpi_backend.h"
+#include "tuning/optim/front.h"
 #include "tuning/optim/space.h"
 #include "tuning/optim/tune_study.h"
 #include "tuning/optim/tuner.h"
@@ -38,7 +41,18 @@ namespace {
 namespace fs = std::filesystem;
 
 std::atomic<bool> g_stop{false};
-extern "C" void OnSigint(int) { g_stop = true; }
+// The first Ctrl-C asks the tune to stop (the search keeps its best and the outputs are written;
+// before the search nothing is kept); the handler then steps aside, so a second one quits at once.
+extern "C" void OnSigint(int) {
+  g_stop = true;
+  std::signal(SIGINT, SIG_DFL);
+  static const char kMsg[] =
+      "\nscw tune: stopping at the next evaluation or phase (Ctrl-C again to quit at once)\n";
+  [[maybe_unused]] const auto n = write(2, kMsg, sizeof kMsg - 1);
+}
+
+/// --max-evals of each point of a front when none is given.
+constexpr int kFrontEvalsPerPoint = 120;
 
 struct TuneOptions {
   std::string space, scenarios, base, algorithm = "sbplx", out, resume, node;
@@ -46,7 +60,7 @@ struct TuneOptions {
   bool force = false;  // --out-dir may name an existing folder
   int max_evals = 240;
   double max_time = 0.0;  // opt-in: a wall-time limit makes the result depend on the machine
-  double search_plant_step = tuning::kDefaultSearchPlantStep;  // [s], 0: the vehicles' own
+  double search_plant_step = -1.0;  // [s], 0: the vehicles' own; < 0: by the objective
   int threads = 0;
   int batch = 1;  // --batch: candidates per objective call (the batched algorithm lhs+B)
   unsigned long long seed = 1;
@@ -55,9 +69,17 @@ struct TuneOptions {
   bool check_set = false;       // --check-set: which subsystems the scenario set can see, then exit
   bool no_sensitivity = false;  // skip the parameter sensitivity (after the tune; --check-set)
   bool no_freeze = false;       // keep the dimensions the training cannot see free
-  std::vector<std::string> params_files;  // evaluate
-  std::vector<std::string> labels;        // evaluate
-  std::string csv;                        // evaluate
+  std::string objective = "constrained";
+  double lap_budget = tuning::kDefaultLapBudget;   // [s per lap]
+  bool free_clean_activations = false;             // drop the activations part of the budget
+  double resolution = tuning::kDefaultResolution;  // [s]
+  bool no_neighbourhood = false;                   // skip the knife-edge check
+  bool robust = false;                             // robust in the small
+  int front = 0;                                   // --front N: N points (0: one tune)
+  bool max_evals_given = false;                    // --max-evals on the command line
+  std::vector<std::string> params_files;           // evaluate
+  std::vector<std::string> labels;                 // evaluate
+  std::string csv;                                 // evaluate
 };
 
 /// "9.6 s" / "0.42 s": wall times as a person reads them.
@@ -167,6 +189,12 @@ tuning::TuneStudyOptions StudyOptions(const TuneOptions& o, std::set<std::string
   so.sensitivity = !o.no_sensitivity;
   so.freeze_unexercised = !o.no_freeze;
   so.search_plant_step = o.search_plant_step;
+  so.objective = tuning::ObjectiveKindFromName(o.objective);
+  so.budget.lap_s = o.lap_budget;
+  so.budget.interventions = !o.free_clean_activations;
+  so.resolution = o.resolution;
+  so.neighbourhood = !o.no_neighbourhood;
+  so.robust = o.robust;
   so.resume_log = o.resume;
   so.stop = &g_stop;
   so.base_file = o.base;
@@ -197,13 +225,59 @@ const char* JobUnit(tuning::TunePhase phase) {
     case tuning::TunePhase::kScreen:
       return "runs";
     case tuning::TunePhase::kOptimise:
+    case tuning::TunePhase::kRobust:
       return "evals";
     case tuning::TunePhase::kCompare:
       return "jobs";
+    case tuning::TunePhase::kSelect:
     case tuning::TunePhase::kSensitivity:
+    case tuning::TunePhase::kNeighbourhood:
       return "runs";
+    case tuning::TunePhase::kRevert:
+      return "trials";
+    case tuning::TunePhase::kExport:
+      return "";
   }
   return "";
+}
+
+/// Writes a finished tune's outputs into `dir` (the params files, comparison.csv and .md, the
+/// plots, sensitivity.csv, the manifest, each atomically); returns the plots' Markdown ("" when
+/// they could not be drawn, said on stderr).
+std::string WriteRunOutputs(const TuneOptions& o, const tuning::TuneStudy& study,
+                            const std::string& dir, const tuning::TuneReport& r,
+                            double wall_time_s) {
+  const auto path = [&dir](const char* file) { return (fs::path(dir) / file).string(); };
+  io::WriteFileAtomic(path(tuning::kTunedParamsFile), r.tuned_file);
+  io::WriteFileAtomic(path(tuning::kOverridesParamsFile), r.overrides_file);
+  // The plots read comparison.csv and evaluations.csv; comparison.md embeds them.
+  io::WriteFileAtomic(path("comparison.csv"), r.comparison_csv);
+  std::string plots_md, plot_message;
+  if (WriteTunePlots(dir, &plot_message))
+    plots_md = TunePlotsMarkdown();
+  else
+    std::cerr << "  note: no plots (" << plot_message
+              << "); the run's other outputs are complete\n";
+  if (r.sensitivity_state == tuning::SensitivityState::kDone) {
+    io::WriteFileAtomic(path("sensitivity.csv"), r.sensitivity_csv);
+  } else {
+    std::error_code ec;  // a --force or --resume folder may hold an earlier run's table
+    fs::remove(path("sensitivity.csv"), ec);
+  }
+  io::WriteFileAtomic(path("comparison.md"), r.comparison_markdown + plots_md);
+  tuning::TuneRunRecord record;
+  for (const auto& a : CommandLine())
+    record.command_line += (record.command_line.empty() ? "" : " ") + a;
+  if (!o.base.empty()) record.base_sha256 = FileSha256(o.base);
+  if (!o.space.empty()) record.space_sha256 = FileSha256(o.space);
+  if (!o.scenarios.empty()) record.scenarios_sha256 = FileSha256(o.scenarios);
+  record.wall_time_s = wall_time_s;
+  for (const char* f : {"evaluations.csv", "evaluations.identity.yaml", tuning::kTunedParamsFile,
+                        tuning::kOverridesParamsFile, "comparison.md", "comparison.csv",
+                        "sensitivity.csv", kConvergencePlotFile, kComparisonPlotFile})
+    if (fs::exists(path(f))) record.files_sha256.emplace_back(f, FileSha256(path(f)));
+  io::WriteFileAtomic(path("manifest.yaml"), study.ManifestYaml(r, record));
+  return plots_md;
 }
 
 /// scw tune's side of a study: the progress line and the messages on stderr, the SIGINT flag
@@ -213,7 +287,11 @@ class TuneRun : public tuning::TuneObserver {
  public:
   TuneRun(const TuneOptions& o, const tuning::TuneStudy& study, std::string dir,
           std::chrono::steady_clock::time_point t_start)
-      : o_(o), study_(study), dir_(std::move(dir)), t_start_(t_start) {}
+      : o_(o), study_(study), dir_(std::move(dir)), t_start_(t_start) {
+    g_stop = false;
+    previous_ = std::signal(SIGINT, OnSigint);
+    sigint_ = true;
+  }
   ~TuneRun() override { RestoreSigint(); }
 
   /// TunePlotsMarkdown() when the figures were drawn, else "".
@@ -233,21 +311,29 @@ class TuneRun : public tuning::TuneObserver {
         break;
       case tuning::TunePhase::kOptimise:
         if (!progress_) progress_.emplace(o_.progress);
-        g_stop = false;
-        previous_ = std::signal(SIGINT, OnSigint);
-        sigint_ = true;
-        break;
-      case tuning::TunePhase::kCompare:
-        OnJobs(phase, 0, total);
         break;
       case tuning::TunePhase::kSensitivity:
         t_sensitivity_ = std::chrono::steady_clock::now();
         OnJobs(phase, 0, total);
         break;
+      case tuning::TunePhase::kSelect:
+      case tuning::TunePhase::kRevert:
+      case tuning::TunePhase::kCompare:
+      case tuning::TunePhase::kNeighbourhood:
+        t_phase_ = std::chrono::steady_clock::now();
+        OnJobs(phase, 0, total);
+        break;
+      case tuning::TunePhase::kRobust:
+        t_phase_ = std::chrono::steady_clock::now();
+        break;
+      case tuning::TunePhase::kExport:
+        break;
     }
   }
 
   void OnJobs(tuning::TunePhase phase, int done, int total) override {
+    // Tests interrupt here (tune_interrupt_test): Ctrl-C before the search.
+    if (phase == tuning::TunePhase::kScreen) io::TestFaultPoint("tune-screen", done);
     const bool prepare = phase == tuning::TunePhase::kPrepare;
     (prepare ? *prepare_ : *progress_)
         .Update({tuning::TunePhaseName(phase), static_cast<double>(done),
@@ -279,12 +365,40 @@ class TuneRun : public tuning::TuneObserver {
       case tuning::TunePhase::kOptimise:
         Optimised(r);
         break;
+      case tuning::TunePhase::kSelect:
+        progress_->Finish();
+        std::cerr << "  select: " << r.selection.size()
+                  << " best points of the search run at the vehicle's step in "
+                  << Seconds(SecondsSince(t_phase_)) << "; exporting evaluation " << r.chosen_eval
+                  << "\n";
+        break;
       case tuning::TunePhase::kSensitivity:
         progress_->Finish();
         SensitivityDone(r);
         break;
+      case tuning::TunePhase::kRevert:
+        progress_->Finish();
+        std::cerr << "  revert: " << r.revert.evaluations << " whole-set evaluations in "
+                  << Seconds(SecondsSince(t_phase_)) << "; "
+                  << tuning::RevertedItems(r.revert).size() << " reverted, "
+                  << r.revert.decisions.size() - tuning::RevertedItems(r.revert).size()
+                  << " kept (reverting them changes a run)\n";
+        break;
       case tuning::TunePhase::kCompare:
         progress_->Finish();
+        break;
+      case tuning::TunePhase::kNeighbourhood:
+        progress_->Finish();
+        std::cerr << "  knife edges: " << r.neighbourhood.neighbours.size() << " neighbours, "
+                  << r.neighbourhood.runs << " runs in " << Seconds(SecondsSince(t_phase_)) << "; "
+                  << r.neighbourhood.edges.size() << " knife edge(s)\n";
+        break;
+      case tuning::TunePhase::kRobust:
+        progress_->Finish();
+        std::cerr << "  robust round " << r.robust_rounds << ": " << r.robust_evaluations
+                  << " evaluations so far in " << Seconds(SecondsSince(t_phase_)) << "\n";
+        break;
+      case tuning::TunePhase::kExport:
         Compared(r);
         break;
     }
@@ -311,7 +425,6 @@ class TuneRun : public tuning::TuneObserver {
 
   void Optimised(const tuning::TuneReport& report) {
     const tuning::TuneResult& r = report.optimisation;
-    RestoreSigint();
     progress_->Finish();
     std::cerr << "  optimisation: " << r.evals << " evaluations (" << r.replayed
               << " replayed), stop: " << r.stop_reason << ", best cost " << Cost(r.best_cost)
@@ -324,24 +437,7 @@ class TuneRun : public tuning::TuneObserver {
 
   /// The outputs: the folder is complete from here on.
   void Compared(const tuning::TuneReport& r) {
-    io::WriteFileAtomic(Path(tuning::kTunedParamsFile), r.tuned_file);
-    io::WriteFileAtomic(Path(tuning::kOverridesParamsFile), r.overrides_file);
-    // The plots read comparison.csv and evaluations.csv; comparison.md embeds them.
-    io::WriteFileAtomic(Path("comparison.csv"), r.comparison_csv);
-    std::string plot_message;
-    if (WriteTunePlots(dir_, &plot_message))
-      plots_md_ = TunePlotsMarkdown();
-    else
-      std::cerr << "  note: no plots (" << plot_message
-                << "); the run's other outputs are complete\n";
-    if (r.sensitivity_state == tuning::SensitivityState::kDone) {
-      io::WriteFileAtomic(Path("sensitivity.csv"), r.sensitivity_csv);
-    } else {
-      std::error_code ec;  // a --force or --resume folder may hold an earlier run's table
-      fs::remove(Path("sensitivity.csv"), ec);
-    }
-    io::WriteFileAtomic(Path("comparison.md"), r.comparison_markdown + plots_md_);
-    WriteManifest(r);
+    plots_md_ = WriteRunOutputs(o_, study_, dir_, r, SecondsSince(t_start_));
   }
 
   void SensitivityDone(const tuning::TuneReport& r) const {
@@ -349,34 +445,15 @@ class TuneRun : public tuning::TuneObserver {
     std::cerr << "  sensitivity: " << r.sensitivity.sets << " sets x "
               << r.sensitivity.scenarios.size() << " scenarios in "
               << Seconds(SecondsSince(t_sensitivity_)) << "; " << not_exercised.size() << " of "
-              << study_.space().size() << " parameters not exercised around the best point";
-    if (r.reverted.empty()) {
-      std::cerr << ", none of them changed by the search\n";
-      return;
-    }
-    std::cerr << "; " << r.reverted.size() << " changed by the search reverted to the base value\n";
-  }
-
-  void WriteManifest(const tuning::TuneReport& r) const {
-    tuning::TuneRunRecord record;
-    for (const auto& a : CommandLine())
-      record.command_line += (record.command_line.empty() ? "" : " ") + a;
-    if (!o_.base.empty()) record.base_sha256 = FileSha256(o_.base);
-    if (!o_.space.empty()) record.space_sha256 = FileSha256(o_.space);
-    if (!o_.scenarios.empty()) record.scenarios_sha256 = FileSha256(o_.scenarios);
-    record.wall_time_s = SecondsSince(t_start_);
-    for (const char* f : {"evaluations.csv", "evaluations.identity.yaml", tuning::kTunedParamsFile,
-                          tuning::kOverridesParamsFile, "comparison.md", "comparison.csv",
-                          "sensitivity.csv", kConvergencePlotFile, kComparisonPlotFile})
-      if (fs::exists(Path(f))) record.files_sha256.emplace_back(f, FileSha256(Path(f)));
-    io::WriteFileAtomic(Path("manifest.yaml"), study_.ManifestYaml(r, record));
+              << study_.space().size()
+              << " parameters not exercised one at a time around the exported point\n";
   }
 
   const TuneOptions& o_;
   const tuning::TuneStudy& study_;
   const std::string dir_;
   const std::chrono::steady_clock::time_point t_start_;
-  std::chrono::steady_clock::time_point t_sensitivity_, t_screen_;
+  std::chrono::steady_clock::time_point t_sensitivity_, t_screen_, t_phase_;
   std::optional<ProgressLine> prepare_;   ///< the preparation's line
   std::optional<ProgressLine> progress_;  ///< from the optimisation on
   bool sigint_ = false;                   ///< OnSigint is installed
@@ -401,12 +478,42 @@ std::string GroupLine(const std::string& group, const std::vector<tuning::SetEva
          std::to_string(change.new_aborts) + " new aborts)\n";
 }
 
-/// The console's account of a tune (the tables stay in the files): verdicts, totals, the
-/// convergence verdict, what the file changes and what it keeps at the base.
+/// The clean laps of a group in one line: the largest change a lap and whether the budget holds.
+std::string CleanLine(const std::string& group, const tuning::ObjectiveValue& v,
+                      const tuning::CleanLapBudget& b) {
+  if (v.clean.empty()) return "";
+  std::string out = "  clean laps (" + group + "): largest change ";
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%+.3f s a lap", v.lap_loss);
+  out += std::isfinite(v.lap_loss) ? std::string(buf) : std::string("(a clean lap aborts)");
+  out += ", " + std::to_string(v.extra_activations) + " extra activations; ";
+  if (v.within_budget())
+    return out + "within the budget (" + tuning::LapBudgetText(b.lap_s) + ")\n";
+  out += "OVER the budget:";
+  for (const auto& c : v.clean)
+    if (!c.breach.empty()) out += " " + c.scenario + " " + c.breach + ";";
+  out.back() = '\n';
+  return out;
+}
+
+/// The console's account of a tune (the tables stay in the files): objective, verdicts, the clean
+/// laps against the budget, search best against exported, what the file changes and keeps, and the
+/// knife edges last (a warning an engineer must not miss).
 std::string TuneSummary(const tuning::TuneReport& r, const tuning::TuneStudy& study) {
+  const tuning::TuneStudyOptions& so = study.options();
   std::string out = "scw tune: baseline -> tuned (lower cost is better)\n";
+  out += "  objective: " + r.objective + "\n";
+  if (so.objective == tuning::ObjectiveKind::kConstrained)
+    out += "  stability cost (critical training scenarios): " + Cost(r.base_value.stability) +
+           " -> " + Cost(r.tuned_value.stability) + "\n";
   out += GroupLine("training", r.training, r.training_change);
   if (!r.held_out.empty()) out += GroupLine("held-out", r.held_out, r.held_out_change);
+  out += CleanLine("training", r.tuned_value, so.budget);
+  if (!r.held_out.empty()) out += CleanLine("held-out", r.held_out_value, so.budget);
+  out += "  search best " + Cost(r.optimisation.best_cost) + " (evaluation " +
+         std::to_string(r.optimisation.best_eval) + "), exported " + Cost(r.tuned_value.merit) +
+         " at the vehicle's step (base " + Cost(r.base_value.merit) + ")\n";
+  if (!r.unexported_gain.empty()) out += "  NOTE: " + r.unexported_gain + "\n";
   out += "  convergence: " + r.convergence + "\n";
   out += "  changed keys: " + std::to_string(r.changed.size()) + " of the " +
          std::to_string(study.space().size()) + " parameters searched\n";
@@ -416,20 +523,111 @@ std::string TuneSummary(const tuning::TuneReport& r, const tuning::TuneStudy& st
     for (const auto& item : items) out += "    " + item + "\n";
   };
   if (r.screened) list("frozen at the base value before the search", r.frozen);
-  if (r.sensitivity_state == tuning::SensitivityState::kDone)
-    list("reverted to the base value after the search", r.reverted);
-  else
+  if (r.sensitivity_state == tuning::SensitivityState::kDone) {
+    list("reverted to the base value after the search (whole set re-evaluated)", r.reverted);
+    std::vector<std::string> kept;
+    for (const auto& k : tuning::KeptItems(r.revert))
+      if (k.find("NOT reverted") == std::string::npos) kept.push_back(k);
+    if (!kept.empty()) list("kept although unexercised one at a time (they act together)", kept);
+  } else {
     out +=
         "  reverted after the search: NOT CHECKED (no sensitivity): the file may change "
         "parameters no training run responds to\n";
+  }
   if (r.new_findings.empty())
     out += "  params check: no finding the base set does not have\n";
   else
     list("params check findings the base set does not have", r.new_findings);
+  if (so.robust && r.neighbourhood_done)
+    out += "  robust: " + std::to_string(r.neighbourhood_before_robust.edges.size()) +
+           " knife edge(s) before, " + std::to_string(r.neighbourhood.edges.size()) + " after (" +
+           std::to_string(r.robust_rounds) + " round(s), " + std::to_string(r.robust_evaluations) +
+           " evaluations)\n";
+  if (!r.neighbourhood_done)
+    out += "  knife edges: not checked\n";
+  else if (r.neighbourhood.edges.empty())
+    out += "  knife edges: none (" + std::to_string(r.neighbourhood.neighbours.size()) +
+           " neighbours on training and held-out)\n";
   return out;
 }
 
-int RunTune(const TuneOptions& o) {
+/// scw tune --front N's side: the stages' progress, each point's folder as it is exported, then
+/// front.csv, front.md and front.png.
+class FrontRun : public tuning::FrontObserver {
+ public:
+  FrontRun(const TuneOptions& o, const tuning::TuneStudy& study, std::string dir,
+           std::chrono::steady_clock::time_point t_start)
+      : o_(o), study_(study), dir_(std::move(dir)), t_start_(t_start) {}
+
+  void OnStage(int stage, int points, int max_evals) override {
+    t_stage_ = std::chrono::steady_clock::now();
+    line_.emplace(o_.progress);
+    std::cerr << "  front stage " << stage << ": " << points
+              << (stage == 1 ? " ends (no loss, no budget)" : " inner points (warm-started)")
+              << " in lockstep, " << max_evals << " evaluations each\n";
+  }
+  void OnRound(int evaluations, int total) override {
+    line_->Update(
+        {"front", static_cast<double>(evaluations), static_cast<double>(total), "evals", "", -1.0});
+  }
+  void OnPointBegin(int k, int n) override {
+    if (line_) line_->Finish();
+    t_point_ = std::chrono::steady_clock::now();
+    std::cerr << "  point " << k << " of " << n << ": exporting (sensitivity, revert, comparison, "
+              << "knife edges)\n";
+  }
+  void OnPoint(const tuning::FrontPoint& p) override {
+    const fs::path folder = fs::path(dir_) / p.folder;
+    const tuning::TuneStudy point_study(
+        study_.base(), study_.given_space(), study_.scenarios(),
+        tuning::FrontPointOptions(study_.options(), p.budget, p.folder));
+    (void)WriteRunOutputs(o_, point_study, folder.string(), p.report, SecondsSince(t_start_));
+    const tuning::ObjectiveValue& v = p.report.tuned_value;
+    char loss[32];
+    std::snprintf(loss, sizeof loss, "%+.3f", v.lap_loss);
+    std::cerr << "  point " << p.index << " (" << p.label << "): clean-lap loss "
+              << (std::isfinite(v.lap_loss) ? loss : "abort") << " s/lap, stability "
+              << Cost(v.stability) << ", " << p.report.changed.size() << " keys changed, in "
+              << Seconds(SecondsSince(t_point_)) << " -> " << folder.string() << "\n";
+  }
+
+ private:
+  const TuneOptions& o_;
+  const tuning::TuneStudy& study_;
+  const std::string dir_;
+  const std::chrono::steady_clock::time_point t_start_;
+  std::chrono::steady_clock::time_point t_stage_, t_point_;
+  std::optional<ProgressLine> line_;
+};
+
+int RunFrontCli(const TuneOptions& o, const tuning::TuneStudy& study, const std::string& dir,
+                std::chrono::steady_clock::time_point t_start) {
+  TuneRun run(o, study, dir, t_start);
+  FrontRun front(o, study, dir, t_start);
+  const tuning::FrontResult r = tuning::RunFront(study, o.front, run, front);
+  io::WriteFileAtomic((fs::path(dir) / "front.csv").string(), r.csv);
+  std::string plot_message, figure;
+  if (WriteFrontPlot(dir, &plot_message))
+    figure = std::string(
+                 "\n![The front: clean-lap loss against stability cost, training and "
+                 "held-out](") +
+             kFrontPlotFile + ")\n";
+  else
+    std::cerr << "  note: no front figure (" << plot_message << ")\n";
+  io::WriteFileAtomic((fs::path(dir) / "front.md").string(), r.markdown + figure);
+  std::cout << AlignMarkdownTables(r.markdown);
+  std::cout << "outputs: " << dir << "/{front.csv, front.md"
+            << (figure.empty() ? "" : ", front.png") << ", point_0 ... point_" << o.front - 1
+            << "/} in " << Seconds(SecondsSince(t_start)) << "\n";
+  for (const auto& p : r.points)
+    if (p.report.neighbourhood_done && tuning::OwnEdges(p.report.neighbourhood) > 0)
+      std::cout << "WARNING: point " << p.index << " has "
+                << tuning::OwnEdges(p.report.neighbourhood) << " knife edge(s) of its own: see "
+                << p.folder << "/comparison.md\n";
+  return kExitOk;
+}
+
+int RunTune(TuneOptions o) {
   const auto t_start = std::chrono::steady_clock::now();
   const tuning::ScenarioSet set = LoadSet(o.scenarios);
   if (o.print_set) {
@@ -437,6 +635,36 @@ int RunTune(const TuneOptions& o) {
     return kExitOk;
   }
   // Every argument problem is found before a folder is created or a scenario prepared.
+  if (o.check_set) {
+    // --check-set runs no search and writes no folder: options that only a tune reads are an
+    // error, not silently ignored.
+    std::vector<std::string> unused;
+    for (const auto& [given, name] :
+         std::vector<std::pair<bool, std::string>>{{o.max_evals_given, "--max-evals"},
+                                                   {!o.out.empty(), "--out-dir"},
+                                                   {!o.resume.empty(), "--resume"},
+                                                   {o.front != 0, "--front"},
+                                                   {o.robust, "--robust"}})
+      if (given) unused.push_back(name);
+    if (!unused.empty()) {
+      Problems pr;
+      for (const auto& u : unused)
+        pr.Add(u, "--check-set runs no search and writes no folder: drop " + u +
+                      " (or drop --check-set to tune)");
+      throw ConfigError("scw tune", pr.items());
+    }
+  }
+  NoteThreads("scw tune", o.threads);
+  if (o.front != 0 && !o.max_evals_given) {
+    // A front is N searches: 120 evaluations a point by default keeps --front 5 near a quarter
+    // of an hour on 2 cores (docs/tuned-files.md#front).
+    o.max_evals = kFrontEvalsPerPoint;
+  }
+  if (o.front != 0 && !o.resume.empty())
+    throw ConfigError("scw tune", "--front", "a front cannot be resumed: drop --resume");
+  if (o.front != 0 && o.objective != "constrained")
+    throw ConfigError("scw tune", "--front",
+                      "a front is a row of constrained tunes: drop --objective " + o.objective);
   try {
     tuning::CheckTunerAlgorithm(o.algorithm);
   } catch (const std::invalid_argument& e) {
@@ -450,14 +678,24 @@ int RunTune(const TuneOptions& o) {
   if (!o.resume.empty() && !std::ifstream(o.resume))
     throw ConfigError(o.resume, "", "cannot open the resume log for reading");
   CheckRunFolder(o);
+  // A scenario of the set that cannot be loaded is found now, before a folder is made.
+  for (const auto* group : {&set.training, &set.held_out})
+    for (const auto& e : *group) (void)tuning::LoadEntry(e, set.base_dir);
   const tuning::ParameterSpace loaded = o.space.empty() ? tuning::ParameterSpace::Default()
                                                         : tuning::ParameterSpace::FromFile(o.space);
   std::set<std::string> present;
   const params::StabilityParams base = LoadBase(o.base, &present);
   tuning::TuneStudyOptions so = StudyOptions(o, std::move(present));
   if (o.check_set) return RunCheckSet(o, tuning::TuneStudy(base, loaded, set, so));
-  // The study fits the space to the base (or refuses, exit 2) before the folder is made.
-  const std::string dir = RunFolderName(o.out);
+  // The study fits the space to the base (or refuses, exit 2) before the folder is made. A resume
+  // writes into the log's folder unless told otherwise.
+  const std::string dir = RunFolderName(
+      o.out.empty() && !o.resume.empty() ? fs::path(o.resume).parent_path().string() : o.out);
+  std::error_code ec;
+  const bool folder_existed = fs::exists(dir, ec);
+  // Resuming into a folder whose run is complete (its manifest is there) rewrites nothing when
+  // the log already holds the whole search.
+  so.stop_if_complete = !o.resume.empty() && fs::exists(fs::path(dir) / "manifest.yaml", ec);
   so.run_folder = dir;
   so.evaluation_log = (fs::path(dir) / "evaluations.csv").string();
   const tuning::TuneStudy study(base, loaded, set, std::move(so));
@@ -473,9 +711,25 @@ int RunTune(const TuneOptions& o) {
                                           log + " (with or without mpirun)\n");
   }
   for (const auto& g : study.grown()) std::cerr << "  note: " << g << "\n";
+  if (o.front != 0) return RunFrontCli(o, study, dir, t_start);
 
   TuneRun run(o, study, dir, t_start);
-  const tuning::TuneReport r = study.Run(run);
+  tuning::TuneReport r;
+  try {
+    r = study.Run(run);
+  } catch (const tuning::TuneAlreadyComplete& e) {
+    std::cerr << "scw tune: " << e.what() << "\n";
+    return kExitOk;
+  } catch (const tuning::TuneInterrupted& e) {
+    // Nothing was evaluated that a resume could use: a folder this run made and left empty goes.
+    std::error_code rm;
+    const bool empty = fs::is_empty(dir, rm);
+    if (!folder_existed && empty) fs::remove(dir, rm);
+    std::cerr << "scw tune: interrupted " << e.what() << ": nothing was written"
+              << (!folder_existed && empty ? " (the empty folder " + dir + " was removed)" : "")
+              << "\n";
+    return kExitInterrupted;
+  }
   const bool sensitivity = r.sensitivity_state == tuning::SensitivityState::kDone;
   std::cout << TuneSummary(r, study);
   std::cout << "outputs: " << dir << "/{evaluations.csv, evaluations.identity.yaml, "
@@ -484,6 +738,7 @@ int RunTune(const TuneOptions& o) {
             << (run.plots() ? "convergence.png, comparison.png, " : "") << "manifest.yaml}\n"
             << "the tables, per-scenario verdicts and the sensitivity are in " << dir
             << "/comparison.md: read its held-out rows before a car run\n";
+  if (r.neighbourhood_done) std::cout << tuning::NeighbourhoodWarning(r.neighbourhood);
   const std::string& stop = r.optimisation.stop_reason;
   // Ctrl-C: the outputs of the best set so far are written; exit as an interrupted program does.
   return stop == "interrupted" ? kExitInterrupted : kExitOk;
@@ -527,6 +782,7 @@ std::vector<std::string> EvaluateLabels(const TuneOptions& o) {
 
 int RunEvaluate(const TuneOptions& o) {
   const std::vector<std::string> labels = EvaluateLabels(o);
+  NoteThreads("scw evaluate", o.threads);
   const tuning::ScenarioSet set = LoadSet(o.scenarios);
   std::vector<params::StabilityParams> sets;
   for (const auto& f : o.params_files) sets.push_back(LoadBase(f, nullptr));
@@ -589,11 +845,12 @@ void AddTune(CLI::App& app) {
   NumberIn(cmd->add_option("--search-plant-step", o->search_plant_step,
                            "Plant step [s] the optimiser evaluates candidates with, used only if "
                            "the base set gives the same outcomes there as at each vehicle's own "
-                           "step on every training scenario (0: the vehicles' own step). The "
-                           "comparison, sensitivity and exported files always use the vehicle's "
-                           "step (docs/plant-step.md)"),
-           0.0, 0.005)
-      ->capture_default_str();
+                           "step on every training scenario (0: the vehicles' own step; default: "
+                           "0 for the constrained objective, 0.002 for sum). The comparison, "
+                           "sensitivity and exported files always use the vehicle's step; with "
+                           "a coarser search step the best points are re-run there and the best "
+                           "within the budget is exported (docs/plant-step.md)"),
+           0.0, 0.005);
   WholeNumberIn(cmd->add_option("--threads", o->threads, kThreadsHelp), 0, 1024)
       ->capture_default_str();
   SeedOption(cmd->add_option("--seed", o->seed, "Optimizer seed (a whole number >= 0)"))
@@ -603,7 +860,8 @@ void AddTune(CLI::App& app) {
   cmd->add_flag("--force", o->force,
                 "Write into an --out-dir that already holds files (default: refuse, exit 2)");
   cmd->add_option("--resume", o->resume,
-                  "Continue an interrupted run from its evaluations.csv (same options)");
+                  "Continue a run from its evaluations.csv (same options; a larger --max-evals "
+                  "extends a finished sbplx run exactly; --out-dir defaults to the log's folder)");
   AddProgressOption(cmd, &o->progress);
   cmd->add_flag("--print-scenarios", o->print_set, "Print the scenario set as YAML and exit");
   cmd->add_flag("--check-set", o->check_set,
@@ -617,6 +875,40 @@ void AddTune(CLI::App& app) {
                 "+/- 10 %, one batch on the training scenarios, around the best point; every "
                 "parameter it finds not exercised is reverted to the base value before the "
                 "export. Without it nothing is checked, and the files say so");
+  cmd->add_option("--objective", o->objective,
+                  "What the search minimises: constrained (default: the stability cost of the "
+                  "critical scenarios, subject to the clean-lap budget) or sum (the weighted sum "
+                  "of every scenario's cost, the earlier tunes' objective)")
+      ->check(CLI::IsMember({"constrained", "sum"}))
+      ->capture_default_str();
+  NumberIn(cmd->add_option("--lap-budget", o->lap_budget,
+                           "Clean-lap budget [s per lap]: no clean training lap may be slower "
+                           "than with the base set by more than this (constrained objective)"),
+           0.0, 1e6)
+      ->capture_default_str();
+  cmd->add_flag("--free-clean-activations", o->free_clean_activations,
+                "Drop the other half of the budget: by default no subsystem may act more often "
+                "on a clean lap than with the base set");
+  NumberIn(cmd->add_option("--resolution", o->resolution,
+                           "Smallest change of a scenario's cost [s, per lap for the lap time] "
+                           "the comparison calls a change; an abort is always a change"),
+           1e-6, 1e6)
+      ->capture_default_str();
+  cmd->add_flag("--no-neighbourhood", o->no_neighbourhood,
+                "Skip the knife-edge check of the exported set (each changed key +/- 10 % of its "
+                "range and the plant's unknowns at their bounds, on training and held-out)");
+  cmd->add_flag("--robust", o->robust,
+                "Robust in the small: the training knife edges the check finds join the cost and "
+                "the search continues from the exported set (up to 2 rounds of max-evals/2 "
+                "evaluations at the vehicle's step), then the check runs again");
+  WholeNumberIn(cmd->add_option("--front", o->front,
+                                "The trade-off as N tuned sets, from the base set's lap time (no "
+                                "loss) to no clean-lap budget (whatever it takes to survive), each "
+                                "a constrained tune of --max-evals evaluations (default for a "
+                                "front: 120 a point), in lockstep; "
+                                "writes front.csv, front.md, front.png and point_<k>/ with each "
+                                "point's params files (docs/tuned-files.md#front)"),
+                2, 20);
   cmd->add_flag("--no-freeze", o->no_freeze,
                 "Do not screen and freeze before the search: by default each parameter is moved "
                 "alone to both ends of its range on the training scenarios (one batch at the "
@@ -624,7 +916,10 @@ void AddTune(CLI::App& app) {
   cmd->footer(
       "Under MPI (mpirun -np N scw tune ...): rank 0 runs the tune and writes every file, all\n"
       "ranks compute runs; the outputs equal a plain run's for any N (docs/scaling.md).");
-  cmd->callback([o] { SetExitCode(RunTune(*o)); });
+  cmd->callback([o, cmd] {
+    o->max_evals_given = cmd->count("--max-evals") > 0;
+    SetExitCode(RunTune(*o));
+  });
 
   auto e = std::make_shared<TuneOptions>();
   auto* ev = app.add_subcommand(

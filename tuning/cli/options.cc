@@ -1,5 +1,8 @@
 #include "tuning/cli/options.h"
 
+#include <iostream>
+#include <thread>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -194,6 +197,14 @@ void RefuseSharedOutputs(const std::string& command,
     seen.emplace_back(option, resolved);
   }
   if (!problems.empty()) throw ConfigError(command, problems);
+}
+
+void NoteThreads(const std::string& command, int threads) {
+  const unsigned cores = std::thread::hardware_concurrency();
+  if (cores == 0 || threads <= static_cast<int>(cores)) return;
+  std::cerr << command << ": note: --threads " << threads << " is more than this machine's "
+            << cores << " cores; the extra threads share them (the results are the same, the run "
+            << "is not faster)\n";
 }
 
 }  // namespace scw::cli

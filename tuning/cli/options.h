@@ -29,6 +29,10 @@ CLI::Validator FiniteNumber();
 /// A seed: a whole number from 0 to 2^64 - 1 (a negative seed is refused, not wrapped around).
 CLI::Option* SeedOption(CLI::Option* option);
 
+/// A note on stderr when `threads` asks for more worker threads than the machine has cores (the
+/// results are the same; the extra threads only share the cores). `command` names the command.
+void NoteThreads(const std::string& command, int threads);
+
 /// Adds `name` (e.g. "--out") as a hidden alias of an option bound to `value`: it works as
 /// before but is not listed in --help.
 template <class T>

@@ -38,4 +38,23 @@ bool WriteTunePlots(const std::filesystem::path& run_dir, std::string* message,
   return false;
 }
 
+bool WriteFrontPlot(const std::filesystem::path& front_dir, std::string* message,
+                    const TunePlotOptions& options) {
+  try {
+    if (!RunPythonScript(TunePlotScript(), {"--front", front_dir.string()}, message,
+                         {options.python, "tune_plots: "}))
+      return false;
+    std::error_code ec;
+    if (std::filesystem::file_size(front_dir / kFrontPlotFile, ec) == 0 || ec) {
+      if (message)
+        *message = "the plot script did not write " + (front_dir / kFrontPlotFile).string();
+      return false;
+    }
+    return true;
+  } catch (const std::exception& e) {
+    if (message) *message = std::string("cannot draw the front: ") + e.what();
+  }
+  return false;
+}
+
 }  // namespace scw::cli

@@ -39,6 +39,13 @@ struct TunePlotOptions {
 bool WriteTunePlots(const std::filesystem::path& run_dir, std::string* message,
                     const TunePlotOptions& options = {});
 
+inline constexpr const char* kFrontPlotFile = "front.png";
+
+/// Writes front.png into `front_dir` (which must hold front.csv); the same contract as
+/// WriteTunePlots.
+bool WriteFrontPlot(const std::filesystem::path& front_dir, std::string* message,
+                    const TunePlotOptions& options = {});
+
 /// Markdown that embeds both figures, for comparison.md in the same folder (relative links).
 std::string TunePlotsMarkdown();
 

@@ -1,6 +1,7 @@
 """The figures of a `scw tune` run folder (embedded into the scw binary; see tune_plots.h).
 
     python3 tune_plots.py RUN_DIR          (scw runs it as `python3 - RUN_DIR`, script on stdin)
+    python3 tune_plots.py --front DIR      front.png from DIR/front.csv (scw tune --front)
 
 Reads RUN_DIR/evaluations.csv (the evaluation log: eval, phase, cost, status, best_cost, ...) and
 RUN_DIR/comparison.csv (ComparisonCsv: group, scenario, set, status, progress, mean_lap_time_s,
@@ -120,8 +121,10 @@ def phase_label(name):
 def status_kind(status):
     if status == "ok":
         return "ok"
-    if status.endswith("abort(s)"):
+    if "abort(s)" in status:
         return "abort"
+    if status == "over budget":
+        return "over"
     return "failed"
 
 
@@ -157,10 +160,11 @@ def convergence(run_dir):
                                       gridspec_kw={"height_ratios": [3, 2]})
     markers = {"ok": ("o", "training runs all completed"),
                "abort": ("x", "a training run aborted"),
+               "over": ("s", "over the clean-lap budget (ranked behind the base)"),
                "failed": ("v", "set rejected / evaluation failed")}
     # The scale fits the evaluations that ran; a rejected set's penalty (far above any run) is
     # drawn at the top edge instead of squeezing the rest.
-    ran = [c for c, k in zip(cost, kind) if k != "failed" and math.isfinite(c)]
+    ran = [c for c, k in zip(cost, kind) if k not in ("failed", "over") and math.isfinite(c)]
     ran = ran or [c for c in cost if math.isfinite(c)] or [0.0]
     lo, hi = min(ran), max(ran)
     pad = 0.05 * (hi - lo) if hi > lo else max(0.05, 0.01 * abs(hi))
@@ -334,9 +338,51 @@ def comparison(run_dir):
     save_atomic(fig, os.path.join(run_dir, "comparison.png"))
 
 
+def front(run_dir):
+    """front.png: the clean-lap loss against the stability cost of every point of a front,
+    training and held-out, the base set at the origin of the loss."""
+    rows = read_csv(os.path.join(run_dir, "front.csv"),
+                    ["point", "label", "training_lap_loss_s", "training_stability",
+                     "held_out_lap_loss_s", "held_out_stability", "training_aborts",
+                     "held_out_aborts"])
+    if not rows:
+        raise InputError("front.csv has no points")
+    fig, axes = plt.subplots(1, 2, figsize=(11.0, 4.6))
+    for ax, group, title in ((axes[0], "training", "training scenarios (tuned on)"),
+                             (axes[1], "held_out", "held-out scenarios (not tuned on)")):
+        xs = [number(r[group + "_lap_loss_s"]) for r in rows]
+        ys = [number(r[group + "_stability"]) for r in rows]
+        pts = [(x, y, r) for x, y, r in zip(xs, ys, rows) if math.isfinite(x) and math.isfinite(y)]
+        if pts:
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], "-", color="0.6", lw=1.0, zorder=2)
+        for x, y, r in pts:
+            ax.plot([x], [y], "o", color="tab:blue", ms=7, zorder=3)
+            ax.annotate("%s %s\n%s aborts" % (r["point"], r["label"], r[group + "_aborts"]),
+                        (x, y), textcoords="offset points", xytext=(6, 4), fontsize=8)
+        ax.axvline(0.0, color="0.35", ls="--", lw=0.9)
+        ax.set_xlabel("largest clean-lap loss against the base set [s per lap]")
+        ax.set_ylabel("stability cost of the critical scenarios")
+        ax.set_title(title, fontsize=10)
+        ax.grid(True, alpha=0.3)
+    fig.suptitle("scw tune --front: what a set costs on clean laps against what it saves "
+                 "(lower left is better; 0 s = the base set's laps)", fontsize=11)
+    fig.tight_layout()
+    save_atomic(fig, os.path.join(run_dir, "front.png"))
+
+
 def main(argv):
+    if len(argv) == 3 and argv[1] == "--front":
+        if not os.path.isdir(argv[2]):
+            fail(2, "no such front folder: %s" % argv[2])
+        try:
+            front(argv[2])
+        except InputError as e:
+            fail(2, str(e))
+        except Exception as e:  # one line for the caller, not a traceback
+            fail(1, "%s: %s" % (type(e).__name__, e))
+        return 0
     if len(argv) != 2:
-        fail(2, "usage: tune_plots.py RUN_DIR")
+        fail(2, "usage: tune_plots.py RUN_DIR | tune_plots.py --front FRONT_DIR")
     run_dir = argv[1]
     if not os.path.isdir(run_dir):
         fail(2, "no such run folder: %s" % run_dir)

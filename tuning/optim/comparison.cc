@@ -110,6 +110,9 @@ std::string TunedFileHeader(const TuneProvenance& p, bool overrides) {
          Count(p.evaluations, "evaluation") + " (stop: " + p.stop_reason + "); space " + p.space +
          ", " + Count(p.dimensions, "dimension") + "\n";
   for (const auto& g : p.grown) out += "  range grown to include the base: " + g + "\n";
+  if (!p.objective.empty()) out += "objective: " + p.objective + "\n";
+  if (!p.clean_laps.empty()) out += "clean laps: " + p.clean_laps + "\n";
+  if (!p.knife_edges.empty()) out += "knife edges: " + p.knife_edges + "\n";
   out += "cost (lower is better): base -> tuned\n";
   out += "  training (" + Count(p.training_scenarios, "scenario") +
          "): " + FormatFixed(p.training_before, 3) + " -> " + FormatFixed(p.training_after, 3) +
@@ -140,7 +143,7 @@ std::string TunedFileHeader(const TuneProvenance& p, bool overrides) {
   };
   list("frozen before the search: no training run changes when the parameter alone spans its range",
        p.frozen);
-  list("reverted after the search: no training run changes around the tuned set", p.reverted);
+  list("reverted after the search, each with the whole set re-evaluated", p.reverted);
   if (!p.revert_skipped.empty())
     out += "not checked for untested changes after the search (" + p.revert_skipped +
            "): run the sensitivity before using this file\n";
@@ -157,10 +160,6 @@ std::string TunedFileHeader(const TuneProvenance& p, bool overrides) {
         "Complete params file: load it INSTEAD of the base file, e.g.\n"
         "  --ros-args --params-file stability_tuned.yaml";
   return out;
-}
-
-double CostNoiseThreshold(double baseline) {
-  return std::max(kCostNoiseAbs, kCostNoiseRel * std::abs(baseline));
 }
 
 const char* OutcomeChangeName(OutcomeChange c) {
@@ -212,7 +211,8 @@ CostChange Judge(double before, double after, double threshold) {
 }  // namespace
 
 SetChange CompareSets(const std::vector<std::string>& names, const std::vector<double>& weights,
-                      const SetEvaluation& baseline, const SetEvaluation& tuned) {
+                      const SetEvaluation& baseline, const SetEvaluation& tuned,
+                      double resolution) {
   const std::size_t n = names.size();
   if (baseline.runs.size() != n || tuned.runs.size() != n || baseline.costs.size() != n ||
       tuned.costs.size() != n || (!weights.empty() && weights.size() != n))
@@ -226,7 +226,7 @@ SetChange CompareSets(const std::vector<std::string>& names, const std::vector<d
     c.weight = weights.empty() ? 1.0 : weights[k];
     c.cost_before = baseline.costs[k].total;
     c.cost_after = tuned.costs[k].total;
-    c.threshold = CostNoiseThreshold(c.cost_before);
+    c.threshold = resolution;
     const bool a0 = c.before.aborted(), a1 = c.after.aborted();
     c.outcome = a0 ? (a1 ? OutcomeChange::kAbortedBoth : OutcomeChange::kAbortFixed)
                    : (a1 ? OutcomeChange::kNewAbort : OutcomeChange::kCompletedBoth);
@@ -243,7 +243,7 @@ SetChange CompareSets(const std::vector<std::string>& names, const std::vector<d
   }
   out.total_before = baseline.total;
   out.total_after = tuned.total;
-  out.total_threshold = CostNoiseThreshold(out.total_before);
+  out.total_threshold = resolution;
   out.total_change = Judge(out.total_before, out.total_after, out.total_threshold);
   if (out.new_aborts > 0)
     out.verdict = Verdict::kWorse;
@@ -261,10 +261,10 @@ SetChange CompareSets(const std::vector<std::string>& names, const std::vector<d
 }
 
 SetChange CompareSets(const BatchEvaluator& ev, const SetEvaluation& baseline,
-                      const SetEvaluation& tuned) {
+                      const SetEvaluation& tuned, double resolution) {
   std::vector<std::string> names;
   for (const auto& sc : ev.scenarios()) names.push_back(sc.spec.name);
-  return CompareSets(names, ev.weights(), baseline, tuned);
+  return CompareSets(names, ev.weights(), baseline, tuned, resolution);
 }
 
 namespace {
@@ -346,8 +346,8 @@ std::string SetChangeMarkdown(const std::string& group, const SetChange& c) {
     }
     case Verdict::kNoSignificantChange:
       out +=
-          "no significant change** (no scenario and not the total changes by more than the noise "
-          "threshold).\n";
+          "no significant change** (no scenario and not the total changes by the resolution of " +
+          FormatFixed(c.total_threshold, 2) + " s or more).\n";
       break;
     case Verdict::kWorse:
       out += "the tuned set is WORSE** (";
@@ -357,7 +357,7 @@ std::string SetChangeMarkdown(const std::string& group, const SetChange& c) {
       else if (c.worse > 0)
         out += "worse in " + Scenarios(c.worse) + ", better in " + Scenarios(c.better);
       else
-        out += "the total cost rises beyond the noise threshold";
+        out += "the total cost rises by more than the resolution";
       out +=
           "): possible over-fitting to the training scenarios; review before using it on the "
           "car.\n";
@@ -369,7 +369,7 @@ std::string SetChangeMarkdown(const std::string& group, const SetChange& c) {
   }
   out += "\nTotal cost " + FormatFixed(c.total_before, 3) + " -> " + FormatFixed(c.total_after, 3) +
          ": " + Delta(c.total_before, c.total_after) + ", " + CostChangeName(c.total_change) +
-         " (noise threshold " + FormatFixed(c.total_threshold, 3) + ").\n\n";
+         " (resolution " + FormatFixed(c.total_threshold, 2) + " s).\n\n";
   // The distribution over the scenarios (unweighted scenario costs): what a set does in its bad
   // cases, which a total can hide (a robust set is judged by its worst draws).
   out +=
@@ -420,12 +420,13 @@ std::string SetChangeMarkdown(const std::string& group, const SetChange& c) {
                                                       : std::string()) +
         " |\n";
   }
-  out += "\nNoise threshold: a cost change smaller than max(" + FormatFixed(kCostNoiseAbs, 2) +
-         ", " + FormatFixed(100.0 * kCostNoiseRel, 1) +
-         " % of the baseline cost), per scenario and for the total, is no significant change "
-         "(a few controller steps of lap time, and below what the plant model resolves); a "
-         "scenario the baseline completes and the tuned set aborts is always worse, the reverse "
-         "always better.\n\n";
+  out +=
+      "\nResolution: the simulation is deterministic, so every difference is real; a change "
+      "of a scenario's cost (seconds, per lap for the lap time) smaller than " +
+      FormatFixed(c.total_threshold, 2) +
+      " s, two steps of the 100 Hz controllers, is called no significant change, and so is "
+      "the total's. A scenario the baseline completes and the tuned set aborts is always "
+      "worse, the reverse always better.\n\n";
   return out;
 }
 

@@ -1,5 +1,5 @@
 // Comparison of parameter sets on an evaluator's scenarios (scw tune, scw evaluate): tables,
-// the noise threshold, per-scenario changes and the verdict, the tuned file's header.
+// the resolution, per-scenario changes and the verdict, the tuned file's header.
 #pragma once
 
 #include <string>
@@ -20,16 +20,12 @@ std::string ComparisonCsv(const std::string& group, const BatchEvaluator& ev,
                           const std::vector<std::string>& labels,
                           const std::vector<SetEvaluation>& results, bool header);
 
-/// A cost change below the noise threshold max(kCostNoiseAbs, kCostNoiseRel · |J_baseline|) is
-/// "no significant change". The closed loop is deterministic, so this is not random noise but the
-/// resolution below which a change means nothing on the car: the controllers run at 100 Hz, so a
-/// parameter change of no consequence still moves a lap's end by a few 10 ms steps (0.05 s ≈ five
-/// steps, in cost units, which are seconds of lap time), and the reduced plant does not predict
-/// the car to better than about half a percent of a lap (0.5 %; ≈ 0.35 s on a 70 s lap).
-inline constexpr double kCostNoiseAbs = 0.05;
-inline constexpr double kCostNoiseRel = 0.005;
-/// max(kCostNoiseAbs, kCostNoiseRel · |baseline|).
-double CostNoiseThreshold(double baseline);
+/// The smallest change of a scenario's cost that a comparison calls a change [s; per lap for
+/// the lap-time term, which is a mean lap]. The closed loop is deterministic: there is no noise to
+/// stay above, every difference is real. But the controllers run at 100 Hz, so a lap's end moves
+/// in whole 10 ms steps, and a change of one or two steps says nothing about the set: 0.02 s is
+/// two steps. An abort is judged as an abort, never by its cost. The same value for the total.
+inline constexpr double kDefaultResolution = 0.02;
 
 /// How a scenario's outcome changes from the baseline to the tuned set.
 enum class OutcomeChange {
@@ -50,16 +46,16 @@ struct ScenarioChange {
   RunMetrics before, after;                    ///< the baseline's and the tuned set's run
   double weight = 1.0;                         ///< the scenario's weight in the total
   double cost_before = 0.0, cost_after = 0.0;  ///< J_s (unweighted)
-  double threshold = 0.0;                      ///< CostNoiseThreshold(cost_before)
+  double threshold = 0.0;                      ///< the resolution it was judged with
   /// kNewAbort is always kWorse and kAbortFixed always kBetter; otherwise by the cost change
-  /// against the threshold (lower cost = better).
+  /// against the resolution (lower cost = better).
   CostChange change = CostChange::kNoSignificantChange;
 };
 
 /// Overall judgement of a tuned set on a group of scenarios.
 enum class Verdict {
   kImproves,             ///< some scenario significantly better, none worse, no new abort
-  kNoSignificantChange,  ///< no scenario and not the total changes beyond the noise threshold
+  kNoSignificantChange,  ///< no scenario and not the total changes by the resolution or more
   kWorse,                ///< a new abort, or some scenario worse and none better
   kMixed,                ///< significantly better in some scenarios, worse in others
 };
@@ -69,7 +65,7 @@ const char* VerdictName(Verdict v);
 struct SetChange {
   std::vector<ScenarioChange> scenarios;
   double total_before = 0.0, total_after = 0.0;  ///< Σ weight · J
-  double total_threshold = 0.0;                  ///< CostNoiseThreshold(total_before)
+  double total_threshold = 0.0;                  ///< the resolution
   CostChange total_change = CostChange::kNoSignificantChange;
   int better = 0, worse = 0, new_aborts = 0;  ///< scenario counts
   /// When no scenario changes significantly, the total decides (many small gains can add up);
@@ -77,12 +73,14 @@ struct SetChange {
   Verdict verdict = Verdict::kNoSignificantChange;
 };
 
-/// Compares the tuned set with the baseline scenario by scenario. `names` and `weights` are per
-/// scenario (as in a BatchEvaluator). Throws std::invalid_argument when the sizes differ.
+/// Compares the tuned set with the baseline scenario by scenario: a cost change of at least
+/// `resolution` [s] is a change (kDefaultResolution). `names` and `weights` are per scenario (as
+/// in a BatchEvaluator). Throws std::invalid_argument when the sizes differ.
 SetChange CompareSets(const std::vector<std::string>& names, const std::vector<double>& weights,
-                      const SetEvaluation& baseline, const SetEvaluation& tuned);
+                      const SetEvaluation& baseline, const SetEvaluation& tuned,
+                      double resolution = kDefaultResolution);
 SetChange CompareSets(const BatchEvaluator& ev, const SetEvaluation& baseline,
-                      const SetEvaluation& tuned);
+                      const SetEvaluation& tuned, double resolution = kDefaultResolution);
 
 /// The distribution of the unweighted scenario costs of one side of a comparison.
 struct CostDistribution {
@@ -99,7 +97,7 @@ CostDistribution Distribution(const SetChange& c, bool after);
 CostDistribution Distribution(const SetEvaluation& e);
 
 /// The verdict as Markdown for comparison.md: one bold line with the overall verdict and the
-/// total's change against its noise threshold, the cost distribution of both sets (mean, 90th
+/// total's change against the resolution, the cost distribution of both sets (mean, 90th
 /// percentile, worst, aborts), a table of the change per scenario class, a table
 /// per scenario (outcome, cost change, verdict) and the threshold rule. `group` names the
 /// scenarios, e.g. "Held-out".
@@ -132,6 +130,9 @@ struct TuneProvenance {
   std::string revert_skipped;
   /// `scw params check` findings of the tuned set that the base set does not have ("key: text").
   std::vector<std::string> new_findings;
+  /// What the search minimised (TuneObjective::Describe), how the exported set meets the clean-lap
+  /// budget, and the knife-edge check's result ("" = not printed).
+  std::string objective, clean_laps, knife_edges;
 };
 
 /// Comment lines (without the leading '#', joined by '\n') for the head of the tuned full file

@@ -13,6 +13,9 @@ CostBreakdown ScenarioCost(const RunMetrics& m, const params::CostWeights& w, bo
   if (critical) {
     const double excess = RenderedMetric(m, "max_abs_sideslip_deg").real - w.sideslip_allowed_deg;
     if (w.max_sideslip_weight > 0.0) c.max_sideslip = w.max_sideslip_weight * std::max(0.0, excess);
+    if (w.lateral_error_weight > 0.0)
+      c.lateral_error = w.lateral_error_weight *
+                        std::max(0.0, m.max_abs_lateral_error - w.lateral_error_allowed_m);
   } else {
     c.brake_energy = w.brake_energy_weight * m.esc_brake_energy / 1000.0;
     if (w.abs_release_weight > 0.0 || w.tc_cut_weight > 0.0)
@@ -21,15 +24,17 @@ CostBreakdown ScenarioCost(const RunMetrics& m, const params::CostWeights& w, bo
   }
   double progress = m.Progress();
   if (!std::isfinite(c.sideslip) || !std::isfinite(c.brake_energy) || !std::isfinite(c.lap_time) ||
-      !std::isfinite(c.interventions) || !std::isfinite(c.max_sideslip)) {
+      !std::isfinite(c.interventions) || !std::isfinite(c.max_sideslip) ||
+      !std::isfinite(c.lateral_error)) {
     c.lap_time = w.lap_time_cap;
-    c.sideslip = c.brake_energy = c.interventions = c.max_sideslip = 0.0;
+    c.sideslip = c.brake_energy = c.interventions = c.max_sideslip = c.lateral_error = 0.0;
     progress = 0.0;
     c.abort = w.abort_base + w.abort_progress_weight;
   } else if (m.aborted()) {
     c.abort = w.abort_base + w.abort_progress_weight * (1.0 - progress);
   }
-  c.total = c.lap_time + c.sideslip + c.brake_energy + c.interventions + c.max_sideslip + c.abort;
+  c.total = c.lap_time + c.sideslip + c.brake_energy + c.interventions + c.max_sideslip +
+            c.lateral_error + c.abort;
   return c;
 }
 

@@ -2,7 +2,7 @@
 //
 //   J_s = T_lap + w_β · ∫ max(0, |β| − β_allow) dt
 //         + [clean]    · (w_E · E_ESC + w_ABS · P_ABS + w_TC · C_TC)
-//         + [critical] · w_βmax · max(0, max|β| − β_allow)
+//         + [critical] · (w_βmax · max(0, max|β| − β_allow) + w_e · max(0, max|e_lat| − e_allow))
 //         + [aborted]  · (P_abort + w_progress · (1 − progress))
 //
 //   A maneuver scenario (kind: maneuver, tuning/maneuver/maneuver.h) drives no lap: its cost is
@@ -18,7 +18,8 @@
 //            E_ESC brake energy of ESC interventions [kJ], P_ABS pressure ABS released below
 //            the request [bar·s], C_TC throttle TC cut below the request [s]
 //   critical scenarios (a fault or grip event the stability control must save): interventions
-//            are free; the largest sideslip above the allowed angle [deg] counts
+//            are free; the largest sideslip above the allowed angle [deg] and the largest
+//            lateral error above the allowed one [m] (lateral_error_weight, default 0) count
 //   abort:   any abort (spin, lateral error, lock/spin, off track, NaN) costs more than any
 //            completed run; the earlier the abort (the more distance lost), the higher the cost
 //            (graded, so the optimiser sees progress even among failing sets)
@@ -41,6 +42,7 @@ struct CostBreakdown {
   double brake_energy = 0.0;   ///< ESC brake energy term (clean scenarios)
   double interventions = 0.0;  ///< ABS release and TC cut terms (clean scenarios)
   double max_sideslip = 0.0;   ///< largest-sideslip term (critical scenarios)
+  double lateral_error = 0.0;  ///< largest-lateral-error term (critical scenarios)
   double criteria = 0.0;       ///< failed-criteria term (maneuver scenarios)
   double abort = 0.0;
   double total = 0.0;

@@ -296,7 +296,7 @@ SensitivityResult EvaluateSensitivity(const BatchEvaluator& ev, const ParameterS
     bool noticeable = false;
     for (std::size_t s = 0; s < n_sc; ++s) {
       d.exercised = d.exercised || d.changed[s];
-      noticeable = noticeable || d.max_abs_delta[s] >= CostNoiseThreshold(r.centre_costs[s]);
+      noticeable = noticeable || d.max_abs_delta[s] >= kDefaultResolution;
       double& cls =
           r.centre_runs[s].aborted() ? d.max_abs_delta_aborted : d.max_abs_delta_completed;
       cls = std::max(cls, d.max_abs_delta[s]);
@@ -328,8 +328,8 @@ std::string SensitivityMarkdown(const SensitivityResult& r, const std::string& p
         "classed by how their run at " +
         point +
         " ended. A parameter is **exercised** when some perturbation changes some scenario's "
-        "cost or any run metric at all (bit for bit); *below noise*: no change reaches "
-        "max(0.05 s, 0.5 % of the scenario's cost).\n\n";
+        "cost or any run metric at all (bit for bit); *below resolution*: no change reaches "
+        "0.02 s (two 100 Hz controller steps).\n\n";
   md += "| parameter | value | perturbed: -10 % / -1 step / +1 step / +10 % | acts";
   if (r.completed > 0) md += " | max abs ΔJ completed (" + std::to_string(r.completed) + ") [s]";
   if (r.aborted > 0) md += " | max abs ΔJ aborted (" + std::to_string(r.aborted) + ") [s]";
@@ -363,7 +363,7 @@ std::string SensitivityMarkdown(const SensitivityResult& r, const std::string& p
       if (!cost_moved)
         verdict += " (only run metrics change)";
       else if (d.below_noise)
-        verdict += " (below noise)";
+        verdict += " (below resolution)";
     } else {
       verdict = "**not exercised by this scenario set**";
       if (!d.reason.empty()) verdict += " (" + d.reason + ")";

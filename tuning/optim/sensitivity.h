@@ -38,9 +38,9 @@
 // cost OR any of its run metrics at all — tolerance 0, bit-level: J_s ≠ J_s(centre), or the run
 // summary RunSummaryYaml (every RunMetrics field in shortest round-trip text) differs. A
 // bit-level change is what the optimiser can see; whether it is large enough to matter on the car
-// is the separate question the noise threshold of tuning/optim/comparison.h (CostNoiseThreshold)
-// answers, reported as `below_noise`. A dimension that is not exercised cannot reach the cost
-// through this scenario set: its tuned value is wherever the optimiser happened to leave it.
+// is the separate question the resolution of tuning/optim/comparison.h (kDefaultResolution,
+// 0.02 s) answers, reported as `below_noise`. A dimension that is not exercised cannot reach the
+// cost through this scenario set: its tuned value is wherever the optimiser happened to leave it.
 //
 // Subsystem. Keys under ESC., countersteer_system., SlipControl.ABS. and SlipControl.TC. belong
 // to ESC, CS, ABS and TC; the activations of that subsystem in the centre runs (RunMetrics
@@ -129,7 +129,7 @@ struct DimensionSensitivity {
   double max_abs_delta_completed = 0.0;  ///< over the scenarios whose centre run completed
   double max_abs_delta_aborted = 0.0;    ///< over the scenarios whose centre run aborted
   bool exercised = false;  ///< some perturbation changes some scenario (see the header comment)
-  /// Exercised, but no |ΔJ_s| reaches CostNoiseThreshold(J_s(centre)).
+  /// Exercised, but no |ΔJ_s| reaches kDefaultResolution.
   bool below_noise = false;
   /// Not exercised: why, as far as is known ("ESC never acted in the centre runs", "no
   /// perturbation changes the set", "no run changes, although ESC acts", "no run changes").

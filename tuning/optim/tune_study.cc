@@ -12,21 +12,40 @@
 #include <nlopt.hpp>
 
 #include "params/io/atomic_file.h"
-#include "params/io/ros2_check.h"
 #include "params/io/sha256.h"
 #include "params/io/stability_lint.h"
 #include "params/io/write.h"
 #include "tuning/exec/mpi_backend.h"
+#include "tuning/optim/robust.h"
 #include "tuning/optim/set_check.h"
+#include "tuning/optim/tune_study_detail.h"
 #include "tuning/sim/prep_cache.h"
 
 namespace scw::tuning {
-namespace {
 
-/// How the comparison and the set check name a built-in base.
+namespace detail {
+
 std::string BaseName(const std::string& base_file) {
   return base_file.empty() ? std::string("the car's shipped parameters (built-in)") : base_file;
 }
+
+std::string BatchNote(int batch) { return batch > 1 ? ", batch " + std::to_string(batch) : ""; }
+
+std::vector<std::string> Described(const SensitivityResult& r, const std::vector<int>& dims) {
+  std::vector<std::string> out;
+  for (int i : dims) {
+    const DimensionSensitivity& d = r.dimensions[static_cast<std::size_t>(i)];
+    out.push_back(d.label + " (" + d.reason + ")");
+  }
+  return out;
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::BaseName;
+using detail::Described;
 
 /// A phase's job count over several batches: `offset` jobs of earlier batches are done.
 BatchProgress Offset(const BatchProgress& progress, int offset, int total) {
@@ -40,173 +59,10 @@ BatchProgress Jobs(TuneObserver& observer, TunePhase phase, int offset, int tota
   };
 }
 
-/// ", batch 4" after the algorithm when candidates were evaluated in batches ("" for 1).
-std::string BatchNote(int batch) { return batch > 1 ? ", batch " + std::to_string(batch) : ""; }
+/// Points the select phase runs at the vehicle's step.
+constexpr std::size_t kSelectCandidates = 8;
 
-void CheckExport(const std::string& text, bool complete, const std::string& path) {
-  params::CheckOptions co;
-  co.node_key = params::kStabilityNodeKey;
-  co.expect_complete = complete;
-  const auto rep =
-      params::CheckRosParamsText(text, params::DeclaredParams<params::StabilityParams>(), co);
-  if (!rep.ok())
-    throw std::runtime_error("the export " + path + " fails the ROS 2 params check:\n" +
-                             rep.Format(path));
-}
-
-/// The objective of the optimisation (see the header comment): the columns of the evaluation log
-/// after the point are the transform arguments, then per training scenario its cost, status and
-/// mean lap time.
-class TrainingObjective {
- public:
-  TrainingObjective(const ParameterSpace& space, const params::StabilityParams& base,
-                    const BatchEvaluator& training, const params::CostWeights& cost)
-      : space_(space),
-        base_(base),
-        training_(training),
-        invalid_cost_((cost.abort_base + cost.abort_progress_weight + cost.lap_time_cap) *
-                      static_cast<double>(std::max<std::size_t>(1, training.scenarios().size()))) {}
-
-  double invalid_cost() const { return invalid_cost_; }
-
-  std::vector<std::string> LogHeader() const {
-    std::vector<std::string> extra;
-    for (const auto& e : space_.entries()) extra.push_back("x:" + e.Label());
-    for (const auto& sc : training_.scenarios()) {
-      extra.push_back("cost:" + sc.spec.name);
-      extra.push_back("status:" + sc.spec.name);
-      extra.push_back("lap:" + sc.spec.name);
-    }
-    return extra;
-  }
-
-  /// Several points at once: the valid sets run as one batch of (set × scenario) jobs.
-  std::vector<Evaluation> operator()(const std::vector<std::vector<double>>& points) const {
-    std::vector<Evaluation> evs(points.size());
-    std::vector<params::StabilityParams> valid_sets;
-    std::vector<std::size_t> valid_at;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      for (double x : space_.Arguments(points[i]))
-        evs[i].columns.push_back(params::FormatDouble(x));
-      Problems pr;
-      params::StabilityParams p = space_.Decode(points[i], base_, &pr);
-      if (!pr.empty()) {
-        evs[i].cost = invalid_cost_;
-        evs[i].status = "infeasible: " + pr.items()[0].path;
-        continue;
-      }
-      valid_sets.push_back(std::move(p));
-      valid_at.push_back(i);
-    }
-    if (valid_sets.empty()) return evs;
-    const std::vector<SetEvaluation> results = training_.Evaluate(valid_sets);
-    for (std::size_t v = 0; v < valid_at.size(); ++v) {
-      const SetEvaluation& r = results[v];
-      Evaluation& ev = evs[valid_at[v]];
-      ev.cost = r.total;
-      int aborts = 0;
-      for (std::size_t k = 0; k < r.runs.size(); ++k) {
-        aborts += r.runs[k].aborted();
-        ev.columns.push_back(params::FormatDouble(r.costs[k].total));
-        ev.columns.push_back(RunStatusName(r.runs[k].status));
-        const double lap = r.runs[k].MeanLapTime();
-        ev.columns.push_back(std::isnan(lap) ? "nan" : params::FormatDouble(lap));
-      }
-      ev.status = aborts ? std::to_string(aborts) + " abort(s)" : "ok";
-    }
-    return evs;
-  }
-
- private:
-  const ParameterSpace& space_;
-  const params::StabilityParams& base_;
-  const BatchEvaluator& training_;
-  double invalid_cost_;
-};
-
-/// A finding's kind: its text without the numbers in it (the speed at which a hysteresis inverts
-/// moves with the values; the kind of problem does not).
-std::string FindingKind(const Problem& p) {
-  std::string kind = p.path + ":";
-  bool number = false;
-  for (char c : p.message) {
-    const bool digit = (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+' || c == 'e';
-    if (digit && (number || (c >= '0' && c <= '9'))) {
-      if (!number) kind += '#';
-      number = true;
-      continue;
-    }
-    number = false;
-    kind += c;
-  }
-  return kind;
-}
-
-}  // namespace
-
-std::vector<std::string> NewCheckFindings(const params::StabilityParams& base,
-                                          const params::StabilityParams& tuned) {
-  std::set<std::string> known;
-  for (const auto& p : params::LintStability(base)) known.insert(FindingKind(p));
-  std::vector<std::string> out;
-  for (const auto& p : params::LintStability(tuned))
-    if (!known.count(FindingKind(p))) out.push_back(p.path + ": " + p.message);
-  return out;
-}
-
-namespace {
-
-/// "label (reason)" for the dimensions `dims` of a sensitivity result.
-std::vector<std::string> Described(const SensitivityResult& r, const std::vector<int>& dims) {
-  std::vector<std::string> out;
-  for (int i : dims) {
-    const DimensionSensitivity& d = r.dimensions[static_cast<std::size_t>(i)];
-    out.push_back(d.label + " (" + d.reason + ")");
-  }
-  return out;
-}
-
-/// comparison.md's section on what the exported file changes and why.
-std::string WhatChangedMarkdown(const TuneReport& r) {
-  std::string md = "## What the tuned file changes\n\n";
-  md += "- convergence: " + r.convergence + "\n";
-  if (!r.screened)
-    md += "- frozen before the search: not screened (freezing off)\n";
-  else if (r.frozen.empty())
-    md +=
-        "- frozen before the search: none (every parameter changes some training run at an end "
-        "of its range)\n";
-  else {
-    md += "- frozen before the search at the base value (" + std::to_string(r.frozen.size()) +
-          "; no training run changes when the parameter alone moves to either end of its "
-          "range, so the training cannot tune it):\n";
-    for (const auto& f : r.frozen) md += "  - " + f + "\n";
-  }
-  if (r.sensitivity_state != SensitivityState::kDone)
-    md +=
-        "- reverted after the search: **not checked** (the sensitivity did not run); the file "
-        "may change parameters no training run responds to\n";
-  else if (r.reverted.empty())
-    md +=
-        "- reverted after the search: none (every changed parameter is exercised around the "
-        "best point)\n";
-  else {
-    md += "- reverted after the search to the base value (" + std::to_string(r.reverted.size()) +
-          "; changed by the search, but no training run changes around the best point):\n";
-    for (const auto& f : r.reverted) md += "  - " + f + "\n";
-  }
-  if (r.new_findings.empty())
-    md += "- `scw params check`: no finding the base set does not have\n";
-  else {
-    md += "- `scw params check`: **" + std::to_string(r.new_findings.size()) +
-          " finding(s) the base set does not have**:\n";
-    for (const auto& f : r.new_findings) md += "  - " + f + "\n";
-  }
-  md += "- the tables below evaluate exactly the exported file\n\n";
-  return md;
-}
-
-/// The identity lines of a log ("key: value"); throws ConfigError when the file cannot be read.
+/// The identity lines of a log ("key: value"); `found` false when the file cannot be read.
 std::map<std::string, std::string> ReadIdentity(const std::string& path, bool* found) {
   std::map<std::string, std::string> out;
   std::ifstream in(path, std::ios::binary);
@@ -221,9 +77,17 @@ std::map<std::string, std::string> ReadIdentity(const std::string& path, bool* f
   return out;
 }
 
+/// Whether a logged run of `algorithm` can be continued with a larger budget: one NLopt phase,
+/// whose path does not depend on the budget (a design or an A+B split does).
+bool Extendable(const std::string& algorithm) {
+  return algorithm.find('+') == std::string::npos && algorithm != "lhs";
+}
+
 /// Refuses (ConfigError, every difference) a resume log whose identity file differs from this
-/// run's identity `mine`.
-void CheckLogIdentity(const std::string& log, const std::string& mine) {
+/// run's identity `mine`. A larger max_evals than the log's is allowed for an extendable
+/// algorithm: returns true then (the run is extended).
+bool CheckLogIdentity(const std::string& log, const std::string& mine,
+                      const std::string& algorithm) {
   const std::string path = EvaluationLogIdentityPath(log);
   bool found = false;
   const auto theirs = ReadIdentity(path, &found);
@@ -236,6 +100,7 @@ void CheckLogIdentity(const std::string& log, const std::string& mine) {
   std::string line;
   std::vector<Problem> problems;
   std::set<std::string> seen;
+  bool extended = false;
   while (std::getline(in, line)) {
     if (line.empty() || line[0] == '#') continue;
     const auto colon = line.find(": ");
@@ -243,11 +108,29 @@ void CheckLogIdentity(const std::string& log, const std::string& mine) {
     const std::string key = line.substr(0, colon), value = line.substr(colon + 2);
     seen.insert(key);
     const auto it = theirs.find(key);
-    if (it == theirs.end())
+    if (it == theirs.end()) {
       problems.push_back({key, "the log's identity does not record it (this run: " + value + ")"});
-    else if (it->second != value)
+      continue;
+    }
+    if (it->second == value) continue;
+    if (key == "max_evals") {
+      long long logged = 0, now = 0;
+      std::istringstream(it->second) >> logged;
+      std::istringstream(value) >> now;
+      if (now > logged && Extendable(algorithm)) {
+        extended = true;
+        continue;
+      }
       problems.push_back(
-          {key, "the log was written with " + it->second + ", this run has " + value});
+          {key, now > logged
+                    ? "the log was written with " + it->second + "; '" + algorithm +
+                          "' splits its budget by max_evals, so its run cannot be extended "
+                          "(only single-phase NLopt algorithms such as sbplx can)"
+                    : "the log was written with " + it->second + ", this run has " + value +
+                          " (a resume may raise the budget, never lower it)"});
+      continue;
+    }
+    problems.push_back({key, "the log was written with " + it->second + ", this run has " + value});
   }
   for (const auto& [key, value] : theirs)
     if (!seen.count(key))
@@ -258,154 +141,86 @@ void CheckLogIdentity(const std::string& log, const std::string& mine) {
                         "inputs of the logged run, or start a new run folder"});
     throw ConfigError(path, problems);
   }
+  return extended;
 }
 
-/// Pins every dimension that the sensitivity found not exercised, and whose key the search moved,
-/// at its base value (report->pinned_dims, report->reverted). A revert that would make the set
-/// invalid is left out (and said so).
-void Revert(const TuneStudy& study, TuneReport* report) {
-  const auto& dims = report->sensitivity.dimensions;
-  const std::vector<double>& u = report->exported_u;
-  params::StabilityParams current =
-      study.space().WithPinned(report->pinned_dims).Decode(u, study.base(), nullptr);
-  for (std::size_t i = 0; i < dims.size(); ++i) {
-    const int dim = static_cast<int>(i);
-    if (dims[i].exercised ||
-        std::count(report->pinned_dims.begin(), report->pinned_dims.end(), dim))
-      continue;
-    std::vector<int> trial = report->pinned_dims;
-    trial.push_back(dim);
-    Problems pr;
-    const params::StabilityParams p = study.space().WithPinned(trial).Decode(u, study.base(), &pr);
-    if (!pr.empty()) {
-      report->reverted.push_back(dims[i].label + " (NOT reverted: the base value would break " +
-                                 pr.items()[0].path + ")");
-      continue;
-    }
-    if (params::DifferingKeys(p, current).empty()) continue;  // the search left it at the base
-    report->pinned_dims = std::move(trial);
-    current = p;
-    report->reverted.push_back(dims[i].label + " (" + dims[i].reason + ")");
+/// The screen file's text: one line per frozen dimension, "label: reason".
+std::string ScreenFileText(const SensitivityResult& screening, const std::vector<int>& frozen) {
+  std::string out =
+      "# scw tune: the dimensions the screen froze before the search (a resume reads them "
+      "instead\n# of screening again). label: reason\nfrozen:\n";
+  for (int i : frozen) {
+    const DimensionSensitivity& d = screening.dimensions[static_cast<std::size_t>(i)];
+    out += "  - " + params::QuoteString(d.label) + ": " + params::QuoteString(d.reason) + "\n";
   }
+  return out;
 }
 
-/// A pinned key that a moved reference forced off its base value to keep its ordering or
-/// hysteresis: " — moved to V with its reference R to keep their relation", else "".
-std::string KeptRelation(const SpaceEntry& e, const params::StabilityParams& base,
-                         const params::StabilityParams& tuned) {
-  if (e.of.empty()) return "";
-  const std::set<std::string> diff = params::DifferingKeys(tuned, base);
-  if (!diff.count(e.key)) return "";
-  return " — moved with its reference " + e.of + " to keep their relation";
-}
-
-/// The best point decoded, and the base and tuned sets compared on the training and held-out
-/// scenarios (the phase kCompare up to the files).
-void Compare(const TuneStudy& study, const BatchEvaluator& training, TuneObserver& observer,
-             controller::planning::ReferenceCache* cache, TuneReport* report) {
-  const TuneStudyOptions& o = study.options();
-  const ScenarioSet& set = study.scenarios();
-  const params::StabilityParams& base = study.base();
-  const TuneResult& r = report->optimisation;
-  Problems pr;
-  const ParameterSpace exported = study.space().WithPinned(report->pinned_dims);
-  report->tuned = exported.Decode(report->exported_u, base, &pr);
-  if (!pr.empty())
-    throw std::runtime_error("internal error: the exported point decodes to an invalid set");
-  // Pinned keys that had to follow their reference say so.
-  for (auto* list : {&report->frozen, &report->reverted})
-    for (auto& item : *list)
-      for (const auto& e : exported.entries())
-        if (e.pinned && item.rfind(e.Label() + " (", 0) == 0)
-          item += KeptRelation(e, base, report->tuned);
-  report->new_findings = NewCheckFindings(base, report->tuned);
-  const std::set<std::string> changed = params::DifferingKeys(report->tuned, base);
-  report->changed.assign(changed.begin(), changed.end());
-
-  const std::vector<std::string> labels = {"baseline", "tuned"};
-  const std::vector<params::StabilityParams> both = {base, report->tuned};
-  const int n_train = static_cast<int>(both.size() * set.training.size());
-  const int total = n_train + static_cast<int>((both.size() + 1) * set.held_out.size());
-  observer.OnPhaseBegin(TunePhase::kCompare, total);
-  report->training = training.Evaluate(both, Jobs(observer, TunePhase::kCompare, 0, total));
-  std::string md = "# scw tune: comparison\n\nbaseline = " + BaseName(o.base_file) +
-                   "; tuned = best of " + std::to_string(r.evals) + " evaluations (" + o.algorithm +
-                   BatchNote(o.batch) + ", seed " + std::to_string(o.seed) + "), " +
-                   std::to_string(changed.size()) + " key(s) changed\n\n";
-  md += WhatChangedMarkdown(*report);
-  md += ComparisonMarkdown("Training scenarios", training, labels, report->training);
-  std::string csv = ComparisonCsv("training", training, labels, report->training, true);
-  report->training_change = CompareSets(training, report->training[0], report->training[1]);
-  md += "\n" + SetChangeMarkdown("Training", report->training_change);
-  if (!set.held_out.empty()) {
-    const int n_held = static_cast<int>(set.held_out.size());
-    const auto held =
-        BatchEvaluator::FromEntries(set.held_out, set.base_dir, set.cost, o.threads,
-                                    Jobs(observer, TunePhase::kCompare, n_train, total), cache);
-    report->held_out =
-        held.Evaluate(both, Jobs(observer, TunePhase::kCompare, n_train + n_held, total));
-    md += ComparisonMarkdown("Held-out scenarios (not used for tuning)", held, labels,
-                             report->held_out);
-    csv += ComparisonCsv("held_out", held, labels, report->held_out, false);
-    report->held_out_change = CompareSets(held, report->held_out[0], report->held_out[1]);
-    md += "\n" + SetChangeMarkdown("Held-out", report->held_out_change);
+/// The frozen dimensions a screen file lists (false when it is missing or unreadable, or names
+/// a dimension the space does not have).
+bool ReadScreenFile(const std::string& path, const ParameterSpace& space, TuneReport* r) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::string line;
+  std::vector<int> dims;
+  std::vector<std::string> items;
+  while (std::getline(in, line)) {
+    if (line.rfind("  - ", 0) != 0) continue;
+    const auto unquote = [](std::string t) {
+      if (t.size() >= 2 && t.front() == '"' && t.back() == '"') t = t.substr(1, t.size() - 2);
+      std::string out;
+      for (std::size_t i = 0; i < t.size(); ++i) {
+        if (t[i] == '\\' && i + 1 < t.size()) ++i;
+        out += t[i];
+      }
+      return out;
+    };
+    const std::string body = line.substr(4);
+    const auto sep = body.find("\": ");
+    if (sep == std::string::npos) return false;
+    const std::string label = unquote(body.substr(0, sep + 1));
+    const std::string reason = unquote(body.substr(sep + 3));
+    int dim = -1;
+    for (int i = 0; i < space.size(); ++i)
+      if (space.entries()[static_cast<std::size_t>(i)].Label() == label) dim = i;
+    if (dim < 0) return false;
+    dims.push_back(dim);
+    items.push_back(label + " (" + reason + ")");
   }
-  if (report->plant_step.step > 0.0) md += "\n" + PlantStepCheckMarkdown(report->plant_step);
-  if (report->sensitivity_state == SensitivityState::kDone)
-    md += "\n" + SensitivityMarkdown(report->sensitivity, "the best point of the search");
-  report->comparison_markdown = md;
-  report->comparison_csv = csv;
-}
-
-/// The tuned full and overrides-only params files with their provenance header, checked as the
-/// car's node would load them.
-void ComposeTunedFiles(const TuneStudy& study, TuneReport* report) {
-  const TuneStudyOptions& o = study.options();
-  const ScenarioSet& set = study.scenarios();
-  const params::StabilityParams& base = study.base();
-  const TuneResult& r = report->optimisation;
-  TuneProvenance& prov = report->provenance;
-  prov.tool_version = o.tool_version;
-  prov.git_revision = o.git_revision;
-  prov.run_folder = o.run_folder;
-  prov.date_utc = o.date_utc ? o.date_utc() : std::string();
-  prov.base =
-      o.base_file.empty() ? std::string("built-in (the car's shipped parameters)") : o.base_file;
-  prov.algorithm = o.algorithm + BatchNote(o.batch);
-  prov.seed = o.seed;
-  prov.evaluations = r.evals;
-  prov.stop_reason = r.stop_reason;
-  prov.space = o.space_file.empty() ? std::string("built-in default") : o.space_file;
-  prov.dimensions = study.space().size();
-  for (const auto& m : study.given_space().BaseMismatches(base))
-    prov.grown.push_back(m.label + ": [" + params::FormatNumber(m.lo) + ", " +
-                         params::FormatNumber(m.hi) + "] -> [" + params::FormatNumber(m.grown_lo) +
-                         ", " + params::FormatNumber(m.grown_hi) + "]");
-  prov.training_scenarios = static_cast<int>(set.training.size());
-  prov.training_before = report->training[0].total;
-  prov.training_after = report->training[1].total;
-  if (!report->held_out.empty()) {
-    prov.held_out_scenarios = static_cast<int>(set.held_out.size());
-    prov.held_out_before = report->held_out[0].total;
-    prov.held_out_after = report->held_out[1].total;
-  }
-  prov.changed = report->changed;
-  prov.frozen = report->frozen;
-  prov.reverted = report->reverted;
-  if (report->sensitivity_state != SensitivityState::kDone)
-    prov.revert_skipped = o.sensitivity ? "the run was " + r.stop_reason : "--no-sensitivity";
-  prov.new_findings = report->new_findings;
-  report->tuned_file = params::ToRosYaml(report->tuned, params::kStabilityNodeKey, o.base_keys,
-                                         TunedFileHeader(prov, false));
-  report->overrides_file = params::ToRosOverrides(report->tuned, base, params::kStabilityNodeKey,
-                                                  TunedFileHeader(prov, true));
-  namespace fs = std::filesystem;
-  CheckExport(report->tuned_file, true, (fs::path(o.run_folder) / kTunedParamsFile).string());
-  CheckExport(report->overrides_file, false,
-              (fs::path(o.run_folder) / kOverridesParamsFile).string());
+  r->frozen_dims = std::move(dims);
+  r->frozen = std::move(items);
+  r->screened = true;
+  return true;
 }
 
 }  // namespace
+
+std::vector<std::string> NewCheckFindings(const params::StabilityParams& base,
+                                          const params::StabilityParams& tuned) {
+  // A finding's kind: its text without the numbers in it (the speed at which a hysteresis inverts
+  // moves with the values; the kind of problem does not).
+  const auto kind_of = [](const Problem& p) {
+    std::string kind = p.path + ":";
+    bool number = false;
+    for (char c : p.message) {
+      const bool digit = (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+' || c == 'e';
+      if (digit && (number || (c >= '0' && c <= '9'))) {
+        if (!number) kind += '#';
+        number = true;
+        continue;
+      }
+      number = false;
+      kind += c;
+    }
+    return kind;
+  };
+  std::set<std::string> known;
+  for (const auto& p : params::LintStability(base)) known.insert(kind_of(p));
+  std::vector<std::string> out;
+  for (const auto& p : params::LintStability(tuned))
+    if (!known.count(kind_of(p))) out.push_back(p.path + ": " + p.message);
+  return out;
+}
 
 std::string EvaluationLogIdentityPath(const std::string& log) {
   const std::string ext = ".csv";
@@ -414,7 +229,14 @@ std::string EvaluationLogIdentityPath(const std::string& log) {
   return log + ".identity.yaml";
 }
 
-std::string ConvergenceVerdict(const TuneResult& r, int max_evals) {
+std::string EvaluationLogScreenPath(const std::string& log) {
+  const std::string ext = ".csv";
+  if (log.size() > ext.size() && log.compare(log.size() - ext.size(), ext.size(), ext) == 0)
+    return log.substr(0, log.size() - ext.size()) + ".screen.yaml";
+  return log + ".screen.yaml";
+}
+
+std::string ConvergenceVerdict(const TuneResult& r, int max_evals, int dims) {
   const std::string last = "last improvement of more than " +
                            params::FormatNumber(100.0 * kSignificantImprovement) +
                            " % at evaluation " + std::to_string(r.last_improvement_eval) + " of " +
@@ -422,11 +244,18 @@ std::string ConvergenceVerdict(const TuneResult& r, int max_evals) {
   if (r.stop_reason == "converged") return last + ": converged (the optimiser met its tolerance)";
   if (r.stop_reason == "interrupted" || r.stop_reason == "max_time")
     return last + ": stopped early (" + r.stop_reason + "), not converged";
+  const int window = 10 * std::max(1, dims);
   const int quiet = r.evals - 1 - r.last_improvement_eval;
-  if (r.evals >= 5 && quiet >= r.evals / 5)
-    return last + ": converged by this measure (no such improvement in the last " +
-           std::to_string(quiet) + " evaluations)";
-  return last + ": not converged, raise --max-evals (now " + std::to_string(max_evals) + ")";
+  const std::string rule = "the rule: no such improvement in the last 10 x " +
+                           std::to_string(dims) + " free dimensions = " + std::to_string(window) +
+                           " evaluations";
+  if (quiet >= window)
+    return last + ": converged by " + rule + " (" + std::to_string(quiet) + " without)";
+  if (r.evals - 1 < window)
+    return last + ": budget too small to judge convergence (" + rule + "; --max-evals " +
+           std::to_string(max_evals) + " is below it)";
+  return last + ": not converged (" + rule + "), raise --max-evals (now " +
+         std::to_string(max_evals) + ")";
 }
 
 std::string TuneStudy::LogIdentity(const TuneReport& report, const BatchEvaluator& training) const {
@@ -442,14 +271,19 @@ std::string TuneStudy::LogIdentity(const TuneReport& report, const BatchEvaluato
   std::ostringstream id;
   id << "# scw tune: what wrote the evaluation log beside this file. `scw tune --resume` compares "
         "every line\n# with its own before it writes anything, and refuses to continue on any "
-        "difference.\n"
+        "difference\n# (a larger max_evals continues a single-phase search).\n"
      << "format: scw-tune-log 1\n"
      << "program: " << ProgramIdentity() << "\n"
      << "algorithm: " << o.algorithm << "\n"
      << "batch: " << o.batch << "\n"
      << "seed: " << o.seed << "\n"
-     << "max_evals: " << o.max_evals << "\n"
-     << "search_plant_step: " << params::FormatDouble(o.search_plant_step) << "\n"
+     << "max_evals: " << o.max_evals << "\n";
+  // The objective (written only when it is not the earlier runs' sum, so their logs still resume).
+  if (o.objective != ObjectiveKind::kSum)
+    id << "objective: " << ObjectiveKindName(o.objective) << "\n"
+       << "lap_budget: " << params::FormatDouble(o.budget.lap_s) << "\n"
+       << "clean_interventions: " << (o.budget.interventions ? "true" : "false") << "\n";
+  id << "search_plant_step: " << params::FormatDouble(o.SearchPlantStep()) << "\n"
      << "search_plant_step_used: " << params::FormatDouble(report.plant_step.used()) << "\n"
      << "freeze_unexercised: " << (o.freeze_unexercised ? "true" : "false") << "\n"
      << "base_sha256: " << io::Sha256Hex(params::ToRosYaml(base_, params::kStabilityNodeKey))
@@ -468,10 +302,20 @@ const char* TunePhaseName(TunePhase phase) {
       return "screen";
     case TunePhase::kOptimise:
       return "optimise";
-    case TunePhase::kCompare:
-      return "compare";
+    case TunePhase::kSelect:
+      return "select";
     case TunePhase::kSensitivity:
       return "sensitivity";
+    case TunePhase::kRevert:
+      return "revert";
+    case TunePhase::kCompare:
+      return "compare";
+    case TunePhase::kNeighbourhood:
+      return "neighbourhood";
+    case TunePhase::kRobust:
+      return "robust";
+    case TunePhase::kExport:
+      return "export";
   }
   return "?";
 }
@@ -485,10 +329,19 @@ TuneStudy::TuneStudy(params::StabilityParams base, const ParameterSpace& space,
       space_(given_.WithBase(base_, options_.base_outside, &grown_)),
       u0_(space_.Encode(base_)) {
   CheckTunerAlgorithm(options_.algorithm);
-  if (!(options_.search_plant_step >= 0.0 && options_.search_plant_step <= 0.005))
+  if (!(options_.SearchPlantStep() >= 0.0 && options_.SearchPlantStep() <= 0.005))
     throw std::invalid_argument("the search plant step must lie in [0, 0.005] s, got " +
                                 params::FormatDouble(options_.search_plant_step));
   CheckTunerBatch(options_.algorithm, options_.batch);
+  if (!(options_.budget.lap_s >= 0.0))
+    throw std::invalid_argument("the clean-lap budget must be at least 0 s, got " +
+                                params::FormatDouble(options_.budget.lap_s));
+  if (!(options_.resolution > 0.0 && std::isfinite(options_.resolution)))
+    throw std::invalid_argument("the resolution must be a positive number of seconds, got " +
+                                params::FormatDouble(options_.resolution));
+  if (!(options_.neighbourhood_step > 0.0 && options_.neighbourhood_step <= 0.5))
+    throw std::invalid_argument("the neighbourhood step must lie in (0, 0.5], got " +
+                                params::FormatDouble(options_.neighbourhood_step));
   // Evaluation 0 is the base set, and keys the tuner leaves alone keep their base values.
   if (!params::DifferingKeys(space_.Decode(u0_, base_, nullptr), base_).empty())
     throw std::runtime_error("internal error: the start point does not decode to the base set");
@@ -499,85 +352,199 @@ TuneReport TuneStudy::Run() const {
   return Run(none);
 }
 
+namespace {
+
+/// Phase compare: the base set and the exported set on the training, then the held-out scenarios
+/// (`held` receives the held-out evaluator), the verdicts at the study's resolution, the clean
+/// laps against the budget, and the statement when the search found a gain the export lost.
+void CompareWithBase(const TuneStudy& study, const BatchEvaluator& training,
+                     std::optional<BatchEvaluator>* held,
+                     controller::planning::ReferenceCache* cache, TuneObserver& observer,
+                     const TuneObjective& fine_objective, const SetEvaluation& fine_base,
+                     const std::optional<SetEvaluation>& tuned_training, TuneReport* report) {
+  const TuneStudyOptions& o = study.options();
+  const ScenarioSet& set = study.scenarios();
+  const params::StabilityParams& base = study.base();
+  Problems pr;
+  const ParameterSpace exported = study.space().WithPinned(report->pinned_dims);
+  report->tuned = exported.Decode(report->exported_u, base, &pr);
+  if (!pr.empty())
+    throw std::runtime_error("internal error: the exported point decodes to an invalid set");
+  report->new_findings = NewCheckFindings(base, report->tuned);
+  const std::set<std::string> changed = params::DifferingKeys(report->tuned, base);
+  report->changed.assign(changed.begin(), changed.end());
+
+  const std::vector<params::StabilityParams> both = {base, report->tuned};
+  const int n_train = static_cast<int>(set.training.size());
+  const int n_held = static_cast<int>(set.held_out.size());
+  // The base set's training runs are known; the exported set's are when the revert ran.
+  const bool known = tuned_training.has_value();
+  const int total = (known ? 0 : n_train) + 3 * n_held;
+  observer.OnPhaseBegin(TunePhase::kCompare, total);
+  report->training = {
+      fine_base,
+      known ? *tuned_training
+            : training.Evaluate({report->tuned}, Jobs(observer, TunePhase::kCompare, 0, total))
+                  .front()};
+  const int done = known ? 0 : n_train;
+  report->training_change =
+      CompareSets(training, report->training[0], report->training[1], o.resolution);
+  report->tuned_value = fine_objective.Of(report->training[1]);
+  if (!set.held_out.empty()) {
+    held->emplace(BatchEvaluator::FromEntries(set.held_out, set.base_dir, set.cost, o.threads,
+                                              Jobs(observer, TunePhase::kCompare, done, total),
+                                              cache));
+    report->held_out =
+        (*held)->Evaluate(both, Jobs(observer, TunePhase::kCompare, done + n_held, total));
+    report->held_out_change =
+        CompareSets(**held, report->held_out[0], report->held_out[1], o.resolution);
+    report->held_out_value = TuneObjective::For(**held, o.objective, o.budget, report->held_out[0])
+                                 .Of(report->held_out[1]);
+  }
+  // A gain the search found and the export does not keep is said, never called "no change".
+  const TuneResult& r = report->optimisation;
+  const double base_merit = r.start_cost;
+  const double gain = base_merit - r.best_cost;
+  const double exported_gain = report->base_value.merit - report->tuned_value.merit;
+  if (gain >= o.resolution && exported_gain < o.resolution) {
+    std::string why;
+    if (report->changed.empty())
+      why = "the exported file changes no key";
+    else
+      why = "the exported set gains " +
+            params::FormatNumber(std::round(exported_gain * 1e3) / 1e3) + " at the vehicle's step";
+    report->unexported_gain =
+        "the search found a merit of " + params::FormatNumber(std::round(r.best_cost * 1e3) / 1e3) +
+        " against the base's " + params::FormatNumber(std::round(base_merit * 1e3) / 1e3) +
+        " (evaluation " + std::to_string(r.best_eval) + "), but " + why +
+        ": the search's gain is NOT in the file (see the revert decisions and the selection)";
+  }
+  observer.OnPhaseEnd(TunePhase::kCompare, *report);
+}
+
+/// Phase neighbourhood: the knife-edge check of the exported set on both groups.
+NeighbourhoodInput KnifeEdgeInput(const TuneStudy& study, const BatchEvaluator& training,
+                                  const BatchEvaluator* held,
+                                  controller::planning::ReferenceCache* cache,
+                                  const TuneReport& report) {
+  NeighbourhoodInput in;
+  in.scenarios = &study.scenarios();
+  in.space = &study.space();
+  in.pinned = report.pinned_dims;
+  in.base = &study.base();
+  in.reference = &study.base();
+  in.u = report.exported_u;
+  in.training = &training;
+  in.held_out = held;
+  in.training_centre = &report.training[1];
+  in.held_out_centre = held ? &report.held_out[1] : nullptr;
+  in.step = study.options().neighbourhood_step;
+  in.threads = study.options().threads;
+  in.cache = cache;
+  return in;
+}
+
+void CheckKnifeEdges(const TuneStudy& study, const BatchEvaluator& training,
+                     const BatchEvaluator* held, controller::planning::ReferenceCache* cache,
+                     TuneObserver& observer, TuneReport* report) {
+  const NeighbourhoodInput in = KnifeEdgeInput(study, training, held, cache, *report);
+  std::vector<std::string> notes;
+  const std::vector<Neighbour> planned = PlanNeighbourhood(in, &notes);
+  int runs = 0;
+  // A plant neighbour runs the base set beside the exported one.
+  for (const auto& nb : planned)
+    runs += static_cast<int>(
+        (training.scenarios().size() + (held ? held->scenarios().size() : std::size_t{0})) *
+        (nb.plant && in.reference ? 2 : 1));
+  observer.OnPhaseBegin(TunePhase::kNeighbourhood, runs);
+  report->neighbourhood =
+      CheckNeighbourhood(in, Jobs(observer, TunePhase::kNeighbourhood, 0, runs));
+  report->neighbourhood_done = true;
+  observer.OnPhaseEnd(TunePhase::kNeighbourhood, *report);
+}
+
+/// Phase robust (options.robust): the training knife edges join the objective and the search
+/// continues from the exported point; after each round the comparison and the check run again.
+void RunRobust(const TuneStudy& study, const BatchEvaluator& training,
+               std::optional<BatchEvaluator>* held, controller::planning::ReferenceCache* cache,
+               TuneObserver& observer, const TuneObjective& fine_objective,
+               const SetEvaluation& fine_base, TuneReport* report) {
+  const TuneStudyOptions& o = study.options();
+  report->neighbourhood_before_robust = report->neighbourhood;
+  report->tuned_value_before_robust = report->tuned_value;
+  std::vector<ActiveEdge> active;
+  for (int round = 1; round <= kRobustRounds; ++round) {
+    const std::size_t before = active.size();
+    AddActiveEdges(report->neighbourhood, training, report->exported_u, &active);
+    bool training_edge = false;
+    for (const auto& e : report->neighbourhood.edges)
+      training_edge |= e.group == "training" && !e.base_also_aborts();
+    if (!training_edge || (round > 1 && active.size() == before)) break;
+    RobustRoundInput in;
+    in.scenarios = &study.scenarios();
+    in.space = &study.space();
+    in.pinned = report->pinned_dims;
+    in.base = &study.base();
+    in.start = report->exported_u;
+    in.training = &training;
+    in.objective = &fine_objective;
+    in.active = active;
+    in.step = o.neighbourhood_step;
+    in.evaluations = std::max(1, o.max_evals / 2);
+    in.seed = o.seed;
+    if (!o.evaluation_log.empty())
+      in.log = (std::filesystem::path(o.evaluation_log).parent_path() /
+                ("robust_evaluations_" + std::to_string(round) + ".csv"))
+                   .string();
+    in.threads = o.threads;
+    in.cache = cache;
+    in.stop = o.stop;
+    in.on_progress = [&observer](const Progress& p) { observer.OnEvaluation(p); };
+    observer.OnPhaseBegin(TunePhase::kRobust, in.evaluations);
+    const RobustRoundResult r = RunRobustRound(in);
+    report->robust_rounds = round;
+    report->robust_evaluations += r.search.evals;
+    report->exported_u = r.best;
+    observer.OnPhaseEnd(TunePhase::kRobust, *report);
+    CompareWithBase(study, training, held, cache, observer, fine_objective, fine_base, std::nullopt,
+                    report);
+    CheckKnifeEdges(study, training, held->has_value() ? &**held : nullptr, cache, observer,
+                    report);
+    if (r.search.stop_reason == "interrupted") break;
+  }
+}
+
+}  // namespace
+
 TuneReport TuneStudy::Run(TuneObserver& observer) const {
-  const ScenarioSet& set = scenarios_;
   TuneReport report;
-  const int n_training = static_cast<int>(set.training.size());
-  // With a search step: its evaluator (the preparation is shared with the first) and the base set
-  // run at both steps, 4 jobs per scenario in all.
-  const double step = options_.search_plant_step;
-  const int n_prepare = step > 0.0 ? 4 * n_training : n_training;
-  observer.OnPhaseBegin(TunePhase::kPrepare, n_prepare);
-  // One preparation cache for every evaluator of the run (training, the search step's, held-out).
-  controller::planning::ReferenceCache cache(&PrepCache::Process());
-  const BatchEvaluator training =
-      BatchEvaluator::FromEntries(set.training, set.base_dir, set.cost, options_.threads,
-                                  Jobs(observer, TunePhase::kPrepare, 0, n_prepare), &cache);
-  std::optional<BatchEvaluator> coarse;
-  report.plant_step.step = step;
-  if (step > 0.0 && StepDiffers(training, step)) {
-    coarse.emplace(BatchEvaluator::FromEntries(
-        WithPlantStep(set.training, step), set.base_dir, set.cost, options_.threads,
-        Jobs(observer, TunePhase::kPrepare, n_training, n_prepare), &cache));
-    const SetEvaluation fine_base =
-        training.Evaluate({base_}, Jobs(observer, TunePhase::kPrepare, 2 * n_training, n_prepare))
-            .front();
-    const SetEvaluation coarse_base =
-        coarse->Evaluate({base_}, Jobs(observer, TunePhase::kPrepare, 3 * n_training, n_prepare))
-            .front();
-    std::vector<std::string> names;
-    for (const auto& sc : training.scenarios()) names.push_back(sc.spec.name);
-    report.plant_step = ComparePlantSteps(step, names, fine_base, coarse_base,
-                                          options_.search_plant_step_tolerances);
-  } else {
-    // Every vehicle has that step already: nothing to check, the counted jobs are done.
-    for (int done = n_training + 1; done <= n_prepare; ++done)
-      observer.OnJobs(TunePhase::kPrepare, done, n_prepare);
-  }
-  report.threads = training.threads();
-  report.ranks = exec::mpi::Ranks();
-  observer.OnPhaseEnd(TunePhase::kPrepare, report);
+  const TunePrepared prepared = Prepare(observer, &report);
+  Search(prepared, observer, &report);
+  Finish(prepared, observer, &report);
+  return report;
+}
 
-  // The optimiser's evaluator: the search step's where its check passed.
-  const BatchEvaluator& search = report.plant_step.used() > 0.0 ? *coarse : training;
-  const int n = space_.size();
+TuneObjective TuneStudy::ObjectiveOn(const BatchEvaluator& ev, const SetEvaluation& base) const {
+  return TuneObjective::For(ev, options_.objective, options_.budget, base);
+}
 
-  // Screen: which dimensions can the training scenarios see at all? Those that cannot are frozen.
-  if (options_.freeze_unexercised) {
-    const SensitivityPlan plan = PlanSensitivity(space_, u0_, base_, SensitivityMode::kRange);
-    const int n_runs = static_cast<int>(plan.sets.size() * search.scenarios().size());
-    observer.OnPhaseBegin(TunePhase::kScreen, n_runs);
-    report.screening =
-        EvaluateSensitivity(search, space_, plan, Jobs(observer, TunePhase::kScreen, 0, n_runs));
-    report.screened = true;
-    for (int i = 0; i < n; ++i)
-      if (!report.screening.dimensions[static_cast<std::size_t>(i)].exercised)
-        report.frozen_dims.push_back(i);
-    report.frozen = Described(report.screening, report.frozen_dims);
-    observer.OnPhaseEnd(TunePhase::kScreen, report);
-  }
+std::vector<int> TuneStudy::FreeDimensions(const TuneReport& report, bool* all_frozen) const {
   std::vector<int> free_dims;
-  for (int i = 0; i < n; ++i)
+  for (int i = 0; i < space_.size(); ++i)
     if (std::find(report.frozen_dims.begin(), report.frozen_dims.end(), i) ==
         report.frozen_dims.end())
       free_dims.push_back(i);
+  if (all_frozen) *all_frozen = free_dims.empty();
   // Nothing left to tune: the base set is evaluated once, as evaluation 0.
-  const bool all_frozen = free_dims.empty();
-  if (all_frozen)
-    for (int i = 0; i < n; ++i) free_dims.push_back(i);
-  const auto expand = [this, &free_dims](const std::vector<double>& v) {
-    std::vector<double> u = u0_;
-    for (std::size_t k = 0; k < free_dims.size() && k < v.size(); ++k)
-      u[static_cast<std::size_t>(free_dims[k])] = v[k];
-    return u;
-  };
-  std::vector<double> v0;
-  for (int i : free_dims) v0.push_back(u0_[static_cast<std::size_t>(i)]);
+  if (free_dims.empty())
+    for (int i = 0; i < space_.size(); ++i) free_dims.push_back(i);
+  return free_dims;
+}
 
-  // The optimiser's space: the frozen dimensions pinned at the base value.
-  report.pinned_dims = report.frozen_dims;
-  const ParameterSpace search_space = space_.WithPinned(report.frozen_dims);
-  const TrainingObjective objective(search_space, base_, search, set.cost);
+TunerOptions TuneStudy::SearchOptions(const TuneReport& report,
+                                      const TrainingObjective& objective) const {
+  bool all_frozen = false;
+  const std::vector<int> free_dims = FreeDimensions(report, &all_frozen);
   TunerOptions to;
   to.algorithm = options_.algorithm;
   to.max_evals = all_frozen ? 1 : options_.max_evals;
@@ -589,6 +556,108 @@ TuneReport TuneStudy::Run(TuneObserver& observer) const {
     to.dimension_names.push_back("u:" + space_.entries()[static_cast<std::size_t>(i)].Label());
   to.stop = options_.stop;
   to.failure_cost = objective.invalid_cost();
+  return to;
+}
+
+TunePrepared TuneStudy::Prepare(TuneObserver& observer, TuneReport* report_out) const {
+  const ScenarioSet& set = scenarios_;
+  const TuneStudyOptions& o = options_;
+  TuneReport& report = *report_out;
+  TunePrepared prep;
+  const int n_training = static_cast<int>(set.training.size());
+  // The training scenarios and the base set on them at the vehicle's step; with a search step its
+  // evaluator too and the base set there (4 jobs per scenario in all).
+  const double step = o.SearchPlantStep();
+  const int n_prepare = (step > 0.0 ? 4 : 2) * n_training;
+  observer.OnPhaseBegin(TunePhase::kPrepare, n_prepare);
+  // One preparation cache for every evaluator of the run (training, the search step's, held-out,
+  // the neighbourhood's).
+  prep.cache = std::make_shared<controller::planning::ReferenceCache>(&PrepCache::Process());
+  prep.training = std::make_shared<const BatchEvaluator>(BatchEvaluator::FromEntries(
+      set.training, set.base_dir, set.cost, o.threads,
+      Jobs(observer, TunePhase::kPrepare, 0, n_prepare), prep.cache.get()));
+  const BatchEvaluator& training = *prep.training;
+  prep.fine_base =
+      training.Evaluate({base_}, Jobs(observer, TunePhase::kPrepare, n_training, n_prepare))
+          .front();
+  report.plant_step.step = step;
+  if (step > 0.0 && StepDiffers(training, step)) {
+    auto coarse = std::make_shared<const BatchEvaluator>(BatchEvaluator::FromEntries(
+        WithPlantStep(set.training, step), set.base_dir, set.cost, o.threads,
+        Jobs(observer, TunePhase::kPrepare, 2 * n_training, n_prepare), prep.cache.get()));
+    prep.coarse_base =
+        coarse->Evaluate({base_}, Jobs(observer, TunePhase::kPrepare, 3 * n_training, n_prepare))
+            .front();
+    std::vector<std::string> names;
+    for (const auto& sc : training.scenarios()) names.push_back(sc.spec.name);
+    report.plant_step = ComparePlantSteps(step, names, prep.fine_base, prep.coarse_base,
+                                          o.search_plant_step_tolerances);
+    if (report.plant_step.used() > 0.0) prep.coarse = std::move(coarse);
+  } else {
+    // Every vehicle has that step already: nothing to check, the counted jobs are done.
+    for (int done = 2 * n_training + 1; done <= n_prepare; ++done)
+      observer.OnJobs(TunePhase::kPrepare, done, n_prepare);
+  }
+  report.threads = training.threads();
+  report.ranks = exec::mpi::Ranks();
+  const TuneObjective fine_objective = ObjectiveOn(training, prep.fine_base);
+  report.objective = fine_objective.Describe();
+  report.base_value = fine_objective.base_value();
+  observer.OnPhaseEnd(TunePhase::kPrepare, report);
+  if (o.stop && o.stop->load()) throw TuneInterrupted("during the preparation");
+
+  // Screen: which dimensions can the training scenarios see at all? Those that cannot are frozen.
+  // A resume takes them from the log's screen file.
+  prep.screen_read = !o.resume_log.empty() && o.freeze_unexercised &&
+                     ReadScreenFile(EvaluationLogScreenPath(o.resume_log), space_, &report);
+  if (o.freeze_unexercised && !prep.screen_read) {
+    const SensitivityPlan plan = PlanSensitivity(space_, u0_, base_, SensitivityMode::kRange);
+    const BatchEvaluator& search = prep.search();
+    const int n_runs = static_cast<int>(plan.sets.size() * search.scenarios().size());
+    observer.OnPhaseBegin(TunePhase::kScreen, n_runs);
+    report.screening =
+        EvaluateSensitivity(search, space_, plan, Jobs(observer, TunePhase::kScreen, 0, n_runs));
+    report.screened = true;
+    for (int i = 0; i < space_.size(); ++i)
+      if (!report.screening.dimensions[static_cast<std::size_t>(i)].exercised)
+        report.frozen_dims.push_back(i);
+    report.frozen = Described(report.screening, report.frozen_dims);
+    observer.OnPhaseEnd(TunePhase::kScreen, report);
+  } else if (prep.screen_read) {
+    observer.OnPhaseEnd(TunePhase::kScreen, report);
+  }
+  if (o.stop && o.stop->load()) throw TuneInterrupted("during the screen");
+  bool all_frozen = false;
+  const std::vector<int> free_dims = FreeDimensions(report, &all_frozen);
+  report.free_dimensions = all_frozen ? 0 : static_cast<int>(free_dims.size());
+  report.pinned_dims = report.frozen_dims;
+  return prep;
+}
+
+void TuneStudy::Search(const TunePrepared& prep, TuneObserver& observer,
+                       TuneReport* report_out) const {
+  const TuneStudyOptions& o = options_;
+  TuneReport& report = *report_out;
+  bool all_frozen = false;
+  const std::vector<int> free_dims = FreeDimensions(report, &all_frozen);
+  const auto expand = [this, &free_dims](const std::vector<double>& v) {
+    std::vector<double> u = u0_;
+    for (std::size_t k = 0; k < free_dims.size() && k < v.size(); ++k)
+      u[static_cast<std::size_t>(free_dims[k])] = v[k];
+    return u;
+  };
+  std::vector<double> v0;
+  for (int i : free_dims) v0.push_back(u0_[static_cast<std::size_t>(i)]);
+
+  // The optimiser's space: the frozen dimensions pinned at the base value.
+  const ParameterSpace search_space = space_.WithPinned(report.frozen_dims);
+  const TuneObjective search_objective = ObjectiveOn(prep.search(), prep.search_base());
+  const TrainingObjective objective(search_space, base_, prep.search(), search_objective);
+  TopPoints top(kSelectCandidates);
+  TunerOptions to = SearchOptions(report, objective);
+  to.on_record = [&top, &expand](int index, const std::vector<double>& v, const Evaluation& ev) {
+    top.Add(index, expand(v), ev.cost);
+  };
   const BatchObjective batch_objective = [&objective,
                                           &expand](const std::vector<std::vector<double>>& vs) {
     std::vector<std::vector<double>> us;
@@ -601,66 +670,170 @@ TuneReport TuneStudy::Run(TuneObserver& observer) const {
   };
 
   // Resume: refused before anything is written when the log belongs to another run.
-  const std::string identity = LogIdentity(report, training);
-  if (!options_.resume_log.empty()) {
-    CheckLogIdentity(options_.resume_log, identity);
+  const std::string identity = LogIdentity(report, *prep.training);
+  if (!o.resume_log.empty()) {
+    report.extended = CheckLogIdentity(o.resume_log, identity, o.algorithm);
     TunerOptions verify = to;
-    verify.resume_path = options_.resume_log;
+    verify.resume_path = o.resume_log;
     verify.verify_resume = true;
     verify.stop = nullptr;
     verify.max_time_s = 0.0;
+    verify.on_record = nullptr;
+    TuneResult replayed;
     try {
-      (void)Tune(v0, single, batch_objective, verify);
+      replayed = Tune(v0, single, batch_objective, verify);
     } catch (const ResumeMismatch& e) {
-      throw ConfigError(options_.resume_log, "", e.what());
+      throw ConfigError(o.resume_log, "", e.what());
     }
+    if (replayed.stop_reason != "verified" && o.stop_if_complete)
+      throw TuneAlreadyComplete(
+          o.resume_log + " already holds the whole run (" + std::to_string(replayed.evals) +
+          " evaluations, stop: " + replayed.stop_reason + "); nothing was written. " +
+          (replayed.stop_reason == "converged"
+               ? std::string("The search converged: a larger budget does not continue it.")
+               : "To continue the search, raise --max-evals (e.g. --max-evals " +
+                     std::to_string(2 * o.max_evals) + ")."));
   }
-  if (!options_.evaluation_log.empty()) {
-    const std::string id_path = EvaluationLogIdentityPath(options_.evaluation_log);
+  if (!o.evaluation_log.empty()) {
+    const std::string id_path = EvaluationLogIdentityPath(o.evaluation_log);
     std::ifstream existing(id_path, std::ios::binary);
     std::ostringstream text;
     text << existing.rdbuf();
     if (!existing || text.str() != identity) io::WriteFileAtomic(id_path, identity);
+    if (report.screened && !prep.screen_read)
+      io::WriteFileAtomic(EvaluationLogScreenPath(o.evaluation_log),
+                          ScreenFileText(report.screening, report.frozen_dims));
   }
 
-  to.log_path = options_.evaluation_log;
-  to.resume_path = options_.resume_log;
+  to.log_path = o.evaluation_log;
+  to.resume_path = o.resume_log;
   to.on_progress = [&observer](const Progress& p) { observer.OnEvaluation(p); };
   observer.OnPhaseBegin(TunePhase::kOptimise, to.max_evals);
   try {
     report.optimisation = Tune(v0, single, batch_objective, to);
   } catch (const ResumeMismatch& e) {
-    throw ConfigError(options_.resume_log, "", e.what());
+    throw ConfigError(o.resume_log, "", e.what());
   }
   TuneResult& opt = report.optimisation;
   opt.best_u = expand(opt.best_u);
   if (all_frozen) opt.stop_reason = "all_frozen";
+  report.top_points = top.entries();
   report.convergence = all_frozen ? std::string("nothing to tune: every parameter is frozen")
-                                  : ConvergenceVerdict(opt, options_.max_evals);
+                                  : ConvergenceVerdict(opt, o.max_evals, report.free_dimensions);
   observer.OnPhaseEnd(TunePhase::kOptimise, report);
+}
 
-  // Sensitivity around the best point; what no training run responds to goes back to the base.
+void TuneStudy::Finish(const TunePrepared& prep, TuneObserver& observer,
+                       TuneReport* report_out) const {
+  const TuneStudyOptions& o = options_;
+  TuneReport& report = *report_out;
+  const BatchEvaluator& training = *prep.training;
+  const int n_training = static_cast<int>(training.scenarios().size());
+  const TuneObjective fine_objective = ObjectiveOn(training, prep.fine_base);
+  const TuneObjective search_objective = ObjectiveOn(prep.search(), prep.search_base());
+  const ParameterSpace search_space = space_.WithPinned(report.frozen_dims);
+  const TuneResult& opt = report.optimisation;
+  const auto stopped = [&o] { return o.stop && o.stop->load(); };
+
+  // Select: the budget is the car's, judged at the vehicle's step. The best points of a search at
+  // a coarser step (within the budget there, the base among them) run at the vehicle's step; the
+  // best within the budget there is exported.
+  report.chosen_eval = opt.best_eval;
   report.exported_u = opt.best_u;
-  const std::string& stop = opt.stop_reason;
-  report.sensitivity_state = options_.sensitivity && stop != "interrupted"
+  std::optional<SetEvaluation> chosen_eval;
+  if (o.objective == ObjectiveKind::kConstrained && prep.coarse) {
+    std::vector<TopPoint> candidates;
+    bool base_in = false;
+    for (const auto& e : report.top_points) {
+      if (e.cost > search_objective.base_value().merit) continue;  // over the budget there
+      candidates.push_back(e);
+      base_in = base_in || e.index == 0;
+    }
+    if (!base_in) candidates.push_back({0, search_objective.base_value().merit, u0_});
+    std::vector<params::StabilityParams> sets;
+    for (const auto& c : candidates) sets.push_back(search_space.Decode(c.u, base_, nullptr));
+    const int n_runs = static_cast<int>(sets.size()) * n_training;
+    observer.OnPhaseBegin(TunePhase::kSelect, n_runs);
+    const std::vector<SetEvaluation> at_own_step =
+        training.Evaluate(sets, Jobs(observer, TunePhase::kSelect, 0, n_runs));
+    std::size_t pick = candidates.size();
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      const ObjectiveValue v = fine_objective.Of(at_own_step[k]);
+      report.selection.push_back(
+          "evaluation " + std::to_string(candidates[k].index) + ": merit " +
+          params::FormatNumber(std::round(candidates[k].cost * 1000.0) / 1000.0) + " at " +
+          params::FormatNumber(report.plant_step.used() * 1000.0) + " ms, " +
+          params::FormatNumber(std::round(v.merit * 1000.0) / 1000.0) + " at the vehicle's step" +
+          (v.within_budget() ? "" : " (over the budget there)"));
+      if (!v.within_budget()) continue;
+      if (pick == candidates.size() || v.merit < report.chosen_merit ||
+          (v.merit == report.chosen_merit && candidates[k].index < candidates[pick].index)) {
+        pick = k;
+        report.chosen_merit = v.merit;
+      }
+    }
+    // The base point meets its own budget: something is always within it.
+    report.chosen_eval = candidates[pick].index;
+    report.exported_u = candidates[pick].u;
+    chosen_eval = at_own_step[pick];
+    observer.OnPhaseEnd(TunePhase::kSelect, report);
+  }
+
+  // Sensitivity around the exported point; what no training run responds to goes back to the base
+  // if the whole set, re-evaluated, says it may.
+  report.sensitivity_state = o.sensitivity && opt.stop_reason != "interrupted"
                                  ? SensitivityState::kPending
                                  : SensitivityState::kSkipped;
   if (report.sensitivity_state == SensitivityState::kPending) {
-    const SensitivityPlan plan = PlanSensitivity(search_space, opt.best_u, base_);
-    const int n_runs = static_cast<int>(plan.sets.size() * training.scenarios().size());
+    const SensitivityPlan plan = PlanSensitivity(search_space, report.exported_u, base_);
+    const int n_runs = static_cast<int>(plan.sets.size()) * n_training;
     observer.OnPhaseBegin(TunePhase::kSensitivity, n_runs);
     report.sensitivity = EvaluateSensitivity(training, search_space, plan,
                                              Jobs(observer, TunePhase::kSensitivity, 0, n_runs));
     report.sensitivity_csv = SensitivityCsv(report.sensitivity);
     report.sensitivity_state = SensitivityState::kDone;
-    Revert(*this, &report);
     observer.OnPhaseEnd(TunePhase::kSensitivity, report);
+
+    std::vector<std::pair<int, std::string>> candidates;
+    for (int i = 0; i < space_.size(); ++i) {
+      const DimensionSensitivity& d = report.sensitivity.dimensions[static_cast<std::size_t>(i)];
+      if (!d.exercised) candidates.emplace_back(i, d.reason);
+    }
+    if (!chosen_eval)
+      chosen_eval = training.Evaluate(search_space.Decode(report.exported_u, base_, nullptr));
+    report.chosen_merit = fine_objective.Of(*chosen_eval).merit;
+    const int n_candidates = static_cast<int>(candidates.size());
+    observer.OnPhaseBegin(TunePhase::kRevert, n_candidates);
+    const double tolerance = std::isfinite(o.budget.lap_s) ? o.budget.lap_s : kDefaultLapBudget;
+    report.revert = RevertJointly(training, space_, base_, report.exported_u, report.pinned_dims,
+                                  candidates, fine_objective, *chosen_eval, tolerance,
+                                  Jobs(observer, TunePhase::kRevert, 0, n_candidates));
+    report.pinned_dims = report.revert.pinned;
+    report.reverted = RevertedItems(report.revert);
+    for (const auto& kept : KeptItems(report.revert))
+      if (kept.find("NOT reverted") != std::string::npos) report.reverted.push_back(kept);
+    observer.OnPhaseEnd(TunePhase::kRevert, report);
   }
 
-  Compare(*this, training, observer, &cache, &report);
-  ComposeTunedFiles(*this, &report);
-  observer.OnPhaseEnd(TunePhase::kCompare, report);
-  return report;
+  // Compare, then the knife edges, then (robust) the continuation; the outputs last.
+  std::optional<BatchEvaluator> held;
+  std::optional<SetEvaluation> tuned_training;
+  if (report.sensitivity_state == SensitivityState::kDone)
+    tuned_training = report.revert.evaluation;
+  CompareWithBase(*this, training, &held, prep.cache.get(), observer, fine_objective,
+                  prep.fine_base, tuned_training, &report);
+  if (o.neighbourhood && opt.stop_reason != "interrupted" && !stopped()) {
+    CheckKnifeEdges(*this, training, held ? &*held : nullptr, prep.cache.get(), observer, &report);
+    if (o.robust && OwnEdges(report.neighbourhood) > 0)
+      RunRobust(*this, training, &held, prep.cache.get(), observer, fine_objective, prep.fine_base,
+                &report);
+  }
+  detail::AnnotateKeptRelations(*this, &report);
+  report.comparison_markdown =
+      detail::ComparisonReportMarkdown(*this, report, training, held ? &*held : nullptr);
+  report.comparison_csv = detail::ComparisonReportCsv(report, training, held ? &*held : nullptr);
+  detail::ComposeTunedFiles(*this, &report);
+  observer.OnPhaseEnd(TunePhase::kExport, report);
 }
 
 std::string TuneStudy::CheckSet(const BatchProgress& progress) const {
@@ -735,8 +908,13 @@ std::string TuneStudy::ManifestYaml(const TuneReport& report, const TuneRunRecor
       << "batch: " << o.batch << "\n"
       << "seed: " << o.seed << "\n"
       << "max_evals: " << o.max_evals << "\n"
+      << "objective: " << ObjectiveKindName(o.objective) << "\n"
+      << "objective_description: " << params::QuoteString(report.objective) << "\n"
+      << "lap_budget_s: " << params::FormatDouble(o.budget.lap_s) << "\n"
+      << "clean_interventions_limited: " << (o.budget.interventions ? "true" : "false") << "\n"
+      << "resolution_s: " << params::FormatDouble(o.resolution) << "\n"
       << "max_time_s: " << params::FormatDouble(o.max_time_s) << "\n"
-      << "search_plant_step: " << params::FormatDouble(o.search_plant_step) << "\n"
+      << "search_plant_step: " << params::FormatDouble(o.SearchPlantStep()) << "\n"
       << "search_plant_step_check: " << params::QuoteString(report.plant_step.Verdict()) << "\n"
       << "search_plant_step_used: " << params::FormatDouble(report.plant_step.used()) << "\n"
       << "threads: " << report.threads << "\n"
@@ -748,6 +926,13 @@ std::string TuneStudy::ManifestYaml(const TuneReport& report, const TuneRunRecor
       << "start_cost: " << params::FormatDouble(r.start_cost) << "\n"
       << "best_cost: " << params::FormatDouble(r.best_cost) << "\n"
       << "best_evaluation: " << r.best_eval << "\n"
+      << "extended: " << (report.extended ? "true" : "false") << "\n"
+      << "exported_evaluation: " << report.chosen_eval << "\n"
+      << "baseline_stability: " << params::FormatDouble(report.base_value.stability) << "\n"
+      << "tuned_stability: " << params::FormatDouble(report.tuned_value.stability) << "\n"
+      << "tuned_lap_loss_s: " << params::FormatDouble(report.tuned_value.lap_loss) << "\n"
+      << "tuned_within_budget: " << (report.tuned_value.within_budget() ? "true" : "false") << "\n"
+      << "unexported_gain: " << params::QuoteString(report.unexported_gain) << "\n"
       << "baseline_cost: " << params::FormatDouble(report.training[0].total) << "\n"
       << "tuned_cost: " << params::FormatDouble(report.training[1].total) << "\n";
   man << "training_verdict: " << VerdictName(report.training_change.verdict) << "\n";
@@ -774,6 +959,17 @@ std::string TuneStudy::ManifestYaml(const TuneReport& report, const TuneRunRecor
   list("frozen", report.frozen);
   list("reverted", report.reverted);
   list("new_findings", report.new_findings);
+  if (report.neighbourhood_done) {
+    man << "knife_edges: " << report.neighbourhood.edges.size() << "\n"
+        << "neighbours: " << report.neighbourhood.neighbours.size() << "\n";
+    list("knife_edge_keys", report.neighbourhood.EdgeKeys());
+  } else {
+    man << "knife_edges: \"not checked\"\n";
+  }
+  if (o.robust)
+    man << "robust_rounds: " << report.robust_rounds << "\n"
+        << "robust_evaluations: " << report.robust_evaluations << "\n"
+        << "knife_edges_before_robust: " << report.neighbourhood_before_robust.edges.size() << "\n";
   man << "hash_algorithm: sha256\n";
   man << "changed_keys: " << report.changed.size() << "\n"
       << "wall_time_s: " << params::FormatDouble(record.wall_time_s) << "\n";

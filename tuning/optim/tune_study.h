@@ -4,44 +4,48 @@
 // TuneStudy — the main job. Constructed from what is already loaded (the base set, the search
 // space as given, the scenario set) and the settings; the constructor fits the space to the base
 // (TuneStudy::space()) and checks the settings, so that every problem with the inputs is found
-// before anything runs or a folder is made. Run(observer) then goes through four phases:
+// before anything runs or a folder is made. Run(observer) goes through these phases, each a unit
+// of its own (the header named beside it) with its contract:
 //
-//   prepare      resolve the training scenarios (racing line, velocity profile): one evaluator;
-//                with a search plant step (options.search_plant_step) a second one at that
-//                step, and the base set on both decides whether the optimiser may use it
-//                (plant_step_check.h; report.plant_step)
-//   screen       (options.freeze_unexercised) which parameters the training scenarios can see at
-//                all: the base set with each dimension alone moved to each end of its range, one
-//                batch at the search step (sensitivity.h, SensitivityMode::kRange). A dimension
-//                that changes no run, bit for bit, at either end is FROZEN at the base point: the
-//                optimiser never moves it (report.frozen).
-//   (resume)     with options.resume_log: the log's identity file (EvaluationLogIdentityPath)
-//                must equal this run's (program, settings, base, space, scenarios, frozen set)
-//                and the whole log must replay (Tune with verify_resume); otherwise ConfigError
-//                naming every difference, before anything is written. The log is then appended
-//                to, never rewritten.
-//   optimise     Tune() (tuning/optim/tuner.h) from the base point u0 = space().Encode(base) over
-//                the free dimensions of the unit cube (frozen ones stay at u0), at the step
-//                report.plant_step.used(); the objective decodes u
-//                against the base and, for a valid set, J(u) = Σ weight_s · J_s on the training
-//                scenarios; a decoded set that breaks a schema rule is not run and costs
-//                  (P_abort + w_progress + T_lap_cap) · max(1, #training scenarios),
-//                more than any set that runs (abort penalty at zero progress in every scenario).
-//                Every evaluation is appended to options.evaluation_log as it happens (streamed:
-//                an interrupted run keeps it); options.resume_log is replayed first.
-//   sensitivity  the one-at-a-time parameter sensitivity around the best point on the training
-//                scenarios at the vehicle's own step (sensitivity.h); skipped when
-//                options.sensitivity is false or the optimisation stopped as "interrupted". Every
-//                dimension it finds not exercised is REVERTED to the base point (report.reverted):
-//                the exported set changes only what some training run responds to.
-//   compare      the base set ("baseline") and the exported set ("tuned": the best point with the
-//                reverted dimensions at the base) on the training scenarios, then on the held-out
-//                ones: tables and CSV rows (comparison.h), the verdict per group, the texts of the
-//                tuned full and overrides-only params files with their provenance header (frozen
-//                and reverted keys, new `scw params check` findings), both checked as the car's
-//                ROS 2 node would load them. The comparison evaluates exactly the exported file.
-//                The outputs are complete here: OnPhaseEnd(kCompare, report) is where a caller
-//                writes them.
+//   prepare       resolve the training scenarios (racing line, velocity profile); with a search
+//                 plant step a second evaluator at that step, and the base set on both decides
+//                 whether the optimiser may use it (plant_step_check.h; report.plant_step). The
+//                 base set's evaluations fix the objective (objective.h: the stability cost
+//                 within the clean-lap budget by default, options.objective / options.budget).
+//   screen        (options.freeze_unexercised) each dimension alone moved to each end of its
+//                 range, one batch at the search step (sensitivity.h, kRange); a dimension that
+//                 changes no run, bit for bit, is FROZEN at the base point (report.frozen). A
+//                 resume takes the frozen set from the log's screen file instead of screening
+//                 again.
+//   (resume)      the log's identity file must equal this run's (a larger max_evals is allowed
+//                 for the single-phase NLopt algorithms: the run is extended) and the whole log
+//                 must replay; otherwise ConfigError naming every difference, before anything is
+//                 written. A log that already holds the whole run (its search ended within it)
+//                 with options.stop_if_complete throws TuneAlreadyComplete, writing nothing.
+//   optimise      Tune() (tuner.h) from the base point over the free dimensions, at the search
+//                 step; the objective is the merit of objective.h (a set that breaks a schema rule
+//                 costs more than any set that runs). Every evaluation is appended to the log.
+//   select        (kConstrained with a search step) the 8 best points of the search within the
+//                 budget, the base point among them, run at the vehicle's own step; the best
+//                 within the budget there is the point exported (the budget is the car's: judged
+//                 at the step the comparison runs at).
+//   sensitivity   the one-at-a-time sensitivity around that point on the training scenarios at
+//                 the vehicle's step (sensitivity.h); skipped by options.sensitivity = false or
+//                 an interrupted search.
+//   revert        the dimensions the sensitivity finds not exercised, reverted to the base ONE AT A
+//                 TIME WITH THE WHOLE SET RE-EVALUATED (revert.h): a revert that aborts a run,
+//                 breaks the budget or costs more than the budget is undone, with the reason.
+//   compare       the base set ("baseline") and the exported set ("tuned") on the training, then
+//                 the held-out scenarios: tables, verdicts at options.resolution (comparison.h),
+//                 the clean laps against the budget.
+//   neighbourhood (options.neighbourhood) the exported set with each changed key moved by ±10 %
+//                 of its range and the plant's unknowns at their draw bounds, on both groups: a
+//                 completed run that aborts is a knife edge (neighbourhood.h). With
+//                 options.robust the knife edges found join the objective and the search
+//                 continues (phase "robust", below).
+//   export        the tuned full and overrides-only params files with their provenance header,
+//                 both checked as the car's ROS 2 node would load them, and comparison.md. The
+//                 outputs are complete at OnPhaseEnd(kExport, report).
 //
 // Stop: options.stop (scw tune's SIGINT flag) ends the optimisation after the current evaluation
 // (or batch); the best set so far then goes through the comparison as usual, with stop reason
@@ -65,7 +69,9 @@
 
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -73,9 +79,13 @@
 #include "params/schema/stability_params.h"
 #include "tuning/optim/comparison.h"
 #include "tuning/optim/evaluator.h"
+#include "tuning/optim/neighbourhood.h"
+#include "tuning/optim/objective.h"
 #include "tuning/optim/plant_step_check.h"
+#include "tuning/optim/revert.h"
 #include "tuning/optim/sensitivity.h"
 #include "tuning/optim/space.h"
+#include "tuning/optim/training_objective.h"
 #include "tuning/optim/tuner.h"
 #include "tuning/sim/scenario_set.h"
 
@@ -95,19 +105,44 @@ struct TuneStudyOptions {
   unsigned long long seed = 1;
   int threads = 0;  ///< worker threads per process of every evaluator (0: all cores)
   BaseOutsideSpace base_outside = BaseOutsideSpace::kGrow;
+  /// What the search minimises (objective.h): the stability cost within the clean-lap budget
+  /// (default), or the weighted sum of the earlier tunes.
+  ObjectiveKind objective = ObjectiveKind::kConstrained;
+  CleanLapBudget budget;  ///< kConstrained's clean-lap budget (--lap-budget)
+  /// The smallest scenario-cost change the comparison calls a change [s] (comparison.h).
+  double resolution = kDefaultResolution;
   bool sensitivity = true;  ///< the parameter sensitivity after the optimisation (and CheckSet)
+  /// The knife-edge check of the exported set (neighbourhood.h), and its key step.
+  bool neighbourhood = true;
+  double neighbourhood_step = kNeighbourhoodStep;
+  /// Robust in the small: the knife edges the check finds join the objective and the search
+  /// continues from the exported point (options.max_evals / 2 evaluations per round, at most
+  /// kRobustRounds rounds), then revert and check again.
+  bool robust = false;
   /// Freeze the dimensions the training scenarios cannot see before the search (phase kScreen).
   bool freeze_unexercised = true;
   /// The plant step the optimiser evaluates candidates with [s] (0: each vehicle's own step);
   /// used only where the check on the base set passes (plant_step_check.h). The comparison, the
   /// sensitivity and the exported files' provenance always run at the vehicle's own step.
-  double search_plant_step = kDefaultSearchPlantStep;
+  /// < 0 (default): automatic — 0 for the constrained objective, whose clean-lap budget of a few
+  /// hundredths of a second is finer than what a coarser step keeps (a search at 2 ms found sets
+  /// that abort a clean lap at 1 ms), kDefaultSearchPlantStep for the sum. SearchPlantStep() gives
+  /// the step used.
+  double search_plant_step = -1.0;
+  double SearchPlantStep() const {
+    return search_plant_step >= 0.0
+               ? search_plant_step
+               : (objective == ObjectiveKind::kSum ? kDefaultSearchPlantStep : 0.0);
+  }
   PlantStepTolerances search_plant_step_tolerances;
 
   // Streaming (the tuner writes and reads these files while it runs).
   std::string evaluation_log;               ///< CSV log of every evaluation ("" = none)
   std::string resume_log;                   ///< earlier log to replay first ("" = none)
   const std::atomic<bool>* stop = nullptr;  ///< set it to end the optimisation early
+  /// A resume whose log already holds the whole run throws TuneAlreadyComplete (nothing written)
+  /// instead of comparing and exporting again.
+  bool stop_if_complete = false;
 
   // Provenance: only printed (tuned files' header, comparison Markdown, manifest), never read.
   std::string base_file;       ///< the base params file ("" = the built-in shipped set)
@@ -122,8 +157,23 @@ struct TuneStudyOptions {
   std::function<std::string()> date_utc;
 };
 
-enum class TunePhase { kPrepare, kScreen, kOptimise, kSensitivity, kCompare };
-/// "prepare", "screen", "optimise", "sensitivity", "compare".
+/// Rounds of the robust continuation (options.robust).
+inline constexpr int kRobustRounds = 2;
+
+enum class TunePhase {
+  kPrepare,
+  kScreen,
+  kOptimise,
+  kSelect,
+  kSensitivity,
+  kRevert,
+  kCompare,
+  kNeighbourhood,
+  kRobust,
+  kExport,
+};
+/// "prepare", "screen", "optimise", "select", "sensitivity", "revert", "compare",
+/// "neighbourhood", "robust", "export".
 const char* TunePhaseName(TunePhase phase);
 
 /// The sensitivity's state in a report.
@@ -146,11 +196,26 @@ struct TuneReport {
   SensitivityResult screening;      ///< the range screen around the base point (screened only)
   std::vector<std::string> frozen;  ///< labels of the frozen dimensions, "label (reason)"
   std::vector<int> frozen_dims;     ///< their indices in space()
+  // objective
+  std::string objective;  ///< TuneObjective::Describe()
+  /// The base set on the training scenarios at the vehicle's step, and its objectives.
+  ObjectiveValue base_value;
   // optimise
   TuneResult optimisation;  ///< best point and cost, start cost, evaluations, stop reason
+  int free_dimensions = 0;  ///< dimensions the search moved (not frozen)
+  bool extended = false;    ///< a resume that raised the budget of the logged run
+  /// The best evaluations of the search (cost order, at most 8), for the select phase.
+  std::vector<TopPoint> top_points;
   /// "last improvement of more than 0.5 % at evaluation 177 of 180: not converged, raise
   /// --max-evals" (ConvergenceVerdict).
   std::string convergence;
+  // select
+  /// The evaluation of the search whose point is exported (before the revert), and its merit at
+  /// the vehicle's step; `selection` one line per point tried ("" when nothing was selected: the
+  /// search's best is taken as it is).
+  int chosen_eval = -1;
+  double chosen_merit = 0.0;
+  std::vector<std::string> selection;
   // sensitivity
   SensitivityState sensitivity_state = SensitivityState::kPending;
   SensitivityResult sensitivity;  ///< kDone only
@@ -158,6 +223,7 @@ struct TuneReport {
   /// Dimensions reverted to the base point after the search, "label (reason)", and the exported
   /// point (the best point with those dimensions at the base point).
   std::vector<std::string> reverted;
+  RevertResult revert;  ///< the joint revert (kDone only): every decision, the final evaluation
   std::vector<double> exported_u;
   /// The dimensions pinned at the base value in the exported set: the frozen and the reverted
   /// ones (ParameterSpace::WithPinned); the exported set is space().WithPinned(pinned_dims)
@@ -174,19 +240,53 @@ struct TuneReport {
   std::vector<SetEvaluation> training;         ///< [0] base, [1] tuned, on the training scenarios
   std::vector<SetEvaluation> held_out;         ///< the same on the held-out ones (empty: none)
   SetChange training_change, held_out_change;  ///< verdicts (held_out_change: held-out only)
-  TuneProvenance provenance;                   ///< the tuned files' header
-  std::string tuned_file;                      ///< text of stability_tuned.yaml (checked)
-  std::string overrides_file;                  ///< text of stability_overrides.yaml (checked)
-  std::string comparison_csv;                  ///< comparison.csv
+  /// The exported set's objectives at the vehicle's step (training), and both sets' clean laps on
+  /// the held-out scenarios against the same budget.
+  ObjectiveValue tuned_value, held_out_value;
+  /// Non-empty when the search found a gain the export does not keep: the statement that says so
+  /// and why (the comparison then never calls the set unchanged).
+  std::string unexported_gain;
+  // neighbourhood
+  bool neighbourhood_done = false;
+  NeighbourhoodResult neighbourhood;
+  /// options.robust: the knife edges before the robust continuation, and its rounds.
+  NeighbourhoodResult neighbourhood_before_robust;
+  ObjectiveValue tuned_value_before_robust;  ///< the exported set's objectives before it
+  int robust_rounds = 0;
+  int robust_evaluations = 0;
+  TuneProvenance provenance;   ///< the tuned files' header
+  std::string tuned_file;      ///< text of stability_tuned.yaml (checked)
+  std::string overrides_file;  ///< text of stability_overrides.yaml (checked)
+  std::string comparison_csv;  ///< comparison.csv
   /// comparison.md without the plots: heading, what the file changes and why (frozen, reverted,
   /// findings, convergence), tables and verdicts, then (kDone) the sensitivity.
   std::string comparison_markdown;
 };
 
-/// The convergence verdict of an optimisation (see TuneReport::convergence): converged when NLopt
-/// met its tolerance, or when the last improvement of the best cost by more than 0.5 % came
-/// before the last 20 % of the evaluations.
-std::string ConvergenceVerdict(const TuneResult& r, int max_evals);
+/// The convergence verdict of an optimisation over `dims` free dimensions (see
+/// TuneReport::convergence). The rule: converged when NLopt met its tolerance, or when the best
+/// cost has not improved by more than 0.5 % in the last 10 × dims evaluations (Subplex then has
+/// had the budget for a full cycle through its subspaces without a gain); when that window does
+/// not fit in the evaluations made, "budget too small to judge convergence".
+std::string ConvergenceVerdict(const TuneResult& r, int max_evals, int dims);
+
+/// A resume whose log already holds the whole run (TuneStudyOptions::stop_if_complete): what()
+/// says so and how to extend it.
+class TuneAlreadyComplete : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// options.stop was set before the search began (during the preparation or the screen): nothing
+/// was evaluated that a resume could continue; what() names the phase ("during the screen").
+class TuneInterrupted : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The screen file beside an evaluation log: "DIR/evaluations.csv" -> "DIR/evaluations.screen.yaml"
+/// (the frozen dimensions with their reasons, read back by a resume instead of screening again).
+std::string EvaluationLogScreenPath(const std::string& log);
 
 /// The `scw params check` warnings (params::LintStability) of `tuned` whose kind the base does not
 /// have, "key: text" (a kind is a warning's key and text without its numbers: the speed at which
@@ -231,6 +331,19 @@ struct TuneRunRecord {
   std::vector<std::pair<std::string, std::string>> files_sha256;
 };
 
+/// What the phases of one run share: made by TuneStudy::Prepare (phases prepare and screen),
+/// read by Search and Finish (and by a front's points, which share one preparation).
+struct TunePrepared {
+  std::shared_ptr<controller::planning::ReferenceCache> cache;  ///< every evaluator's
+  std::shared_ptr<const BatchEvaluator> training;  ///< training scenarios, each vehicle's step
+  /// At the search step, when its check passed (null: the search runs on `training`).
+  std::shared_ptr<const BatchEvaluator> coarse;
+  SetEvaluation fine_base, coarse_base;  ///< the base set on each
+  bool screen_read = false;  ///< the frozen dimensions came from the resume log's screen file
+  const BatchEvaluator& search() const { return coarse ? *coarse : *training; }
+  const SetEvaluation& search_base() const { return coarse ? coarse_base : fine_base; }
+};
+
 class TuneStudy {
  public:
   /// Fits `space` to `base` (options.base_outside) and checks the settings (see the header
@@ -238,9 +351,24 @@ class TuneStudy {
   TuneStudy(params::StabilityParams base, const ParameterSpace& space, ScenarioSet scenarios,
             TuneStudyOptions options);
 
-  /// Prepares, optimises, compares and (unless skipped) measures the sensitivity; see above.
+  /// Every phase, in order; see above. Prepare, Search and Finish one after the other.
   TuneReport Run(TuneObserver& observer) const;
   TuneReport Run() const;
+
+  /// Phases prepare and screen: the evaluators, the base set on them, the frozen dimensions
+  /// (report: plant_step, threads, ranks, objective, base_value, screening, frozen).
+  TunePrepared Prepare(TuneObserver& observer, TuneReport* report) const;
+  /// The resume checks and phase optimise from the base point (report: optimisation,
+  /// top_points, convergence, extended).
+  void Search(const TunePrepared& prepared, TuneObserver& observer, TuneReport* report) const;
+  /// The phases after the search (select, sensitivity, revert, compare, neighbourhood, robust,
+  /// export) for report->optimisation and report->top_points; the outputs are complete after it.
+  void Finish(const TunePrepared& prepared, TuneObserver& observer, TuneReport* report) const;
+  /// This study's objective on an evaluator, against the base set's evaluation there.
+  TuneObjective ObjectiveOn(const BatchEvaluator& ev, const SetEvaluation& base) const;
+  /// The dimensions the search moves (all of them when every one is frozen: the base is then
+  /// evaluated once), and whether every one is frozen.
+  std::vector<int> FreeDimensions(const TuneReport& report, bool* all_frozen = nullptr) const;
 
   /// `scw tune --check-set`: the base set on every scenario as it is and with each subsystem off
   /// (set_check.h), then, if options.sensitivity, the parameter sensitivity around the base point
@@ -272,6 +400,12 @@ class TuneStudy {
   /// dimensions. A resume must match it line for line.
   std::string LogIdentity(const TuneReport& report, const BatchEvaluator& training) const;
 
+ public:
+  /// The options of the search (TunerOptions) for the free dimensions: budget, seed, log header
+  /// of `objective`, stop flag; no log path, no resume, no callbacks.
+  TunerOptions SearchOptions(const TuneReport& report, const TrainingObjective& objective) const;
+
+ private:
   params::StabilityParams base_;
   ParameterSpace given_;  ///< as loaded (the header names the ranges grown from it)
   ScenarioSet scenarios_;

@@ -581,6 +581,7 @@ class Run {
               double elapsed, bool replayed) {
     const int index = result_.evals++;
     memo_.emplace(u, Known{ev.cost, index});
+    if (o_.on_record) o_.on_record(index, u, ev);
     if (index == 0) result_.start_cost = ev.cost;
     if (ev.cost < result_.best_cost) {
       if (!std::isfinite(result_.best_cost) ||

@@ -91,6 +91,9 @@ struct TunerOptions {
   bool verify_resume = false;
   const std::atomic<bool>* stop = nullptr;
   std::function<void(const Progress&)> on_progress;
+  /// Called for every evaluation as it is recorded, replayed ones included, in log order: its
+  /// number, point and outcome. Must not throw.
+  std::function<void(int index, const std::vector<double>& u, const Evaluation& ev)> on_record;
 };
 
 /// Relative size of an improvement of the best cost that counts for the convergence verdict.

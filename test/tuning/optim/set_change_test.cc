@@ -56,12 +56,21 @@ bool Has(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
-TEST(SetChangeTest, NoiseThresholdIsTheLargerOfAbsoluteAndRelative) {
-  EXPECT_DOUBLE_EQ(CostNoiseThreshold(2.0), kCostNoiseAbs);
-  EXPECT_DOUBLE_EQ(CostNoiseThreshold(100.0), 100.0 * kCostNoiseRel);
-  EXPECT_DOUBLE_EQ(CostNoiseThreshold(-100.0), 100.0 * kCostNoiseRel);
-  EXPECT_DOUBLE_EQ(kCostNoiseAbs, 0.05);
-  EXPECT_DOUBLE_EQ(kCostNoiseRel, 0.005);
+// Issue 47: the simulation is deterministic, so no percentage noise threshold: a change is judged
+// in seconds (two 100 Hz steps by default), whatever the cost's size.
+TEST(SetChangeTest, AChangeIsJudgedInSecondsNotInPercent) {
+  EXPECT_DOUBLE_EQ(kDefaultResolution, 0.02);
+  // +0.31 s on a 72 s lap was "no significant change" at 0.5 % of the cost; now it is worse.
+  const SetEvaluation base = Set({{Completed(72.0), 72.0}});
+  const SetEvaluation slower = Set({{Completed(72.31), 72.31}});
+  const SetChange c = CompareSets(Names(1), {}, base, slower);
+  EXPECT_EQ(c.scenarios[0].change, CostChange::kWorse);
+  EXPECT_EQ(c.verdict, Verdict::kWorse);
+  EXPECT_DOUBLE_EQ(c.scenarios[0].threshold, 0.02);
+  // Below the resolution: no change; another resolution moves the line.
+  EXPECT_EQ(CompareSets(Names(1), {}, base, Set({{Completed(72.01), 72.01}})).verdict,
+            Verdict::kNoSignificantChange);
+  EXPECT_EQ(CompareSets(Names(1), {}, base, slower, 0.5).verdict, Verdict::kNoSignificantChange);
 }
 
 // One row per class edge: outcome before/after → class and the change it forces.
@@ -75,7 +84,7 @@ TEST(SetChangeTest, ClassifiesEveryOutcomeChange) {
   const std::vector<Row> rows = {
       {Completed(70), Completed(69), 70, 69, OutcomeChange::kCompletedBoth, CostChange::kBetter},
       {Completed(70), Completed(71), 70, 71, OutcomeChange::kCompletedBoth, CostChange::kWorse},
-      {Completed(70), Completed(70.1), 70, 70.1, OutcomeChange::kCompletedBoth,
+      {Completed(70), Completed(70.01), 70, 70.01, OutcomeChange::kCompletedBoth,
        CostChange::kNoSignificantChange},
       {Aborted(RunStatus::kSideslip, 0.4), Aborted(RunStatus::kSideslip, 0.5), 320, 300,
        OutcomeChange::kAbortedBoth, CostChange::kBetter},
@@ -95,7 +104,7 @@ TEST(SetChangeTest, ClassifiesEveryOutcomeChange) {
     ASSERT_EQ(c.scenarios.size(), 1u);
     EXPECT_EQ(c.scenarios[0].outcome, r.outcome);
     EXPECT_EQ(c.scenarios[0].change, r.change);
-    EXPECT_DOUBLE_EQ(c.scenarios[0].threshold, CostNoiseThreshold(r.cost_before));
+    EXPECT_DOUBLE_EQ(c.scenarios[0].threshold, kDefaultResolution);
   }
 }
 
@@ -110,7 +119,7 @@ TEST(SetChangeTest, SmallTotalChangeOfALaterAbortAndAWorseScenarioIsNotAnImprove
                                    {Completed(89.56), 89.56}});
   const SetChange c = CompareSets(Names(3), {}, base, tuned);
   EXPECT_NEAR((c.total_after - c.total_before) / c.total_before, -0.001, 1e-4);
-  EXPECT_EQ(c.total_change, CostChange::kNoSignificantChange);
+  EXPECT_EQ(c.total_change, CostChange::kBetter);
   EXPECT_EQ(c.better, 1);
   EXPECT_EQ(c.worse, 1);
   EXPECT_EQ(c.verdict, Verdict::kMixed);
@@ -118,22 +127,21 @@ TEST(SetChangeTest, SmallTotalChangeOfALaterAbortAndAWorseScenarioIsNotAnImprove
   EXPECT_FALSE(Has(md, "improves")) << md;
   EXPECT_TRUE(Has(md, "**Held-out verdict: mixed** (better in 1 scenario, worse in 1 scenario)"))
       << md;
-  EXPECT_TRUE(Has(md,
-                  "Total cost 450.000 -> 449.570: -0.430 (-0.10 %), no significant change "
-                  "(noise threshold 2.250)"))
+  EXPECT_TRUE(
+      Has(md, "Total cost 450.000 -> 449.570: -0.430 (-0.10 %), better (resolution 0.02 s)"))
       << md;
   // The change per class: completed in both (+19.570: 0 better, 1 no change, 1 worse), aborted in
   // both (-20.000, the abort comes later).
   EXPECT_TRUE(Has(md, "| completed in both | 2 | +19.570 | 0 | 1 | 1 |")) << md;
   EXPECT_TRUE(Has(md, "| aborted in both | 1 | -20.000 | 1 | 0 | 0 |")) << md;
   EXPECT_TRUE(Has(md, "sideslip at 50.0 % of the distance (later)")) << md;
-  EXPECT_TRUE(Has(md, "no significant change (< 0.300)")) << md;
-  EXPECT_TRUE(Has(md, "max(0.05, 0.5 % of the baseline cost)")) << md;
+  EXPECT_TRUE(Has(md, "no significant change (< 0.020)")) << md;
+  EXPECT_TRUE(Has(md, "smaller than 0.02 s, two steps of the 100 Hz controllers")) << md;
 }
 
-TEST(SetChangeTest, ChangesBelowTheNoiseAreNoSignificantChange) {
+TEST(SetChangeTest, ChangesBelowTheResolutionAreNoSignificantChange) {
   const SetEvaluation base = Set({{Completed(60.0), 60.0}, {Completed(70.0), 70.0}});
-  const SetEvaluation tuned = Set({{Completed(59.9), 59.9}, {Completed(70.2), 70.2}});
+  const SetEvaluation tuned = Set({{Completed(59.99), 59.99}, {Completed(70.005), 70.005}});
   const SetChange c = CompareSets(Names(2), {}, base, tuned);
   EXPECT_EQ(c.verdict, Verdict::kNoSignificantChange);
   EXPECT_EQ(c.better + c.worse, 0);
@@ -189,12 +197,12 @@ TEST(SetChangeTest, ANewAbortMakesTheVerdictWorseEvenWhenAnotherAbortIsFixed) {
   EXPECT_TRUE(Has(md, "| aborted -> completed | 1 |")) << md;
 }
 
-// Each scenario's change is below its threshold, but together they exceed the total's.
-TEST(SetChangeTest, SmallGainsThatAddUpBeyondTheNoiseImprove) {
+// Each scenario's change is below the resolution, but together they exceed it.
+TEST(SetChangeTest, SmallGainsThatAddUpBeyondTheResolutionImprove) {
   std::vector<RunAndCost> before, after;
   for (int i = 0; i < 10; ++i) {
     before.push_back({Completed(2.0), 2.0});
-    after.push_back({Completed(1.96), 1.96});
+    after.push_back({Completed(1.99), 1.99});
   }
   const SetChange c = CompareSets(Names(10), {}, Set(before), Set(after));
   EXPECT_EQ(c.better + c.worse, 0);

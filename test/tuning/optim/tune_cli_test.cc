@@ -106,7 +106,8 @@ TEST_F(TuneCliTest, OneEvaluationExportsTheBaseSetWithProvenanceAndPassesTheChec
                                  manifest.find('\n', at + 1) - at - key.size() - 3);
   };
   EXPECT_EQ(cost("baseline_cost"), cost("tuned_cost")) << manifest;
-  EXPECT_EQ(cost("baseline_cost"), cost("start_cost")) << manifest;
+  EXPECT_EQ(cost("baseline_stability"), cost("start_cost")) << manifest;
+  EXPECT_EQ(cost("objective"), "constrained") << manifest;
   EXPECT_EQ(cost("search_plant_step"), "0.0") << manifest;
   EXPECT_EQ(cost("search_plant_step_check"), "\"not run\"") << manifest;
 }
@@ -133,15 +134,44 @@ TEST_F(TuneCliTest, ADivergingResumeExitsTwoAndLeavesTheLogByteIdentical) {
   EXPECT_EQ(seed.code, 2) << seed.all();
   EXPECT_NE(seed.all().find("seed: the log was written with 1, this run has 2"), std::string::npos)
       << seed.all();
-  const CliResult evals = Scw(base + " --max-evals 4 --resume " + log);
-  EXPECT_EQ(evals.code, 2) << evals.all();
+  // A smaller budget cannot continue the log.
+  const CliResult fewer = Scw(base + " --max-evals 2 --resume " + log);
+  EXPECT_EQ(fewer.code, 2) << fewer.all();
+  EXPECT_NE(fewer.all().find("a resume may raise the budget, never lower it"), std::string::npos)
+      << fewer.all();
   EXPECT_EQ(Slurp(log), logged);
   EXPECT_EQ(Slurp(run + "/evaluations.identity.yaml"), identity);
-  // The same options: every row replayed, nothing rewritten.
+  // The same options on the finished run: it says so and rewrites nothing.
+  const std::string manifest = Slurp(run + "/manifest.yaml"),
+                    tuned = Slurp(run + "/stability_tuned.yaml");
   const CliResult same = Scw(common + " --resume " + log);
   ASSERT_EQ(same.code, 0) << same.all();
-  EXPECT_NE(same.all().find("(3 replayed)"), std::string::npos) << same.all();
+  EXPECT_NE(same.all().find("already holds the whole run (3 evaluations, stop: max_evals); "
+                            "nothing was written"),
+            std::string::npos)
+      << same.all();
   EXPECT_EQ(Slurp(log), logged);
+  EXPECT_EQ(Slurp(run + "/manifest.yaml"), manifest);
+  EXPECT_EQ(Slurp(run + "/stability_tuned.yaml"), tuned);
+  // A larger budget extends the search where it ended (the folder is the log's by default): the
+  // logged rows stay, and the log equals that of one run with the larger budget, bit for bit.
+  const CliResult more = Scw(base + " --max-evals 5 --resume " + log);
+  ASSERT_EQ(more.code, 0) << more.all();
+  EXPECT_NE(more.all().find("(3 replayed)"), std::string::npos) << more.all();
+  const std::string extended = Slurp(log);
+  EXPECT_EQ(extended.compare(0, logged.size(), logged), 0);
+  const std::string once = Path("once");
+  const std::string once_cmd = "tune --scenarios " + set_ + " --space " + space +
+                               " --threads 1 --progress never --no-sensitivity --max-evals 5 "
+                               "--out-dir " +
+                               once;
+  const CliResult one = Scw(once_cmd);
+  ASSERT_EQ(one.code, 0) << one.all();
+  EXPECT_EQ(Slurp(once + "/evaluations.csv"), extended);
+  // The same tuned file below its provenance header (run folder and date differ).
+  const auto body = [](const std::string& text) { return text.substr(text.find("\n/core")); };
+  EXPECT_EQ(body(Slurp(once + "/stability_tuned.yaml")),
+            body(Slurp(run + "/stability_tuned.yaml")));
   // The console is short: verdicts and totals, no tables.
   EXPECT_NE(first.all().find("training (1 scenario): cost "), std::string::npos) << first.all();
   EXPECT_EQ(first.all().find("| "), std::string::npos) << first.all();

@@ -106,14 +106,14 @@ class Recorder : public TuneObserver {
   }
   void OnPhaseEnd(TunePhase phase, const TuneReport& report) override {
     events.push_back(std::string("end ") + TunePhaseName(phase));
-    if (phase == TunePhase::kCompare) at_compare = report;
+    if (phase == TunePhase::kExport) at_export = report;
   }
 
   std::vector<std::string> events;
   std::vector<int> totals;  ///< per OnPhaseBegin
-  std::pair<int, int> last_jobs[5] = {};
+  std::pair<int, int> last_jobs[10] = {};
   std::vector<int> evaluations;  ///< Progress::evals of every OnEvaluation
-  TuneReport at_compare;
+  TuneReport at_export;
   int stop_after = 0;  ///< raise `stop` after this evaluation (0: never)
   std::atomic<bool> stop{false};
 };
@@ -128,18 +128,22 @@ TEST_F(TuneStudyTest, BestIsNoWorseThanTheBaseAndTheObserverSeesEveryPhase) {
   const TuneReport r = study.Run(rec);
   const TuneResult& opt = r.optimisation;
 
-  // The best is no worse than the base (evaluation 0), and the comparison reproduces both costs:
+  // The best is no worse than the base (evaluation 0), and the comparison reproduces both merits:
   // the base set's and the exported set's runs are the optimisation's own (nothing reverted).
   EXPECT_EQ(opt.stop_reason, "max_evals");
   EXPECT_LE(opt.best_cost, opt.start_cost);
   ASSERT_EQ(r.training.size(), 2u);
-  EXPECT_EQ(r.training[0].total, opt.start_cost);
+  EXPECT_EQ(r.base_value.merit, opt.start_cost);
+  EXPECT_EQ(r.base_value.stability, r.training[0].costs[1].total);  // the critical scenario
   EXPECT_TRUE(r.frozen.empty()) << r.frozen.front();
   if (r.reverted.empty()) {
-    EXPECT_EQ(r.training[1].total, opt.best_cost);
+    EXPECT_EQ(r.tuned_value.merit, opt.best_cost);
   }
+  // Within the clean-lap budget, as every exported set of the constrained objective.
+  EXPECT_TRUE(r.tuned_value.within_budget());
+  EXPECT_TRUE(r.unexported_gain.empty()) << r.unexported_gain;
   EXPECT_EQ(r.held_out.size(), 2u);
-  EXPECT_EQ(r.provenance.training_before, opt.start_cost);
+  EXPECT_EQ(r.provenance.training_before, r.training[0].total);
   EXPECT_FALSE(r.convergence.empty());
   EXPECT_TRUE(r.new_findings.empty());
 
@@ -154,22 +158,29 @@ TEST_F(TuneStudyTest, BestIsNoWorseThanTheBaseAndTheObserverSeesEveryPhase) {
   EXPECT_EQ(rec.events,
             (std::vector<std::string>{"begin prepare", "end prepare", "begin screen", "end screen",
                                       "begin optimise", "end optimise", "begin sensitivity",
-                                      "end sensitivity", "begin compare", "end compare"}));
-  ASSERT_EQ(rec.totals.size(), 5u);
-  EXPECT_EQ(rec.totals[0], 2);                       // training scenarios prepared
+                                      "end sensitivity", "begin revert", "end revert",
+                                      "begin compare", "end compare", "begin neighbourhood",
+                                      "end neighbourhood", "end export"}));
+  ASSERT_EQ(rec.totals.size(), 7u);
+  EXPECT_EQ(rec.totals[0], 2 * 2);  // training scenarios prepared, the base set run on them
   EXPECT_EQ(rec.totals[1], r.screening.sets * 2);    // the range screen
   EXPECT_EQ(rec.totals[2], 8);                       // the budget
   EXPECT_EQ(rec.totals[3], r.sensitivity.sets * 2);  // the sensitivity
-  EXPECT_EQ(rec.totals[4], 2 * 2 + 3 * 1);  // 2 sets on training; held-out: prepare + 2 sets
-  for (int phase : {0, 1, 3, 4}) {
-    EXPECT_EQ(rec.last_jobs[phase].first, rec.last_jobs[phase].second) << phase;
-    EXPECT_GT(rec.last_jobs[phase].first, 0) << phase;
+  EXPECT_EQ(rec.totals[5], 3 * 1);  // the training runs are known; held-out: prepare + 2 sets
+  for (TunePhase phase : {TunePhase::kPrepare, TunePhase::kScreen, TunePhase::kSensitivity,
+                          TunePhase::kCompare, TunePhase::kNeighbourhood}) {
+    const auto p = static_cast<int>(phase);
+    EXPECT_EQ(rec.last_jobs[p].first, rec.last_jobs[p].second) << p;
+    EXPECT_GT(rec.last_jobs[p].first, 0) << p;
   }
+  // The knife-edge check ran on both groups.
+  EXPECT_TRUE(r.neighbourhood_done);
+  EXPECT_GE(r.neighbourhood.neighbours.size(), 10u);  // at least the plant's ten
 
-  // At the end of the comparison the outputs are complete, the sensitivity in them.
-  EXPECT_EQ(rec.at_compare.sensitivity_state, SensitivityState::kDone);
-  EXPECT_EQ(rec.at_compare.tuned_file, r.tuned_file);
-  EXPECT_EQ(rec.at_compare.comparison_csv, r.comparison_csv);
+  // At the export the outputs are complete, the sensitivity in them.
+  EXPECT_EQ(rec.at_export.sensitivity_state, SensitivityState::kDone);
+  EXPECT_EQ(rec.at_export.tuned_file, r.tuned_file);
+  EXPECT_EQ(rec.at_export.comparison_csv, r.comparison_csv);
   EXPECT_EQ(r.sensitivity_state, SensitivityState::kDone);
   EXPECT_NE(r.comparison_markdown.find("Parameter sensitivity"), std::string::npos);
   EXPECT_NE(r.comparison_markdown.find("## What the tuned file changes"), std::string::npos);
@@ -205,7 +216,10 @@ TEST_F(TuneStudyTest, BestIsNoWorseThanTheBaseAndTheObserverSeesEveryPhase) {
 // step's, the comparison's the vehicle's own; a failed check falls back to the vehicle's step.
 TEST_F(TuneStudyTest, TheSearchStepIsUsedWhereItsCheckPassesAndTheReportRunsAtTheOwnStep) {
   Recorder rec;
-  const TuneStudy coarse = Study("coarse.csv", 4, false, nullptr, 0.002);
+  // The sum objective: its merit is the training total at each step (the constrained objective's
+  // own search-step behaviour, the select phase, has a test of its own).
+  const auto sum = [](TuneStudyOptions& o) { o.objective = ObjectiveKind::kSum; };
+  const TuneStudy coarse = Study("coarse.csv", 4, false, nullptr, 0.002, {}, sum);
   const TuneReport r = coarse.Run(rec);
   EXPECT_TRUE(r.plant_step.ran);
   EXPECT_TRUE(r.plant_step.passed) << PlantStepCheckMarkdown(r.plant_step);
@@ -230,7 +244,7 @@ TEST_F(TuneStudyTest, TheSearchStepIsUsedWhereItsCheckPassesAndTheReportRunsAtTh
   // optimisation starts from the comparison's baseline cost.
   PlantStepTolerances none;
   none.lap_time_s = none.progress = none.max_beta_deg = none.total_cost = 0.0;
-  const TuneReport f = Study("fallback.csv", 4, false, nullptr, 0.002, none).Run();
+  const TuneReport f = Study("fallback.csv", 4, false, nullptr, 0.002, none, sum).Run();
   EXPECT_TRUE(f.plant_step.ran);
   EXPECT_FALSE(f.plant_step.passed);
   EXPECT_EQ(f.plant_step.used(), 0.0);
@@ -239,7 +253,7 @@ TEST_F(TuneStudyTest, TheSearchStepIsUsedWhereItsCheckPassesAndTheReportRunsAtTh
   EXPECT_NE(f.comparison_markdown.find("own step instead"), std::string::npos);
 
   // The vehicles' own step asked for: nothing to check.
-  const TuneReport same = Study("same.csv", 2, false, nullptr, 0.001).Run();
+  const TuneReport same = Study("same.csv", 2, false, nullptr, 0.001, {}, sum).Run();
   EXPECT_FALSE(same.plant_step.ran);
   EXPECT_EQ(same.optimisation.start_cost, same.training[0].total);
 
@@ -280,11 +294,12 @@ TEST_F(TuneStudyTest, TheStopFlagEndsTheOptimisationWithTheBestSoFar) {
   // The best so far is compared and exported as usual; the sensitivity is skipped, and the
   // files say that nothing was checked for untested changes.
   ASSERT_EQ(r.training.size(), 2u);
-  EXPECT_EQ(r.training[1].total, r.optimisation.best_cost);
+  EXPECT_EQ(r.tuned_value.merit, r.optimisation.best_cost);
   EXPECT_NE(r.tuned_file.find("not checked for untested changes"), std::string::npos);
   EXPECT_FALSE(r.tuned_file.empty());
   EXPECT_EQ(r.sensitivity_state, SensitivityState::kSkipped);
-  EXPECT_EQ(rec.events.back(), "end compare");
+  EXPECT_FALSE(r.neighbourhood_done);  // interrupted: no knife-edge check either
+  EXPECT_EQ(rec.events.back(), "end export");
   EXPECT_NE(study.ManifestYaml(r, {}).find("sensitivity: \"skipped (interrupted)\"\n"),
             std::string::npos);
 

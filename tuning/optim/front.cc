@@ -1,0 +1,469 @@
+#include "tuning/optim/front.h"
+
+#include <algorithm>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <limits>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include "params/io/write.h"
+
+namespace scw::tuning {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Fixed(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
+  return buf;
+}
+
+/// One evaluation of any search of the front, scored without a budget.
+struct ArchiveEntry {
+  int stage = 0, round = 0, search = 0, pos = 0;  ///< its place in the (deterministic) order
+  std::vector<double> u;                          ///< full space coordinates
+  double stability = 0.0;
+  double lap_loss = 0.0;  ///< +inf: a clean lap aborts (or the set is invalid)
+  int extra = 0;          ///< activations beyond the base set's on clean laps
+};
+
+bool Within(const ArchiveEntry& e, const CleanLapBudget& b) {
+  return std::isfinite(e.lap_loss) && (!std::isfinite(b.lap_s) || e.lap_loss <= b.lap_s) &&
+         (!b.interventions || e.extra == 0);
+}
+
+/// The best archive entry within `b` (lowest stability cost, then the earliest), or null.
+const ArchiveEntry* BestWithin(const std::vector<ArchiveEntry>& archive, const CleanLapBudget& b) {
+  const ArchiveEntry* best = nullptr;
+  for (const auto& e : archive)
+    if (Within(e, b) && (!best || e.stability < best->stability)) best = &e;
+  return best;
+}
+
+/// Lockstep rounds over several searches, each in its own thread: a search submits the sets of
+/// its next point and waits; when every running search waits (or has ended), the round's sets
+/// run as one batch in search order and each search gets its results. The round's composition
+/// depends only on what the searches ask, so the batches are the same for any timing.
+class Gate {
+ public:
+  using Runner = std::function<std::vector<SetEvaluation>(
+      const std::vector<params::StabilityParams>&, int round)>;
+  Gate(int searches, Runner run)
+      : run_(std::move(run)),
+        state_(static_cast<std::size_t>(searches), kRunning),
+        sets_(static_cast<std::size_t>(searches)),
+        results_(static_cast<std::size_t>(searches)) {}
+
+  std::vector<SetEvaluation> Submit(int k, std::vector<params::StabilityParams> sets) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    const auto i = static_cast<std::size_t>(k);
+    sets_[i] = std::move(sets);
+    state_[i] = kWaiting;
+    const long round = round_;
+    MaybeRun();
+    cv_.wait(lock, [&] { return round_ != round; });
+    state_[i] = kRunning;
+    if (failure_) std::rethrow_exception(failure_);
+    return std::move(results_[i]);
+  }
+
+  void Done(int k) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    state_[static_cast<std::size_t>(k)] = kDone;
+    MaybeRun();
+  }
+
+  int rounds() const { return static_cast<int>(round_); }
+
+ private:
+  enum State { kRunning, kWaiting, kDone };
+  /// Runs the round when nobody is running any more (called with the lock held; the other
+  /// searches wait for this round, so holding it while the batch runs costs nothing).
+  void MaybeRun() {
+    bool waiting = false;
+    for (State s : state_) {
+      if (s == kRunning) return;
+      waiting = waiting || s == kWaiting;
+    }
+    if (!waiting) return;
+    std::vector<params::StabilityParams> all;
+    std::vector<std::size_t> count(state_.size(), 0);
+    for (std::size_t k = 0; k < state_.size(); ++k)
+      if (state_[k] == kWaiting) {
+        count[k] = sets_[k].size();
+        all.insert(all.end(), sets_[k].begin(), sets_[k].end());
+      }
+    std::vector<SetEvaluation> results;
+    try {
+      results = all.empty() ? std::vector<SetEvaluation>{} : run_(all, static_cast<int>(round_));
+      if (results.size() != all.size()) throw std::runtime_error("the front's batch lost results");
+    } catch (...) {
+      failure_ = std::current_exception();
+    }
+    std::size_t at = 0;
+    for (std::size_t k = 0; k < state_.size() && !failure_; ++k) {
+      if (state_[k] != kWaiting) continue;
+      results_[k].assign(results.begin() + static_cast<long>(at),
+                         results.begin() + static_cast<long>(at + count[k]));
+      at += count[k];
+    }
+    ++round_;
+    cv_.notify_all();
+  }
+
+  Runner run_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::vector<State> state_;
+  std::vector<std::vector<params::StabilityParams>> sets_;
+  std::vector<std::vector<SetEvaluation>> results_;
+  long round_ = 0;
+  std::exception_ptr failure_;
+};
+
+}  // namespace
+
+TuneStudyOptions FrontPointOptions(const TuneStudyOptions& o, const CleanLapBudget& b,
+                                   const std::string& folder) {
+  TuneStudyOptions p = o;
+  p.objective = ObjectiveKind::kConstrained;
+  p.budget = b;
+  p.resume_log.clear();
+  p.stop_if_complete = false;
+  const fs::path root = o.run_folder.empty() ? fs::path(".") : fs::path(o.run_folder);
+  p.run_folder = (root / folder).string();
+  p.evaluation_log = o.evaluation_log.empty() ? "" : (root / folder / "evaluations.csv").string();
+  return p;
+}
+
+namespace {
+
+std::string Label(const CleanLapBudget& b) {
+  if (!std::isfinite(b.lap_s)) return "no budget";
+  if (b.lap_s == 0.0 && b.interventions) return "no loss";
+  return "+" + Fixed(b.lap_s, 3) + " s";
+}
+
+int Aborts(const std::vector<SetEvaluation>& sets, std::size_t i) {
+  if (sets.size() <= i) return 0;
+  int n = 0;
+  for (const auto& m : sets[i].runs) n += m.aborted();
+  return n;
+}
+
+/// The scenarios (training and held-out) point `now` completes and `before` aborts ("buys"), and
+/// the reverse ("loses").
+std::pair<std::vector<std::string>, std::vector<std::string>> Bought(const TuneReport& before,
+                                                                     std::size_t before_set,
+                                                                     const TuneReport& now) {
+  std::vector<std::string> buys, loses;
+  const auto scan = [&](const std::vector<SetEvaluation>& a, const std::vector<SetEvaluation>& b,
+                        const std::vector<ScenarioChange>& names) {
+    if (a.size() <= before_set || b.size() < 2) return;
+    for (std::size_t s = 0; s < names.size(); ++s) {
+      const bool was = a[before_set].runs[s].aborted(), is = b[1].runs[s].aborted();
+      if (was && !is) buys.push_back(names[s].scenario);
+      if (!was && is) loses.push_back(names[s].scenario);
+    }
+  };
+  scan(before.training, now.training, now.training_change.scenarios);
+  scan(before.held_out, now.held_out, now.held_out_change.scenarios);
+  return {buys, loses};
+}
+
+std::string Join(const std::vector<std::string>& v) {
+  std::string out;
+  for (std::size_t i = 0; i < v.size(); ++i) out += (i ? ", " : "") + v[i];
+  return out;
+}
+
+}  // namespace
+
+CleanLapBudget FrontBudget(int k, int n, double loss_span) {
+  CleanLapBudget b;
+  if (k <= 0) {
+    b.lap_s = 0.0;
+    b.interventions = true;
+  } else if (k >= n - 1) {
+    b.lap_s = std::numeric_limits<double>::infinity();
+    b.interventions = false;
+  } else {
+    const double f = static_cast<double>(k) / static_cast<double>(n - 1);
+    // Rounded to the millisecond: the budget is printed and compared in those units.
+    b.lap_s = std::round(std::max(0.0, loss_span) * f * f * 1000.0) / 1000.0;
+    b.interventions = false;
+  }
+  return b;
+}
+
+double Hypervolume2D(std::vector<std::pair<double, double>> points,
+                     std::pair<double, double> reference) {
+  std::sort(points.begin(), points.end());
+  double area = 0.0, best_y = reference.second;
+  for (const auto& [x, y] : points) {
+    if (!(x < reference.first) || !(y < best_y)) continue;
+    area += (reference.first - x) * (best_y - y);
+    best_y = y;
+  }
+  return area;
+}
+
+FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
+                     FrontObserver& front_observer) {
+  const TuneStudyOptions& o = study.options();
+  if (n < 2)
+    throw std::invalid_argument("a front needs at least 2 points, got " + std::to_string(n));
+  if (!o.resume_log.empty()) throw std::invalid_argument("a front cannot be resumed");
+  TuneReport shared;
+  const TunePrepared prep = study.Prepare(observer, &shared);
+  const ParameterSpace search_space = study.space().WithPinned(shared.frozen_dims);
+  bool all_frozen = false;
+  const std::vector<int> free_dims = study.FreeDimensions(shared, &all_frozen);
+  const std::vector<double>& u0 = study.start_point();
+  const auto expand = [&](const std::vector<double>& v) {
+    std::vector<double> u = u0;
+    for (std::size_t k = 0; k < free_dims.size() && k < v.size(); ++k)
+      u[static_cast<std::size_t>(free_dims[k])] = v[k];
+    return u;
+  };
+  const auto reduce = [&](const std::vector<double>& u) {
+    std::vector<double> v;
+    for (int i : free_dims) v.push_back(u[static_cast<std::size_t>(i)]);
+    return v;
+  };
+  // Scores every evaluation without a budget (the archive), against the base at the search step.
+  CleanLapBudget open;
+  open.lap_s = std::numeric_limits<double>::infinity();
+  open.interventions = false;
+  const TuneObjective scorer =
+      TuneObjective::For(prep.search(), ObjectiveKind::kConstrained, open, prep.search_base());
+
+  std::vector<FrontPoint> points(static_cast<std::size_t>(n));
+  std::vector<TuneResult> searches(static_cast<std::size_t>(n));
+  std::vector<ArchiveEntry> archive;
+  std::mutex archive_mutex;
+  FrontResult result;
+
+  // One stage: the searches `which` in lockstep from their start points.
+  const auto stage = [&](int stage_no, const std::vector<int>& which,
+                         const std::vector<std::vector<double>>& starts) {
+    const int m = static_cast<int>(which.size());
+    std::vector<TuneStudy> studies;
+    std::vector<TuneObjective> objectives;
+    for (int j = 0; j < m; ++j) {
+      FrontPoint& p = points[static_cast<std::size_t>(which[static_cast<std::size_t>(j)])];
+      studies.emplace_back(study.base(), study.given_space(), study.scenarios(),
+                           FrontPointOptions(o, p.budget, p.folder));
+      objectives.push_back(studies.back().ObjectiveOn(prep.search(), prep.search_base()));
+      if (!o.evaluation_log.empty())
+        fs::create_directories(fs::path(studies.back().options().evaluation_log).parent_path());
+    }
+    std::vector<TrainingObjective> objs;
+    for (int j = 0; j < m; ++j)
+      objs.emplace_back(search_space, study.base(), prep.search(),
+                        objectives[static_cast<std::size_t>(j)]);
+    // Round bookkeeping for the archive: the points of each search in the round, in order.
+    std::vector<std::vector<std::vector<double>>> asked(static_cast<std::size_t>(m));
+    int evaluations = 0;
+    const int total = m * (all_frozen ? 1 : o.max_evals);
+    Gate gate(m, [&](const std::vector<params::StabilityParams>& sets, int round) {
+      std::vector<SetEvaluation> res = prep.search().Evaluate(sets);
+      std::size_t at = 0;
+      std::lock_guard<std::mutex> lock(archive_mutex);
+      for (int j = 0; j < m; ++j)
+        for (std::size_t q = 0; q < asked[static_cast<std::size_t>(j)].size(); ++q, ++at) {
+          const ObjectiveValue v = scorer.Of(res[at]);
+          ArchiveEntry e;
+          e.stage = stage_no;
+          e.round = round;
+          e.search = which[static_cast<std::size_t>(j)];
+          e.pos = static_cast<int>(q);
+          e.u = asked[static_cast<std::size_t>(j)][q];
+          e.stability = v.stability;
+          e.lap_loss = v.within_budget() ? v.lap_loss : std::numeric_limits<double>::infinity();
+          e.extra = v.extra_activations;
+          archive.push_back(std::move(e));
+        }
+      evaluations += static_cast<int>(sets.size());
+      front_observer.OnRound(evaluations, total);
+      return res;
+    });
+    std::vector<std::thread> threads;
+    std::vector<std::exception_ptr> failures(static_cast<std::size_t>(m));
+    for (int j = 0; j < m; ++j) {
+      threads.emplace_back([&, j] {
+        const auto jj = static_cast<std::size_t>(j);
+        try {
+          const TrainingObjective& obj = objs[jj];
+          const BatchObjective batch = [&](const std::vector<std::vector<double>>& vs) {
+            std::vector<std::vector<double>> us;
+            for (const auto& v : vs) us.push_back(expand(v));
+            TrainingObjective::Pending pending = obj.Decode(us);
+            {
+              std::lock_guard<std::mutex> lock(archive_mutex);
+              asked[jj].clear();
+              for (std::size_t at : pending.at) asked[jj].push_back(us[at]);
+            }
+            const std::vector<SetEvaluation> res = gate.Submit(j, pending.sets);
+            return obj.Complete(std::move(pending), res);
+          };
+          const Objective single = [&](const std::vector<double>& v) { return batch({v}).front(); };
+          TunerOptions to = studies[jj].SearchOptions(shared, obj);
+          to.log_path = studies[jj].options().evaluation_log;
+          searches[static_cast<std::size_t>(which[jj])] =
+              Tune(reduce(starts[jj]), single, batch, to);
+        } catch (...) {
+          failures[jj] = std::current_exception();
+        }
+        gate.Done(j);
+      });
+    }
+    for (auto& t : threads) t.join();
+    for (const auto& f : failures)
+      if (f) std::rethrow_exception(f);
+    result.evaluations += evaluations;
+  };
+
+  // The ends first (the span L comes from the unbudgeted one), then the inner points.
+  points.front().budget = FrontBudget(0, n, 0.0);
+  points.back().budget = FrontBudget(n - 1, n, 0.0);
+  for (int k = 0; k < n; ++k) {
+    points[static_cast<std::size_t>(k)].index = k;
+    points[static_cast<std::size_t>(k)].folder = "point_" + std::to_string(k);
+  }
+  front_observer.OnStage(1, 2, o.max_evals);
+  stage(1, {0, n - 1}, {u0, u0});
+  const ArchiveEntry* survive = BestWithin(archive, points.back().budget);
+  result.loss_span = survive ? std::max(0.0, survive->lap_loss) : 0.0;
+  std::vector<int> inner;
+  std::vector<std::vector<double>> inner_starts;
+  for (int k = 1; k < n - 1; ++k) {
+    FrontPoint& p = points[static_cast<std::size_t>(k)];
+    p.budget = FrontBudget(k, n, result.loss_span);
+    const ArchiveEntry* warm = BestWithin(archive, p.budget);
+    inner.push_back(k);
+    inner_starts.push_back(warm ? warm->u : u0);
+  }
+  if (!inner.empty()) {
+    front_observer.OnStage(2, static_cast<int>(inner.size()), o.max_evals);
+    stage(2, inner, inner_starts);
+  }
+
+  // Each point: the best within its budget over the whole front, then the export phases.
+  for (int k = 0; k < n; ++k) {
+    FrontPoint& p = points[static_cast<std::size_t>(k)];
+    p.label = Label(p.budget);
+    const TuneStudy point_study(study.base(), study.given_space(), study.scenarios(),
+                                FrontPointOptions(o, p.budget, p.folder));
+    front_observer.OnPointBegin(k, n);
+    TuneReport r = shared;
+    r.objective = point_study.ObjectiveOn(*prep.training, prep.fine_base).Describe();
+    r.optimisation = searches[static_cast<std::size_t>(k)];
+    const ArchiveEntry* best = BestWithin(archive, p.budget);
+    const double base_merit =
+        point_study.ObjectiveOn(prep.search(), prep.search_base()).base_value().merit;
+    r.optimisation.start_cost = base_merit;
+    if (best && best->stability < base_merit) {
+      r.optimisation.best_u = best->u;
+      r.optimisation.best_cost = best->stability;
+      if (best->search != k) r.optimisation.best_eval = -1;  // another point's evaluation
+    } else {
+      r.optimisation.best_u = u0;
+      r.optimisation.best_cost = base_merit;
+      r.optimisation.best_eval = 0;
+    }
+    r.convergence = all_frozen ? std::string("nothing to tune: every parameter is frozen")
+                               : ConvergenceVerdict(searches[static_cast<std::size_t>(k)],
+                                                    o.max_evals, shared.free_dimensions);
+    if (best && best->search != k)
+      r.convergence += "; the point's set comes from point " + std::to_string(best->search) +
+                       "'s search (the best within this budget over the whole front)";
+    TuneObserver quiet;
+    point_study.Finish(prep, quiet, &r);
+    p.report = std::move(r);
+    front_observer.OnPoint(p);
+  }
+
+  // The front's numbers and tables.
+  double max_loss = 0.0;
+  std::vector<std::pair<double, double>> xy;
+  for (const auto& p : points) {
+    const ObjectiveValue& v = p.report.tuned_value;
+    if (std::isfinite(v.lap_loss)) {
+      max_loss = std::max(max_loss, v.lap_loss);
+      xy.emplace_back(v.lap_loss, v.stability);
+    }
+  }
+  const double s_base = points.front().report.base_value.stability;
+  result.reference = {std::max(1.1 * max_loss, 0.01), s_base};
+  result.hypervolume = Hypervolume2D(xy, result.reference);
+
+  std::string csv =
+      "point,label,lap_budget_s,activations_limited,changed_keys,training_lap_loss_s,"
+      "training_stability,training_aborts,held_out_lap_loss_s,held_out_stability,"
+      "held_out_aborts,knife_edges,own_knife_edges,file\n";
+  std::string md =
+      "# scw tune --front " + std::to_string(n) + ": clean-lap time against stability\n\n";
+  md +=
+      "Each point is a tune within its clean-lap budget (the largest loss of a clean lap "
+      "against the base set, per lap); the stability cost is that of the critical scenarios "
+      "(lower is better). Base set: stability " +
+      Fixed(s_base, 3) + " on the training scenarios, " +
+      std::to_string(Aborts(points.front().report.training, 0)) + " training and " +
+      std::to_string(Aborts(points.front().report.held_out, 0)) +
+      " held-out aborts. Hypervolume of the training front " + Fixed(result.hypervolume, 3) +
+      " (reference point: loss " + Fixed(result.reference.first, 3) + " s/lap, stability " +
+      Fixed(result.reference.second, 3) + "); " + std::to_string(result.evaluations) +
+      " evaluations.\n\n";
+  md +=
+      "| point | budget | clean-lap loss train / held-out [s/lap] | stability train / held-out "
+      "| aborts train / held-out | buys (vs the point before) | knife edges | file |\n"
+      "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const FrontPoint& p = points[k];
+    const TuneReport& r = p.report;
+    const auto loss = [](const ObjectiveValue& v) {
+      return std::isfinite(v.lap_loss) ? (v.lap_loss >= 0 ? "+" : "") + Fixed(v.lap_loss, 3)
+                                       : std::string("abort");
+    };
+    const std::string file = p.folder + "/stability_tuned.yaml";
+    const int own = r.neighbourhood_done ? OwnEdges(r.neighbourhood) : -1;
+    const auto num = [](double x) {
+      return std::isfinite(x) ? params::FormatDouble(x) : std::string(x > 0 ? "inf" : "nan");
+    };
+    csv += std::to_string(k) + "," + p.label + "," + num(p.budget.lap_s) + "," +
+           (p.budget.interventions ? "true" : "false") + "," + std::to_string(r.changed.size()) +
+           "," + num(r.tuned_value.lap_loss) + "," + num(r.tuned_value.stability) + "," +
+           std::to_string(Aborts(r.training, 1)) + "," + num(r.held_out_value.lap_loss) + "," +
+           num(r.held_out_value.stability) + "," + std::to_string(Aborts(r.held_out, 1)) + "," +
+           (r.neighbourhood_done ? std::to_string(r.neighbourhood.edges.size()) : "") + "," +
+           (r.neighbourhood_done ? std::to_string(own) : "") + "," + file + "\n";
+    const auto [buys, loses] = k == 0 ? Bought(r, 0, r) : Bought(points[k - 1].report, 1, r);
+    std::string bought = buys.empty() ? "-" : "survives " + Join(buys);
+    if (!loses.empty()) bought += "; loses " + Join(loses);
+    md += "| " + std::to_string(k) + " | " + p.label + " | " + loss(r.tuned_value) + " / " +
+          loss(r.held_out_value) + " | " + Fixed(r.tuned_value.stability, 1) + " / " +
+          Fixed(r.held_out_value.stability, 1) + " | " + std::to_string(Aborts(r.training, 1)) +
+          " / " + std::to_string(Aborts(r.held_out, 1)) + " | " + bought + " | " +
+          (r.neighbourhood_done
+               ? std::to_string(own) + " own of " + std::to_string(r.neighbourhood.edges.size())
+               : std::string("not checked")) +
+          " | " + file + " |\n";
+  }
+  md +=
+      "\nPoint 0 keeps the base set's clean laps (no loss, no activation the base does not "
+      "have); the last has no budget (whatever it takes to survive). \"buys\": the scenarios "
+      "the point completes that the point before aborts (point 0: against the base set).\n";
+  result.csv = std::move(csv);
+  result.markdown = std::move(md);
+  result.points = std::move(points);
+  return result;
+}
+
+}  // namespace scw::tuning

@@ -1,0 +1,92 @@
+// scw tune --front N: the trade-off between what a set costs on clean laps and what it saves in
+// critical situations, as N tuned sets an engineer picks from.
+//
+// Point k = 0..N-1 is a constrained tune (objective.h) at its own clean-lap budget:
+//   k = 0        b = 0 and no activation the base set does not have: the base set's lap time
+//   0 < k < N-1  b_k = L · (k / (N-1))², activations free (they cost lap time, which b prices)
+//   k = N-1      no budget: whatever it takes to survive (the stability cost alone)
+// L is the largest clean-lap loss of point N-1's best set: the budgets span the range the
+// trade-off has, densest near "no loss", where an engineer decides.
+//
+// The searches (each Subplex, `max_evals` evaluations, from the study's options):
+//   stage 1   the two ends, from the base point, in lockstep: each round every running search
+//             asks for one point and the round runs as ONE batch of (set × scenario) jobs over
+//             the execution layer (threads or MPI ranks), in point order
+//   stage 2   the inner points in lockstep, each warm-started from the best set for its own
+//             budget among every evaluation so far (its neighbours' included)
+//   result    each point's set is the best within its budget over ALL the front's evaluations, so
+//             a looser budget never ranks a point worse (the front is monotone)
+// Deterministic: the rounds, the batches and the archive order depend on the inputs and the seed
+// only, never on the threads or ranks.
+//
+// Each point then goes through the tune's export phases (TuneStudy::Finish: sensitivity, joint
+// revert, comparison, knife edges, the params files) in its folder point_<k>/.
+//
+// Quality: the 2-D hypervolume of the training front (clean-lap loss [s/lap], stability cost),
+// both minimised, against the reference point (1.1 · L_max, S_base): the area the front
+// dominates. Comparing it with that of a front from a much larger budget (same reference point)
+// measures how close the front is to converged (FrontQuality; experiments/front_quality.py).
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "tuning/optim/tune_study.h"
+
+namespace scw::tuning {
+
+struct FrontPoint {
+  int index = 0;
+  CleanLapBudget budget;
+  std::string label;   ///< "no loss", "+0.025 s", "no budget"
+  std::string folder;  ///< point_<k> (relative to the front's folder)
+  TuneReport report;   ///< the point's tune, exported
+};
+
+/// Watches a front. Empty defaults; called from the thread that runs the front.
+class FrontObserver {
+ public:
+  virtual ~FrontObserver() = default;
+  /// A search stage begins (1: the ends, 2: the inner points) with `points` searches.
+  virtual void OnStage(int /*stage*/, int /*points*/, int /*max_evals*/) {}
+  /// After every round of a stage: evaluations so far in the stage (all its searches).
+  virtual void OnRound(int /*evaluations*/, int /*total*/) {}
+  /// A point's export phases begin.
+  virtual void OnPointBegin(int /*k*/, int /*n*/) {}
+  /// A point is exported: its report's outputs are complete (the caller writes them).
+  virtual void OnPoint(const FrontPoint& /*point*/) {}
+};
+
+struct FrontResult {
+  std::vector<FrontPoint> points;
+  double loss_span = 0.0;  ///< L [s/lap]
+  int evaluations = 0;     ///< of all searches
+  /// The hypervolume of the training front and its reference point (loss [s/lap], stability).
+  double hypervolume = 0.0;
+  std::pair<double, double> reference{0.0, 0.0};
+  std::string csv;       ///< front.csv
+  std::string markdown;  ///< front.md (without the figure)
+};
+
+/// The options of point k's study: the front's with the point's budget, the constrained objective,
+/// no resume, its folder `folder` below the front's run folder (and its log there).
+TuneStudyOptions FrontPointOptions(const TuneStudyOptions& o, const CleanLapBudget& b,
+                                   const std::string& folder);
+
+/// The clean-lap budget of point k of n, given L (see the header comment).
+CleanLapBudget FrontBudget(int k, int n, double loss_span);
+
+/// Runs the front of `study` (its options: the search settings per point; the budget options are
+/// replaced per point; its evaluation_log names the front's folder's log, point k writes
+/// point_<k>/evaluations.csv beside it; resume is refused). `n` >= 2. Throws what the phases
+/// throw, std::invalid_argument for n < 2 or a resume.
+FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
+                     FrontObserver& front_observer);
+
+/// The 2-D hypervolume (both coordinates minimised) dominated by `points` within the box up to
+/// `reference`: points beyond the reference in either coordinate add nothing.
+double Hypervolume2D(std::vector<std::pair<double, double>> points,
+                     std::pair<double, double> reference);
+
+}  // namespace scw::tuning
