@@ -23,7 +23,6 @@ import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
 import report  # noqa: E402  (regenerates report.md after the study)
 
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
 
 MONZA = os.path.join(scwexp.ROOT, "..", "shared", "data", "tracks", "racetrack-database",
                      "tracks", "Monza.csv")

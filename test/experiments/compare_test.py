@@ -7,7 +7,6 @@ resolved in the folder scw runs in; and the two charts drawn from synthetic rows
 """
 
 import csv
-import math
 import os
 import shutil
 import subprocess
