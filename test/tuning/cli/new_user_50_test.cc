@@ -73,6 +73,82 @@ class NewUser50Test : public ::testing::Test {
   fs::path dir_;
 };
 
+/// The rows of `scw track info`'s corner table: number → the line.
+std::vector<std::string> CornerRows(const std::string& out) {
+  std::vector<std::string> rows;
+  std::istringstream in(out);
+  const std::regex row(R"(^\s+\d+\s+(left |right)\s)");
+  for (std::string line; std::getline(in, line);)
+    if (std::regex_search(line, row)) rows.push_back(line);
+  return rows;
+}
+
+// 7: the corner over the start line is measured forward across s = 0.
+TEST_F(NewUser50Test, CornerOverTheStartLineHasItsLength) {
+  const Result r = Scw("track info --track " + OvalStartingInACorner());
+  ASSERT_EQ(r.code, 0) << r.all();
+  const auto rows = CornerRows(r.out);
+  ASSERT_EQ(rows.size(), 2u) << r.out;
+  double total = 0.0;
+  for (const auto& row : rows) {
+    std::istringstream in(row);
+    int number = 0;
+    std::string dir;
+    double from = 0, to = 0, length = 0, radius = 0;
+    in >> number >> dir >> from >> to >> length >> radius;
+    EXPECT_GT(length, 100.0) << row;  // each bend is 157 m of arc
+    EXPECT_LT(length, 200.0) << row;
+    EXPECT_NEAR(radius, 50.0, 5.0) << row;
+    total += length;
+  }
+  EXPECT_NEAR(total, 2 * M_PI * 50.0, 25.0) << r.out;
+  EXPECT_NE(rows[1].find("spans the start line"), std::string::npos) << r.out;
+  EXPECT_EQ(rows[0].find("spans the start line"), std::string::npos) << r.out;
+}
+
+// 20: the rule is stated, one-node and kink corners are flagged, and the numbering is kept (the
+// built-in Yas Marina North: #4 has no radius below 220 m, #6 is one node below 250 m).
+TEST_F(NewUser50Test, TrackInfoSaysWhatACornerIsAndFlagsTheOddOnes) {
+  const Result r = Scw("track info");
+  ASSERT_EQ(r.code, 0) << r.all();
+  EXPECT_NE(r.out.find("A corner: nodes that curve one way with\n  a radius below 250 m"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("(events.*.corner = N:\n  the apex of corner N, plus s)"), std::string::npos)
+      << r.out;
+  const auto rows = CornerRows(r.out);
+  ASSERT_EQ(rows.size(), 9u) << r.out;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const bool kink = i == 3 || i == 5, short_one = i == 5;
+    EXPECT_EQ(rows[i].find("kink: min R above 150 m") != std::string::npos, kink) << rows[i];
+    EXPECT_EQ(rows[i].find("short: only 1.0 m below 250 m radius") != std::string::npos, short_one)
+        << rows[i];
+  }
+  EXPECT_NE(r.out.find("note: 2 corner(s) marked short or kink"), std::string::npos) << r.out;
+}
+
+// 13 and 18: both "ideal lap" numbers say what they are; the run names its track.
+TEST_F(NewUser50Test, IdealLapsSayWhatTheyAreAndTheRunNamesItsTrack) {
+  const std::string oval = OvalStartingInACorner();
+  const Result line = Scw("track line --track " + oval + " -o " + Path("line.csv"));
+  ASSERT_EQ(line.code, 0) << line.all();
+  EXPECT_NE(line.out.find("  = the velocity profile on this line at the full limits of a "
+                          "representative AV-21/EAV g-g-v\n    table"),
+            std::string::npos)
+      << line.out;
+  EXPECT_NE(line.out.find("It is not the simulated car's: scw simulate\n    plans on the "
+                          "vehicle's own envelope x GG x limit_fraction"),
+            std::string::npos)
+      << line.out;
+  const Result sim = Scw("simulate --set track=" + oval + " laps=1 --progress never");
+  ASSERT_LE(sim.code, 1) << sim.all();
+  EXPECT_EQ(sim.out.rfind("scenario default on oval: ", 0), 0u) << sim.out;
+  EXPECT_NE(sim.err.find("the speed profile the car is asked to drive (the vehicle's own g-g-v\n"
+                         "  envelope x GG 1 x limit_fraction 0.7; at the envelope's full limits "),
+            std::string::npos)
+      << sim.err;
+}
+
 // 19: the default node keys in full.
 TEST_F(NewUser50Test, ParamsHelpShowsTheDefaultNodeKeys) {
   for (const std::string sub : {"export", "init"}) {
