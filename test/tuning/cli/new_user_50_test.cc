@@ -164,5 +164,58 @@ TEST_F(NewUser50Test, ParamsHelpShowsTheDefaultNodeKeys) {
   }
 }
 
+/// python3 with matplotlib (Debian's first where a pyenv one lacks it), or "".
+std::string PythonWithMatplotlib() {
+  for (const char* py : {"python3", "/usr/bin/python3"})
+    if (std::system((std::string(py) + " -c 'import matplotlib' >/dev/null 2>&1").c_str()) == 0)
+      return py;
+  return "";
+}
+
+// 9 and 17: the standard's limits, the conditions and what a column is in the console; a note
+// when ESC never acted (80 km/h); the same in the figure, whose run colours have a colour bar.
+TEST_F(NewUser50Test, ManeuverSaysLimitsConditionsAndWhatWasNotTested) {
+  const Result r = Scw("maneuver sine_with_dwell --json " + Path("r.json"));
+  ASSERT_EQ(r.code, 0) << r.all();
+  for (const char* part :
+       {"subsystems: ESC CS ABS TC (stability control on)\n", "pass limits:\n",
+        "  ratio_1_00_pct <= 35.0  (FMVSS 126 S5.2.1; every run)\n",
+        "  ratio_1_75_pct <= 20.0  (FMVSS 126 S5.2.2; every run)\n",
+        "  lateral_displacement_m >= 1.83  (FMVSS 126 S5.2.3; runs 5.00 A to ",
+        "  lateral_displacement_m: at BOS + 1.07 s, towards the first steer\n",
+        "note: ESC ran but did not act in any run: at these conditions this test does not "
+        "exercise ESC"})
+    EXPECT_NE(r.out.find(part), std::string::npos) << part << "\n" << r.out;
+  EXPECT_EQ(r.out.find("-0.000"), std::string::npos) << r.out;
+
+  const Result off =
+      Scw("maneuver sine_with_dwell --set maneuver.speed=40 --subsystems none "
+          "--json " +
+          Path("off.json") + " --plot " + Path("off.png"));
+  ASSERT_TRUE(off.code == 0 || off.code == 1) << off.all();
+  EXPECT_NE(off.out.find("subsystems: none (stability control off)"), std::string::npos);
+  EXPECT_EQ(off.out.find("note: "), std::string::npos) << off.out;
+
+  const std::string py = PythonWithMatplotlib();
+  if (py.empty()) GTEST_SKIP() << "no python3 with matplotlib: the figure is not checked";
+  EXPECT_TRUE(fs::exists(Path("off.png"))) << off.err;
+  const std::string script = std::string(SCW_SOURCE_DIR) + "/tuning/cli/maneuver_plot.py";
+  const Result on_fig =
+      test::RunCli(py, script + " " + Path("r.json") + " " + Path("on.png"), dir_);
+  ASSERT_EQ(on_fig.code, 0) << on_fig.all();
+  for (const char* part :
+       {"title: sine_with_dwell (FMVSS 126 / UN R140 sine with dwell) at 22.2 m/s (80 km/h) | "
+        "stability control on (ESC CS ABS TC); params: built-in; vehicle: built-in | 0 of ",
+        "pass limits: ratio_1_00_pct <= 35 (FMVSS 126 S5.2.1; every run)", "colours: colour bar",
+        "notes: 1"})
+    EXPECT_NE(on_fig.out.find(part), std::string::npos) << part << "\n" << on_fig.out;
+  const Result off_fig =
+      test::RunCli(py, script + " " + Path("off.json") + " " + Path("off2.png"), dir_);
+  ASSERT_EQ(off_fig.code, 0) << off_fig.all();
+  EXPECT_NE(off_fig.out.find("at 40.0 m/s (144 km/h) | stability control off (none)"),
+            std::string::npos)
+      << off_fig.out;
+}
+
 }  // namespace
 }  // namespace scw
