@@ -114,13 +114,12 @@ BAR_IN, GAP_IN, FIG_W_IN, DPI = 0.22, 0.18, 9.0, 110
 
 def horizontal_figure(n_rows, bars_per_row):
     height = 1.5 + n_rows * (bars_per_row * BAR_IN + GAP_IN)
-    return plt.subplots(figsize=(FIG_W_IN, height))
+    return plt.subplots(figsize=(FIG_W_IN, height), constrained_layout=True)
 
 
-def finish(fig, ax, path, info):
-    ax.invert_yaxis()  # the first scenario on top, as in comparison.md
+def finish(fig, ax, path, info, n_rows):
+    ax.set_ylim(n_rows - 0.5, -0.5)  # the first scenario on top, as in comparison.md
     ax.grid(True, axis="x", alpha=0.3)
-    fig.tight_layout()
     fig.savefig(path, dpi=DPI, metadata={"Software": None})
     w, h = fig.get_size_inches()
     info["size_px"] = (round(w * DPI), round(h * DPI))
@@ -198,11 +197,12 @@ def lap_time_plot(rows, labels, path):
     else:
         ax.set_xlabel("mean lap time [s]")
         title = f"Mean lap time per scenario: {base}\n× = the run did not complete"
-    ax.set_title(title, fontsize=9)
+    fig.suptitle(title, fontsize=9)  # centred on the figure: the row labels make the axes narrow
     if ax.get_legend_handles_labels()[1]:
-        ax.legend(fontsize=7, loc="lower right")
+        ax.legend(fontsize=7, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3,
+                  frameon=False)
     info["title"] = title
-    return finish(fig, ax, path, info)
+    return finish(fig, ax, path, info, len(keys))
 
 
 def sideslip_plot(rows, labels, path):
@@ -237,10 +237,10 @@ def sideslip_plot(rows, labels, path):
     ax.set_yticklabels(keys, fontsize=7)
     ax.set_xlabel("max |β| [deg]")
     title = "Max sideslip per scenario (hatched: the run did not complete)"
-    ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=7, loc="lower right")
+    fig.suptitle(title, fontsize=9)  # centred on the figure: the row labels make the axes narrow
+    ax.legend(fontsize=7, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, frameon=False)
     info["title"] = title
-    return finish(fig, ax, path, info)
+    return finish(fig, ax, path, info, len(keys))
 
 
 def main(argv=None):
