@@ -23,7 +23,6 @@ import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
 import report  # noqa: E402  (regenerates report.md after the study)
 
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
 
 MONZA = os.path.join(scwexp.ROOT, "..", "shared", "data", "tracks", "racetrack-database",
                      "tracks", "Monza.csv")
@@ -84,43 +83,164 @@ def markdown(rows, labels):
     return "\n".join(out)
 
 
-def bar_plot(rows, labels, field, ylabel, path, title):
-    scenarios = []
+def scenario_keys(rows):
+    """`group/scenario` of every row, in first-seen order (one chart row each)."""
+    keys = []
     for r in rows:
         key = f"{r['group']}/{r['scenario']}"
-        if key not in scenarios:
-            scenarios.append(key)
-    x = np.arange(len(scenarios))
-    w = 0.8 / max(1, len(labels))
-    fig, ax = plt.subplots(figsize=(max(7, 0.9 * len(scenarios) + 2), 4.5))
-    for k, lab in enumerate(labels):
-        vals, aborted = [], []
-        for sc in scenarios:
-            r = next((y for y in rows if f"{y['group']}/{y['scenario']}" == sc and
-                      y["set"] == lab), None)
-            v = scwexp.to_float(r[field]) if r else math.nan
-            vals.append(v)
-            aborted.append(r is not None and r["status"] != "completed")
-        bars = ax.bar(x + (k - (len(labels) - 1) / 2) * w, np.nan_to_num(vals), w, label=lab)
-        for b, ab in zip(bars, aborted):
-            if ab:
-                b.set_hatch("//")
-                ax.annotate("abort", (b.get_x() + b.get_width() / 2, b.get_height()),
-                            ha="center", va="bottom", fontsize=7, rotation=90)
-    ax.set_xticks(x)
-    ax.set_xticklabels(scenarios, rotation=30, ha="right", fontsize=8)
-    ax.set_ylabel(ylabel)
-    ax.set_title(title)
-    ax.grid(True, axis="y", alpha=0.3)
-    ax.legend(fontsize=8)
-    if field == "mean_lap_time_s":
-        finite = [scwexp.to_float(r[field]) for r in rows
-                  if not math.isnan(scwexp.to_float(r[field]))]
-        if finite:
-            ax.set_ylim(0.95 * min(finite), 1.02 * max(finite))
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
+        if key not in keys:
+            keys.append(key)
+    return keys
+
+
+def find_row(rows, key, lab):
+    return next((r for r in rows if f"{r['group']}/{r['scenario']}" == key and r["set"] == lab),
+                None)
+
+
+def aborted_text(r):
+    """'aborted: sideslip at 43 %' for a run that did not complete ('not run' when missing)."""
+    if r is None:
+        return "not run"
+    progress = scwexp.to_float(r.get("progress"))
+    at = "" if math.isnan(progress) else f" at {100 * progress:.0f} %"
+    return f"aborted: {r['status']}{at}"
+
+
+# Inches per bar and around the bars of one scenario; the width is fixed, so the figure grows
+# downwards with the number of scenarios instead of sideways.
+BAR_IN, GAP_IN, FIG_W_IN, DPI = 0.22, 0.18, 9.0, 110
+
+
+def horizontal_figure(n_rows, bars_per_row):
+    height = 1.5 + n_rows * (bars_per_row * BAR_IN + GAP_IN)
+    return plt.subplots(figsize=(FIG_W_IN, height), constrained_layout=True)
+
+
+def finish(fig, ax, path, info, n_rows):
+    ax.set_ylim(n_rows - 0.5, -0.5)  # the first scenario on top, as in comparison.md
+    ax.grid(True, axis="x", alpha=0.3)
+    fig.savefig(path, dpi=DPI, metadata={"Software": None})
+    w, h = fig.get_size_inches()
+    info["size_px"] = (round(w * DPI), round(h * DPI))
+    info["xlim"] = tuple(ax.get_xlim())
     plt.close(fig)
+    return info
+
+
+def lap_time_plot(rows, labels, path):
+    """The mean lap time per scenario. With several sets: each set's difference to the first one
+    (labels[0]) in seconds, so that differences of a tenth of a second are visible whatever the
+    lap time; the first set's own lap time is written beside the scenario's name. With one set:
+    the lap times themselves from 0 s, so that a short track's bar is as visible as a long one's.
+    A run that did not complete has no lap time: it is marked × at 0 with its status and the
+    fraction of the distance driven. Returns what was drawn (for the tests): size_px, xlim,
+    values {(scenario, set): x}, aborted [(scenario, set)], title."""
+    keys = scenario_keys(rows)
+    base, others = labels[0], labels[1:]
+    shown = others if others else [base]
+    fig, ax = horizontal_figure(len(keys), len(shown))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    w = 0.8 / len(shown)
+    info = {"values": {}, "aborted": []}
+    ticks, legend = [], set()
+    extent = [0.0]
+    marks = []  # (x, y, text, colour) of aborted runs, placed once the axis range is known
+    for i, key in enumerate(keys):
+        b = find_row(rows, key, base)
+        b_val = scwexp.to_float(b["mean_lap_time_s"]) if b and b["status"] == "completed" \
+            else math.nan
+        if others:
+            ticks.append(f"{key}  [{base}: " +
+                         (f"{b_val:.2f} s]" if not math.isnan(b_val) else aborted_text(b) + "]"))
+        else:
+            ticks.append(key)
+        for k, lab in enumerate(shown):
+            y = i + (k - (len(shown) - 1) / 2) * w
+            color = colors[(k + (1 if others else 0)) % len(colors)]
+            r = b if not others else find_row(rows, key, lab)
+            v = scwexp.to_float(r["mean_lap_time_s"]) if r and r["status"] == "completed" \
+                else math.nan
+            if math.isnan(v):
+                info["aborted"].append((key, lab))
+                marks.append((y, aborted_text(r), color))
+                continue
+            if others and math.isnan(b_val):
+                # No difference without the first set's lap time: the lap time itself, as text.
+                info["aborted"].append((key, base))
+                marks.append((y, f"{v:.2f} s ({base} did not complete)", color))
+                continue
+            x = v - b_val if others else v
+            info["values"][(key, lab)] = x
+            extent.append(x)
+            ax.barh(y, x, w, color=color, label=None if lab in legend else lab)
+            legend.add(lab)
+            ax.annotate(f"{x:+.2f} s" if others else f"{x:.2f} s", (x, y),
+                        xytext=(3 if x >= 0 else -3, 0), textcoords="offset points",
+                        ha="left" if x >= 0 else "right", va="center", fontsize=7)
+    lo, hi = min(extent), max(extent)
+    span = max(hi - lo, 0.2 if others else 1.0)
+    # Room for the value labels on both sides, and for the aborted runs' text right of 0.
+    ax.set_xlim(lo - (0.3 * span if lo < 0 else 0.0),
+                hi + 0.35 * span + (0.45 * span if marks else 0.0))
+    for y, text, color in marks:
+        ax.plot([0.0], [y], marker="x", color=color, ms=7, mew=2, ls="none")
+        ax.annotate(text, (0.0, y), xytext=(6, 0), textcoords="offset points", va="center",
+                    fontsize=7, color=color)
+    ax.axvline(0.0, color="k", lw=0.8)
+    ax.set_yticks(range(len(keys)))
+    ax.set_yticklabels(ticks, fontsize=7)
+    if others:
+        ax.set_xlabel(f"mean lap time minus {base}'s [s] (negative: faster)")
+        title = (f"Mean lap time per scenario: {', '.join(others)} against {base}\n"
+                 "× = the run did not complete (status, distance driven)")
+    else:
+        ax.set_xlabel("mean lap time [s]")
+        title = f"Mean lap time per scenario: {base}\n× = the run did not complete"
+    fig.suptitle(title, fontsize=9)  # centred on the figure: the row labels make the axes narrow
+    if ax.get_legend_handles_labels()[1]:
+        ax.legend(fontsize=7, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3,
+                  frameon=False)
+    info["title"] = title
+    return finish(fig, ax, path, info, len(keys))
+
+
+def sideslip_plot(rows, labels, path):
+    """Max |β| per scenario and set (horizontal bars from 0); a run that did not complete is
+    hatched (its value is the largest |β| until it ended). Returns what was drawn, as
+    lap_time_plot."""
+    keys = scenario_keys(rows)
+    fig, ax = horizontal_figure(len(keys), len(labels))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    w = 0.8 / len(labels)
+    info = {"values": {}, "aborted": []}
+    legend = set()
+    for k, lab in enumerate(labels):
+        for i, key in enumerate(keys):
+            r = find_row(rows, key, lab)
+            v = scwexp.to_float(r["max_abs_sideslip_deg"]) if r else math.nan
+            y = i + (k - (len(labels) - 1) / 2) * w
+            if math.isnan(v):
+                continue
+            ab = r["status"] != "completed"
+            info["values"][(key, lab)] = v
+            if ab:
+                info["aborted"].append((key, lab))
+            ax.barh(y, v, w, color=colors[k % len(colors)], hatch="//" if ab else None,
+                    edgecolor="k" if ab else None, label=None if lab in legend else lab)
+            legend.add(lab)
+            if ab:
+                ax.annotate(aborted_text(r), (v, y), xytext=(3, 0), textcoords="offset points",
+                            va="center", fontsize=7)
+    ax.set_xlim(0.0, 1.45 * max(list(info["values"].values()) + [1.0]))
+    ax.set_yticks(range(len(keys)))
+    ax.set_yticklabels(keys, fontsize=7)
+    ax.set_xlabel("max |β| [deg]")
+    title = "Max sideslip per scenario (hatched: the run did not complete)"
+    fig.suptitle(title, fontsize=9)  # centred on the figure: the row labels make the axes narrow
+    ax.legend(fontsize=7, loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, frameon=False)
+    info["title"] = title
+    return finish(fig, ax, path, info, len(keys))
 
 
 def main(argv=None):
@@ -138,7 +258,9 @@ def main(argv=None):
     args = p.parse_args(argv)
     scw = scwexp.find_scw()
     is_default_out = args.out is None
-    out = scwexp.results_dir("compare") if is_default_out else args.out
+    # Absolute: scw runs in the repository (scwexp.run), and its output paths must name the
+    # same files as ours whatever the folder the script was started from.
+    out = scwexp.results_dir("compare") if is_default_out else os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
     timer = scwexp.Timer()
     params = args.params or [os.path.join(scwexp.ROOT, "params", "stability", "default.yaml")]
@@ -188,10 +310,8 @@ def main(argv=None):
         f.write("# Comparison of stability parameter sets\n\n" + markdown(rows, labels) + "\n")
     lap_png = os.path.join(out, "compare_lap_time.png")
     beta_png = os.path.join(out, "compare_sideslip.png")
-    bar_plot(rows, labels, "mean_lap_time_s", "mean lap time [s]", lap_png,
-             "Mean lap time per scenario (hatched: aborted)")
-    bar_plot(rows, labels, "max_abs_sideslip_deg", "max |β| [deg]", beta_png,
-             "Max sideslip per scenario (hatched: aborted)")
+    lap_time_plot(rows, labels, lap_png)
+    sideslip_plot(rows, labels, beta_png)
     totals = {}
     for lab in labels:
         mine = [r for r in rows if r["set"] == lab]

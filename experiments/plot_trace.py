@@ -12,7 +12,7 @@ figure (Fig. "first lap at GG = 1.4"), over the distance driven (or time):
 with lap boundaries, grey bands where a scenario event (a throttle or steering fault, a rear-grip
 loss, a gust: the trace's `events` column) was active and, where the run aborted, the abort point
 and its reason. The title names
-the scenario and the parameter set.
+the scenario, the track it was driven on, the overrides and the parameter set.
 
 One trace: every wheel's slip and pressure, one row per subsystem in the intervention panel.
 Several traces (overlaid, e.g. the four configurations of study 2): one colour per trace; the
@@ -20,10 +20,11 @@ slip panel shows the wheel with the largest |slip| at each instant and the press
 over the four wheels; one row per trace in the intervention panel with a lane per subsystem.
 
 The title comes from the trace itself: scw simulate --trace T.csv writes T.csv.meta.yaml beside
-it (scenario, overrides, parameter files, and how the run ended). Without it (a trace of an older
-scw, or of scw sweep --trace-dir), the run summary (scw simulate --summary S.yaml) is used, given
-with --summary or found beside the trace as <trace>.yaml, <trace>_summary.yaml or
-<trace>.summary.yaml; --params names the parameter set instead of the recorded file.
+it (scenario, track, overrides, parameter files, and how the run ended). Without it (a trace of an
+older scw, or of scw sweep --trace-dir), the run summary (scw simulate --summary S.yaml) is used,
+given with --summary or found beside the trace as <trace>.yaml, <trace>_summary.yaml or
+<trace>.summary.yaml (it names the scenario, not the track); --params names the parameter set
+instead of the recorded file.
 
     python3 experiments/plot_trace.py TRACE.csv [TRACE2.csv ...] -o FIG.png
         [--summary S.yaml ...] [--params NAME] [--labels a,b,...] [--x distance|time]
@@ -145,6 +146,22 @@ def parameter_set(summary):
     the built-in set."""
     value = summary.get("stability", "")
     return value if value.startswith("built-in") else os.path.basename(value)
+
+
+def run_name(summary):
+    """'default on monza (--set track=monza laps=1)': the scenario, the track it was driven on
+    and the overrides, as the trace's meta file records them (a run summary has the scenario
+    only)."""
+    name = summary["scenario"]
+    track = summary.get("track_name")
+    if track:
+        name += f" on {track}"
+    overrides = summary.get("overrides", "").strip()
+    if overrides.startswith("[") and overrides.endswith("]"):
+        items = [x.strip().strip('"') for x in overrides[1:-1].split('", ') if x.strip()]
+        if items:
+            name += " (--set " + " ".join(items) + ")"
+    return name
 
 
 def find_summary(trace):
@@ -380,7 +397,7 @@ def plot(paths, out, labels=None, x="distance", lap=None, title=None, summaries=
     ax["int"].grid(True, axis="x", alpha=0.3)
 
     if title is None:
-        scen = sorted({s["scenario"] for s in summaries if s and "scenario" in s})
+        scen = sorted({run_name(s) for s in summaries if s and "scenario" in s})
         what = ("scenario " + ", ".join(scen)) if scen else "scenario: not recorded (--summary)"
         if not params:
             recorded = sorted({parameter_set(s) for s in summaries if s and "stability" in s})

@@ -1,5 +1,6 @@
 #include "params/io/csv.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -76,7 +77,69 @@ std::string Where(int line, const std::string& column) {
   return "line " + std::to_string(line) + ", column " + column;
 }
 
+/// Length of the valid UTF-8 sequence of two or more bytes at `text[i]`, 0 if there is none.
+std::size_t Utf8SequenceAt(std::string_view text, std::size_t i) {
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
+  const unsigned char b = byte(i);
+  std::size_t n = 0;
+  unsigned char lo = 0x80, hi = 0xBF;  // allowed range of the second byte
+  if (b >= 0xC2 && b <= 0xDF) {
+    n = 2;
+  } else if (b >= 0xE0 && b <= 0xEF) {
+    n = 3;
+    if (b == 0xE0) lo = 0xA0;  // overlong
+    if (b == 0xED) hi = 0x9F;  // surrogates
+  } else if (b >= 0xF0 && b <= 0xF4) {
+    n = 4;
+    if (b == 0xF0) lo = 0x90;  // overlong
+    if (b == 0xF4) hi = 0x8F;  // above U+10FFFF
+  } else {
+    return 0;
+  }
+  if (i + n > text.size()) return 0;
+  if (byte(i + 1) < lo || byte(i + 1) > hi) return 0;
+  for (std::size_t k = 2; k < n; ++k)
+    if (byte(i + k) < 0x80 || byte(i + k) > 0xBF) return 0;
+  return n;
+}
+
 }  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Messages about a file's text
+
+std::string Printable(std::string_view text, std::size_t max_bytes) {
+  std::string out;
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto b = static_cast<unsigned char>(text[i]);
+    const std::size_t n = b < 0x80 ? 1 : Utf8SequenceAt(text, i);
+    if (i + std::max<std::size_t>(n, 1) > max_bytes) {
+      out += "...";
+      break;
+    }
+    if (n >= 2) {
+      out.append(text.substr(i, n));
+      i += n;
+    } else if (n == 1 && b >= 0x20 && b != 0x7F) {
+      out.push_back(static_cast<char>(b));
+      ++i;
+    } else {
+      static constexpr char kHex[] = "0123456789ABCDEF";
+      out += "\\x";
+      out.push_back(kHex[b >> 4]);
+      out.push_back(kHex[b & 0xF]);
+      ++i;
+    }
+  }
+  return out;
+}
+
+std::size_t NulByteLine(std::string_view text) noexcept {
+  const std::size_t nul = text.find('\0');
+  if (nul == std::string_view::npos) return 0;
+  return 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + nul, '\n'));
+}
 
 // ---------------------------------------------------------------------------------------------
 // Fields
@@ -335,6 +398,9 @@ CsvTable ReadCsvTable(const std::string& path, const std::vector<std::string>& r
 CsvTable ParseCsvTable(const std::string& text, const std::string& path,
                        const std::vector<std::string>& required,
                        const std::vector<std::string>& optional) {
+  if (const std::size_t nul = NulByteLine(text))
+    throw ConfigError(path, "line " + std::to_string(nul),
+                      "a NUL byte: this is a binary file, not CSV text");
   std::istringstream in(text);
   std::string line;
   int line_no = 0;
@@ -372,7 +438,8 @@ CsvTable ParseCsvTable(const std::string& text, const std::string& path,
       std::string have;
       for (const auto& h : header) have += (have.empty() ? "" : ",") + h;
       pr.Add(Where(header_line, r), "missing column '" + r + "' in the header (the header is '" +
-                                        have + "'; expected columns " + expected + ")");
+                                        Printable(have, 80) + "'; expected columns " + expected +
+                                        ")");
     } else {
       table.names.push_back(r);
       index.push_back(static_cast<std::size_t>(i));
@@ -416,9 +483,9 @@ CsvTable ParseCsvTable(const std::string& text, const std::string& path,
         if (cell.empty())
           problem = "empty cell, expected a number";
         else if (res.ec != std::errc() || res.ptr != e)
-          problem = "'" + cell + "' is not a number";
+          problem = "'" + Printable(cell) + "' is not a number";
         else if (!std::isfinite(v))
-          problem = "'" + cell + "' is not a finite number";
+          problem = "'" + Printable(cell) + "' is not a finite number";
       }
       if (!problem.empty() && shown < 20) {
         pr.Add(Where(line_no, table.names[c]), problem);

@@ -49,6 +49,18 @@ std::string CsvField(std::string_view field);
 std::string CsvRecord(const std::vector<std::string>& fields);
 
 // ---------------------------------------------------------------------------------------------
+// Messages about a file's text
+
+/// `text` as it may be quoted in a message: bytes a terminal would act on or show as garbage
+/// (control characters, DEL, bytes that are not UTF-8) as `\xNN`, valid UTF-8 as it is; cut
+/// after `max_bytes` bytes of `text` with "..." (a UTF-8 character is never split).
+std::string Printable(std::string_view text, std::size_t max_bytes = 40);
+
+/// The 1-based line of the first NUL byte of `text` (no text file has one: it is a binary file),
+/// or 0 when there is none.
+std::size_t NulByteLine(std::string_view text) noexcept;
+
+// ---------------------------------------------------------------------------------------------
 // Writing
 
 /// A CSV file written row by row (memory stays flat whatever the run length). Every row must have
@@ -181,7 +193,8 @@ struct CsvTable {
 /// `optional` ones are read when present. Later comment lines (#) and blank lines are skipped.
 /// Cells are trimmed and may be quoted. Throws scw::ConfigError naming the file with one problem
 /// per bad cell as `line L, column C: message` (non-numeric, NaN/inf, empty, missing; up to 20),
-/// per missing column, or per malformed line.
+/// per missing column, or per malformed line; a file with a NUL byte is one problem (a binary
+/// file). Text of the file quoted in a message goes through Printable().
 CsvTable ReadCsvTable(const std::string& path, const std::vector<std::string>& required,
                       const std::vector<std::string>& optional = {});
 /// ReadCsvTable of a file's `text` already read; `path` names it in errors.

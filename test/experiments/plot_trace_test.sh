@@ -37,7 +37,9 @@ mv "$dir/run.yaml" "$dir/run.summary.keep"
 "$py" "$script" "$dir/run.csv" -o "$dir/meta.png" >"$dir/out.txt" 2>&1 ||
   { cat "$dir/out.txt"; fail "render from the meta file"; }
 mv "$dir/run.summary.keep" "$dir/run.yaml"
-grep -q '^title: scenario default — parameters: built-in (the car.s shipped set) | abort: ' \
+# The title names the track and the overrides too (issue 50 finding 18: "scenario default" alone
+# did not say that --set track=monza drove Monza).
+grep -q '^title: scenario default on Yas Marina North (--set grip.rear_mu_x=0.7 plan_with_nominal_grip=true gg_scale=1.1 laps=1) — parameters: built-in (the car.s shipped set) | abort: ' \
   "$dir/out.txt" || { cat "$dir/out.txt"; fail "the title is not taken from the meta file"; }
 grep -q '^panels: speed, lateral, heading, beta, yaw, moment, steer, throttle, slip, brake, int$' \
   "$dir/out.txt" || { cat "$dir/out.txt"; fail "a panel is missing"; }

@@ -7,6 +7,7 @@
 // checked by their own test.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -119,6 +120,68 @@ TEST(DocsDefaultsTest, DefaultsQuotedInTheDocsAreTheSchemas) {
   // The check must see the mentions it exists for.
   EXPECT_TRUE(limit_fraction) << "README.md no longer quotes the default limit_fraction";
   EXPECT_GE(checked, 3);
+}
+
+// Issue 50 finding 19: the ratio ranges the prose quotes for the default search space
+// (README.md said [0.3, 1] where params/spaces/default.yaml and `scw space show` have
+// [0.3, 0.98]). Every "ratio range [a, b]" and "ratio in [a, b]" in README.md and docs/*.md is the
+// range of the ratio entry named last before it (the key the sentence is about; any ratio entry
+// when none is named before it), and every grown range "KEY: [a, b] ->" starts from KEY's range.
+TEST(DocsDefaultsTest, RatioRangesQuotedInTheDocsAreTheDefaultSpaces) {
+  const fs::path root = SCW_SOURCE_DIR;
+  // Ratio entries of the space file: {key: K, transform: ratio, ..., lo: A, hi: B, ...}.
+  std::map<std::string, std::pair<double, double>> ratio;
+  {
+    std::ifstream in(root / "params" / "spaces" / "default.yaml");
+    const std::regex entry(
+        R"(key: ([\w.\[\]]+), transform: ratio,.* lo: ([-0-9.eE]+), hi: ([-0-9.eE]+))");
+    std::smatch m;
+    for (std::string line; std::getline(in, line);)
+      if (std::regex_search(line, m, entry)) ratio[m[1]] = {std::stod(m[2]), std::stod(m[3])};
+  }
+  ASSERT_GE(ratio.size(), 3u) << "no ratio entries read from params/spaces/default.yaml";
+  std::vector<fs::path> files = {root / "README.md"};
+  for (const auto& e : fs::directory_iterator(root / "docs"))
+    if (e.path().extension() == ".md") files.push_back(e.path());
+  // A key, a quoted range or a grown range, in the order they appear.
+  const std::regex token(
+      R"(([A-Za-z_][\w.]*): \[([-0-9.]+), ([-0-9.]+)\] ->|ratio (?:range|in) \[([-0-9.]+), ([-0-9.]+)\]|([A-Z][A-Za-z]*\.[\w.]+))");
+  int checked = 0;
+  for (const auto& f : files) {
+    std::ifstream in(f);
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    const std::string text = buffer.str();
+    std::string last_key;  // the ratio entry named last
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), token);
+         it != std::sregex_iterator(); ++it) {
+      const std::smatch& m = *it;
+      const auto line = 1 + std::count(text.begin(), text.begin() + m.position(0), '\n');
+      if (m[1].matched) {  // a grown range
+        const auto r = ratio.find(m[1]);
+        if (r == ratio.end()) continue;
+        ++checked;
+        EXPECT_EQ(std::make_pair(std::stod(m[2]), std::stod(m[3])), r->second)
+            << f.filename() << ":" << line << ": " << m[0];
+        last_key = m[1];
+      } else if (m[4].matched) {  // a quoted range
+        const std::pair<double, double> quoted{std::stod(m[4]), std::stod(m[5])};
+        ++checked;
+        if (!last_key.empty()) {
+          EXPECT_EQ(quoted, ratio[last_key])
+              << f.filename() << ":" << line << ": " << m[0] << " (about " << last_key << ")";
+          continue;
+        }
+        bool any = false;
+        for (const auto& [key, r] : ratio) any = any || r == quoted;
+        EXPECT_TRUE(any) << f.filename() << ":" << line << ": " << m[0]
+                         << " is no ratio range of params/spaces/default.yaml";
+      } else if (ratio.count(m[6])) {
+        last_key = m[6];
+      }
+    }
+  }
+  EXPECT_GE(checked, 3) << "README.md and docs/tuned-files.md no longer quote the ratio range";
 }
 
 }  // namespace

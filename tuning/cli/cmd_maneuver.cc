@@ -54,13 +54,6 @@ params::SubsystemSwitches ParseSubsystems(const std::string& text) {
   return sw;
 }
 
-std::string SwitchText(const params::SubsystemSwitches& sw) {
-  std::string s;
-  for (auto [on, name] : {std::pair{sw.esc, "ESC"}, {sw.cs, "CS"}, {sw.abs, "ABS"}, {sw.tc, "TC"}})
-    if (on) s += (s.empty() ? "" : " ") + std::string(name);
-  return s.empty() ? "none" : s;
-}
-
 int RunManeuverCommand(const ManeuverCliOptions& o) {
   namespace fs = std::filesystem;
   params::ScenarioParams spec =
@@ -92,12 +85,13 @@ int RunManeuverCommand(const ManeuverCliOptions& o) {
   const tuning::ManeuverResult r = tuning::RunManeuver(sc, sc.stability, mo);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (trace) trace->Commit();
-  const std::string json = tuning::ManeuverJson(r);
+  tuning::ManeuverConditions conditions;
+  if (!spec.vehicle.empty()) conditions.vehicle = spec.vehicle;
+  if (!spec.stability.empty()) conditions.stability = spec.stability;
+  conditions.subsystems = spec.subsystems;
+  const std::string json = tuning::ManeuverJson(r, 2, conditions);
   if (!o.json.empty()) io::WriteFileAtomic(o.json, json);
-  std::cout << "vehicle: " << (spec.vehicle.empty() ? "built-in" : spec.vehicle)
-            << "; stability: " << (spec.stability.empty() ? "built-in" : spec.stability)
-            << "; subsystems: " << SwitchText(spec.subsystems) << "\n"
-            << tuning::FormatManeuver(r);
+  std::cout << tuning::FormatManeuver(r, conditions);
   const tuning::RunMetrics s = r.Summary();
   char line[160];
   std::snprintf(line, sizeof line, "%d run(s), %.1f s simulated in %.2f s\n",

@@ -258,6 +258,12 @@ SCW_PARAMS_ACTION(Diff)
 SCW_PARAMS_ACTION(Init)
 #undef SCW_PARAMS_ACTION
 
+/// The node key each --kind writes when --node is not given (DefaultNode), for the help texts.
+std::string DefaultNodes() {
+  return std::string(params::kStabilityNodeKey) + ", or " + params::kTrackingNodeKey +
+         " with --kind tracking";
+}
+
 void AddKindOption(CLI::App* sub, ParamsOptions* o) {
   sub->add_option("--kind", o->kind, "Parameter set: stability (default) or tracking")
       ->check(CLI::IsMember({"stability", "tracking"}));
@@ -287,7 +293,7 @@ void AddParams(CLI::App& app) {
   exp->add_flag("--overrides-only", o->overrides_only,
                 "Only the keys that differ from --base (load after the base file)");
   exp->add_option("--base", o->base, "Base file for --overrides-only");
-  exp->add_option("--node", o->node, "Node key written (default /core/control/...)");
+  exp->add_option("--node", o->node, "Node key written (default: " + DefaultNodes() + ")");
   AddKindOption(exp, o.get());
   exp->callback([o] { SetExitCode(Dispatch<ExportAction>(*o)); });
 
@@ -319,7 +325,7 @@ void AddParams(CLI::App& app) {
 
   auto* ini = cmd->add_subcommand("init", "Write the built-in default parameter file");
   ini->add_option("-o,--output", o->out, "Output file")->required();
-  ini->add_option("--node", o->node, "Node key written");
+  ini->add_option("--node", o->node, "Node key written (default: " + DefaultNodes() + ")");
   AddKindOption(ini, o.get());
   ini->callback([o] { SetExitCode(Dispatch<InitAction>(*o)); });
 

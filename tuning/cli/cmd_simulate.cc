@@ -47,7 +47,7 @@ constexpr const char* kTraceMetaSuffix = ".meta.yaml";
 /// its overrides, the parameter files, the program that wrote it and how the run ended. Beside the
 /// trace, so the trace itself stays one CSV table.
 std::string TraceMeta(const SimulateOptions& o, const params::ScenarioParams& spec,
-                      const std::string& summary_yaml) {
+                      const std::string& track_name, const std::string& summary_yaml) {
   namespace fs = std::filesystem;
   auto quoted = [](const std::string& text) {
     std::string q = "\"";
@@ -80,6 +80,7 @@ std::string TraceMeta(const SimulateOptions& o, const params::ScenarioParams& sp
   text +=
       "vehicle: " + (spec.vehicle.empty() ? std::string("built-in") : quoted(spec.vehicle)) + "\n";
   text += "track: " + (spec.track.empty() ? std::string("built-in") : quoted(spec.track)) + "\n";
+  text += "track_name: " + quoted(track_name) + "\n";
   text += "motion_controller: " + quoted(spec.motion.controller) + "\n";
   text += "gg_scale: " + params::FormatNumber(spec.gg_scale) + "\n";
   text += "laps: " + std::to_string(spec.laps) + "\n";
@@ -159,13 +160,16 @@ int RunSimulate(const SimulateOptions& o) {
     };
   }
   const tuning::RunMetrics m = tuning::RunClosedLoop(sc, sc.stability, ro);
+  // The console and the trace's meta file name the track: "scenario default" alone does not say
+  // that --set track=monza drove Monza.
+  const std::string track_name = sc.track->name();
   const auto t2 = std::chrono::steady_clock::now();
   progress.Finish();
   if (trace) {
     trace->Commit();
     if (o.trace != "-")
       io::WriteFileAtomic(o.trace + std::string(kTraceMetaSuffix),
-                          TraceMeta(o, spec, tuning::RunSummaryYaml(spec.name, m)));
+                          TraceMeta(o, spec, track_name, tuning::RunSummaryYaml(spec.name, m)));
   }
   if (log &&
       tuning::replay::CommitWithSetup(*log, tuning::replay::ClosedLoopSetup(sc, sc.stability))
@@ -173,13 +177,16 @@ int RunSimulate(const SimulateOptions& o) {
     std::cerr << "note: no setup file for a controller log written to " << o.controller_log
               << " (scw replay needs --vehicle FILE to reproduce the run's vehicle constants)\n";
   if (!o.summary.empty()) io::WriteFileAtomic(o.summary, tuning::RunSummaryYaml(spec.name, m));
-  std::cout << tuning::FormatRunSummary(spec.name, m);
+  std::cout << tuning::FormatRunSummary(spec.name + " on " + track_name, m);
   const double sim_s = std::chrono::duration<double>(t2 - t1).count();
-  char line[512];
+  char line[768];
+  // What "ideal lap" means here (scw track line prints another one: a table's full limits).
   std::snprintf(line, sizeof line,
-                "reference: ideal lap %.2f s at GG %s × limit fraction %s (at the plant's full "
-                "limits: %.2f s), prepared in %.2f s; run: %.2f s simulated in %.2f s (%s real "
-                "time)\n",
+                "reference: ideal lap %.2f s, the speed profile the car is asked to drive (the "
+                "vehicle's own g-g-v\n  envelope x GG %s x limit_fraction %s; at the envelope's "
+                "full limits %.2f s; scw track line's\n  \"ideal lap time\" uses a representative "
+                "table at its full limits); prepared in %.2f s\nrun: %.2f s simulated in %.2f s "
+                "(%s real time)\n",
                 sc.ideal_lap_time, params::FormatNumber(spec.gg_scale).c_str(),
                 params::FormatNumber(spec.limit_fraction).c_str(), sc.limit_lap_time,
                 std::chrono::duration<double>(t1 - t0).count(), m.time, sim_s,

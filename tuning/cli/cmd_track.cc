@@ -5,6 +5,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "controller/planning/racing_line.h"
 #include "controller/planning/velocity_profile.h"
@@ -33,6 +34,19 @@ std::string Fixed(double x, int digits) {
   return s.str();
 }
 
+/// Forward distance from a to b on a closed track of length L, in [0, L).
+double Ahead(double a, double b, double length) {
+  double d = std::fmod(b - a, length);
+  if (d < 0.0) d += length;
+  return d;
+}
+
+// Corners that the detection rule (plant/track/corners.h) counts although a driver may not call
+// them corners: a few nodes just below the radius threshold, or a bend far gentler than the
+// others. They are flagged, never renumbered: scenario files name corners by number.
+constexpr double kShortCorner = 10.0;  // [m] shorter than this: "short"
+constexpr double kKinkRadius = 150.0;  // [m] smallest radius above this: "kink"
+
 int Info(const TrackOptions& o) {
   const plant::Track t = tuning::LoadTrackFile(o.track);
   double wmin = 1e9, wmax = 0.0;
@@ -47,16 +61,36 @@ int Info(const TrackOptions& o) {
             << (t.total_turning() > 0 ? "anticlockwise" : "clockwise") << ", " << t.size()
             << " nodes at " << std::setprecision(3) << t.step() << " m\n"
             << "width:   " << std::setprecision(1) << wmin << " - " << wmax << " m\n";
+  const std::vector<plant::Corner> corners = plant::FindCorners(t);
   // A corner covers its nodes and the node spacing after the last one, so a corner of one node
-  // (a short kink below 250 m radius) is one spacing long, not zero.
-  std::cout << "corners (R < 250 m; from the first to past the last node below that radius):\n"
-               "   #  dir    from [m]   to [m]  length [m]  min R [m]  apex at [m]\n";
-  for (const plant::Corner& c : plant::FindCorners(t))
+  // is one spacing long, not zero; a corner over the start line ends at a smaller s than it
+  // begins, and its length is measured forward across s = 0.
+  std::cout << "corners: " << corners.size()
+            << ", in driving order from the start line. A corner: nodes that curve one way with\n"
+               "  a radius below 250 m, joined across straighter stretches under 20 m; it spans "
+               "its nodes\n  plus one node spacing. Scenario events name corners by these "
+               "numbers (events.*.corner = N:\n  the apex of corner N, plus s).\n"
+               "   #  dir    from [m]   to [m]  length [m]  min R [m]  apex at [m]  note\n";
+  int flagged = 0;
+  for (const plant::Corner& c : corners) {
+    const double length = Ahead(c.s_from, c.s_to, t.length()) + t.step();
+    const double to = t.Wrap(c.s_to + t.step());
+    std::string note;
+    auto add = [&](const std::string& what) { note += (note.empty() ? "" : "; ") + what; };
+    if (c.s_to < c.s_from) add("spans the start line");
+    if (length < kShortCorner) add("short: only " + Fixed(length, 1) + " m below 250 m radius");
+    if (c.min_radius > kKinkRadius) add("kink: min R above " + Fixed(kKinkRadius, 0) + " m");
+    flagged += note.find("short") != std::string::npos || note.find("kink") != std::string::npos;
     std::cout << std::setw(4) << c.number << "  " << (c.left ? "left " : "right") << std::setw(11)
-              << std::setprecision(0) << c.s_from << std::setw(9) << c.s_to + t.step()
-              << std::setw(12) << std::setprecision(1) << c.s_to + t.step() - c.s_from
-              << std::setw(11) << c.min_radius << std::setw(13) << std::setprecision(0) << c.s_apex
-              << '\n';
+              << std::setprecision(1) << c.s_from << std::setw(9) << to << std::setw(12) << length
+              << std::setw(11) << c.min_radius << std::setw(13) << c.s_apex
+              << (note.empty() ? "" : "  " + note) << '\n';
+  }
+  if (flagged > 0)
+    std::cout << "note: " << flagged
+              << " corner(s) marked short or kink are counted by the rule above although a\n"
+                 "  driver may not call them corners; they keep their numbers, so the corner "
+                 "numbers of\n  scenario files stay valid.\n";
   return kExitOk;
 }
 
@@ -99,9 +133,20 @@ int Line(const TrackOptions& o) {
     vmin = std::min(vmin, v);
     vmax = std::max(vmax, v);
   }
+  // Two "ideal laps" exist: this one (a table's full limits) and scw simulate's reference (the
+  // simulated car's own envelope x GG x limit_fraction). Say which this is.
   std::cout << std::fixed << std::setprecision(2) << "ideal lap time: " << r.lap_time << " s (GG "
             << params::FormatNumber(o.gg_scale) << ", line " << std::setprecision(1) << r.length
-            << " m, v " << vmin << " - " << vmax << " m/s)\nwrote " << o.out << '\n';
+            << " m, v " << vmin << " - " << vmax << " m/s)\n"
+            << "  = the velocity profile on this line at the full limits of "
+            << (o.ggv.empty() ? "a representative AV-21/EAV g-g-v\n    table (--ggv for another)"
+                              : "the g-g-v table\n    " + o.ggv)
+            << " x GG " << params::FormatNumber(o.gg_scale) << ", up to "
+            << params::FormatNumber(o.v_max)
+            << " m/s. It is not the simulated car's: scw simulate\n    plans on the vehicle's "
+               "own envelope x GG x limit_fraction (0.7 by default) and reports that\n    plan "
+               "as its \"ideal lap\", a different number.\n"
+            << "wrote " << o.out << '\n';
   return kExitOk;
 }
 

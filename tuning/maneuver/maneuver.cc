@@ -161,8 +161,8 @@ class Rig {
       sig.heading.push_back(meas.psi);
       sig.x.push_back(meas.x);
       sig.y.push_back(meas.y);
-      sig.max_slip_rear.push_back(100.0 *
-                                  std::max(std::abs(st.out.kappa[2]), std::abs(st.out.kappa[3])));
+      const double rl = st.out.kappa[2], rr = st.out.kappa[3];
+      sig.max_slip_rear.push_back(100.0 * (std::abs(rl) >= std::abs(rr) ? rl : rr));
       if (speed_now > kSlipJudgedAbove) {
         for (std::size_t i = 0; i < 4; ++i) {
           const double slip = 100.0 * st.out.kappa[i];

@@ -69,7 +69,7 @@ struct ManeuverSignals {
   std::vector<double> speed;          ///< [m/s]
   std::vector<double> heading;        ///< [rad] ψ − ψ at t = 0
   std::vector<double> x, y;           ///< [m] position in the frame of the car at t = 0
-  std::vector<double> max_slip_rear;  ///< [%] larger |slip| of the rear wheels (plant)
+  std::vector<double> max_slip_rear;  ///< [%] rear wheel of larger |slip|, signed (< 0 brakes)
 };
 
 struct ManeuverRun {

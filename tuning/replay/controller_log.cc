@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "params/io/csv.h"
 #include "params/io/suggest.h"
 #include "params/io/text.h"
 
@@ -133,12 +134,30 @@ std::string Suggest(std::string_view unknown) {
   return best;
 }
 
-std::string Quote(std::string_view s) {
-  constexpr std::size_t kMax = 40;
-  std::string q = "'";
-  q.append(s.substr(0, kMax));
-  if (s.size() > kMax) q += "...";
-  return q + "'";
+/// Text of the log in a message: never raw control bytes (io::Printable), at most 40 bytes.
+std::string Quote(std::string_view s) { return "'" + io::Printable(s) + "'"; }
+
+/// A column name as the header spells it, fit for a message path (`line 1, column NAME`).
+std::string ColumnName(std::string_view s) { return io::Printable(s, 60); }
+
+/// "a, b, c and 5 more" of at most `shown` names.
+std::string NameList(const std::vector<std::string>& names, std::size_t shown) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size() && i < shown; ++i) out += (i ? ", " : "") + names[i];
+  if (names.size() > shown) out += " and " + std::to_string(names.size() - shown) + " more";
+  return out;
+}
+
+/// A byte of a header line no text CSV has: a NUL anywhere, else the first other control
+/// character (tab and CR aside), as "a NUL byte" / "a control character (\x1B)"; "" if none.
+std::string BinaryByte(std::string_view line) {
+  if (line.find('\0') != std::string_view::npos) return "a NUL byte";
+  for (const char c : line) {
+    const auto b = static_cast<unsigned char>(c);
+    if ((b < 0x20 && c != '\t' && c != '\r') || b == 0x7F)
+      return "a control character (" + io::Printable(std::string_view(&c, 1)) + ")";
+  }
+  return "";
 }
 
 }  // namespace
@@ -268,33 +287,44 @@ ControllerLogReader::ControllerLogReader(const std::string& path) : path_(path) 
   }
   std::string_view text(buffer_);
   if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 byte-order mark
+  if (const std::string bad = BinaryByte(text); !bad.empty())
+    throw LogFormatError(path, 1, "",
+                         bad +
+                             ": this is a binary file, not a CSV controller log (scw replay "
+                             "--columns lists the format)");
 
+  // Problems of the header, each kind in one message however many columns it concerns: a file
+  // with other columns altogether (another CSV) is one line, not one line per column.
+  std::vector<std::string> unknown, unknown_hint, missing;
+  std::vector<bool> unknown_empty;
   std::vector<Problem> problems;
   std::string first_column;
+  // `column` is the one the problem concerns (LogFormatError::column() of the first problem);
+  // a problem about several columns (`column` empty) names them in its message.
   auto add = [&](const std::string& column, const std::string& message) {
     if (problems.empty()) first_column = column;
     problems.push_back({LinePath(1, column), message});
   };
   std::vector<bool> seen(kInputColumns.size(), false);
   std::vector<std::string> seen_as(kInputColumns.size());  // spelling in the header
+  std::size_t known = 0;
   std::size_t pos = 0;
   while (true) {
     const std::size_t comma = text.find(',', pos);
     const std::string name(Trim(
         text.substr(pos, comma == std::string_view::npos ? std::string_view::npos : comma - pos)));
-    header_.push_back(name);
+    header_.push_back(ColumnName(name));
     const auto it =
         std::find_if(kInputColumns.begin(), kInputColumns.end(), [&](const LogColumn& c) {
           return c.name == name || (!c.alias.empty() && c.alias == name);
         });
     if (it == kInputColumns.end()) {
-      std::string msg =
-          name.empty() ? "empty column name in the header" : "unknown column " + Quote(name);
-      const std::string hint = Suggest(name);
-      if (!hint.empty()) msg += " (did you mean " + hint + "?)";
-      add(name.empty() ? "#" + std::to_string(header_.size()) : name, msg);
+      unknown.push_back(name.empty() ? "#" + std::to_string(header_.size()) : header_.back());
+      unknown_empty.push_back(name.empty());
+      unknown_hint.push_back(Suggest(name));
       column_of_cell_.push_back(-1);
     } else {
+      ++known;
       const auto idx = static_cast<std::size_t>(it - kInputColumns.begin());
       if (seen[idx])
         add(name, seen_as[idx] == name
@@ -310,14 +340,49 @@ ControllerLogReader::ControllerLogReader(const std::string& path) : path_(path) 
     if (comma == std::string_view::npos) break;
     pos = comma + 1;
   }
-  for (std::size_t i = 0; i < kInputColumns.size(); ++i)
-    if (kInputColumns[i].required && !seen[i])
-      add(std::string(kInputColumns[i].name),
-          "required column is missing from the header (write nan in its cells if the signal "
-          "was not recorded" +
-              (kInputColumns[i].alias.empty()
-                   ? std::string(")")
-                   : "; the old name " + std::string(kInputColumns[i].alias) + " is read too)"));
+  std::size_t required = 0;
+  for (std::size_t i = 0; i < kInputColumns.size(); ++i) {
+    if (!kInputColumns[i].required) continue;
+    ++required;
+    if (!seen[i]) missing.push_back(std::string(kInputColumns[i].name));
+  }
+  constexpr const char* kColumnsHint = "scw replay --columns lists every column with its unit";
+  if (known == 0) {
+    // Not a controller log at all: say so once, with what a log has.
+    std::vector<std::string> names;
+    for (const auto& c : kInputColumns)
+      if (c.required) names.emplace_back(c.name);
+    add("", "not a controller log header: none of its " + std::to_string(header_.size()) +
+                " column(s) (" + NameList(unknown, 4) + ") is a log column; a log needs the " +
+                std::to_string(required) + " required columns " + NameList(names, 6) + " (" +
+                kColumnsHint + ")");
+    throw LogFormatError(path, std::move(problems), "");
+  }
+  if (unknown.size() <= 3) {
+    for (std::size_t i = 0; i < unknown.size(); ++i) {
+      std::string msg = unknown_empty[i] ? "empty column name in the header"
+                                         : "unknown column '" + unknown[i] + "'";
+      if (!unknown_hint[i].empty()) msg += " (did you mean " + unknown_hint[i] + "?)";
+      add(unknown[i], msg);
+    }
+  } else {
+    add("", std::to_string(unknown.size()) + " unknown columns: " + NameList(unknown, 5) + " (" +
+                kColumnsHint + ")");
+  }
+  if (missing.size() == 1) {
+    const LogColumn& c = *std::find_if(kInputColumns.begin(), kInputColumns.end(),
+                                       [&](const LogColumn& x) { return x.name == missing[0]; });
+    add(missing[0],
+        "required column is missing from the header (write nan in its cells if the "
+        "signal was not recorded" +
+            (c.alias.empty() ? std::string(")")
+                             : "; the old name " + std::string(c.alias) + " is read too)"));
+  } else if (missing.size() > 1) {
+    add("", std::to_string(missing.size()) + " of the " + std::to_string(required) +
+                " required columns are missing from the header: " + NameList(missing, 6) +
+                " (write nan in a column's cells if the signal was not recorded; " + kColumnsHint +
+                ")");
+  }
   if (!problems.empty()) throw LogFormatError(path, std::move(problems), first_column);
 }
 

@@ -7,7 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "plant/vehicle/quasi_steady.h"
 #include "tuning/maneuver/maneuver_report.h"
@@ -90,6 +92,45 @@ TEST(ManeuverRun, SineWithDwellTimingInTheRun) {
   EXPECT_NEAR(ValueOf(r.runs[0], "t_cos_s"), 1.0 / 0.7 + 0.5, 1e-3);
   EXPECT_GT(ValueOf(r.runs[0], "t_bos_s"), 0.0);
   EXPECT_LT(ValueOf(r.runs[0], "t_bos_s"), 0.2);
+}
+
+}  // namespace
+}  // namespace scw::tuning
+
+namespace scw::tuning {
+namespace {
+
+double LowestRearSlipAfterStart(const ManeuverRun& r) {
+  double lowest = 0.0;
+  for (std::size_t k = 0; k < r.signals.t.size(); ++k)
+    if (r.signals.t[k] >= 0.0) lowest = std::min(lowest, r.signals.max_slip_rear[k]);
+  return lowest;
+}
+
+// Issue 50 finding 10: the mu jump's large rear slip with stability control on is a braking slip
+// (no brake is requested: the published TC's pressure outlasts the drive torque through the
+// upshift), and the output says so; with stability control off the rear wheels only spin.
+TEST(ManeuverRun, MuJumpRearSlipWithTcIsBrakingAndExplained) {
+  const ResolvedScenario on = Car("mu_jump_acceleration");
+  const ManeuverResult a = RunManeuver(on, on.stability);
+  const ResolvedScenario off =
+      Car("mu_jump_acceleration", {"subsystems.esc=false", "subsystems.cs=false",
+                                   "subsystems.abs=false", "subsystems.tc=false"});
+  const ManeuverResult b = RunManeuver(off, off.stability);
+  ASSERT_EQ(a.runs.size(), 1u);
+  ASSERT_EQ(b.runs.size(), 1u);
+  const double with_tc = LowestRearSlipAfterStart(a.runs[0]);
+  EXPECT_LT(with_tc, -50.0);
+  EXPECT_GT(LowestRearSlipAfterStart(b.runs[0]), -10.0);
+  // max_slip_rear_pct is |slip| of either sign: the braking slip is the larger one with TC.
+  EXPECT_NEAR(ValueOf(a.runs[0], "max_slip_rear_pct"), -with_tc, 1e-9);
+  EXPECT_GT(a.runs[0].metrics.tc_count, 0);
+  ManeuverConditions c_on, c_off;
+  c_off.subsystems = off.spec.subsystems;
+  const auto notes = ManeuverNotes(a, c_on);
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("This is the published TC"), std::string::npos) << notes[0];
+  EXPECT_TRUE(ManeuverNotes(b, c_off).empty());
 }
 
 }  // namespace

@@ -382,6 +382,34 @@ std::vector<BadLog> BadLogs() {
     Cells c = GoodLog();
     v.push_back({"empty_line", Join({c[0], c[1], {""}, c[2]}), 3, "", "empty line"});
   }
+  {
+    // Issue 50 finding 21: several required columns missing are one problem naming how many.
+    Cells c = GoodLog();
+    for (const char* name : {"vy_mps", "ax_mps2", "omega_rr_radps"}) {
+      const std::size_t i = IndexOf(c, name);
+      for (auto& row : c) row.erase(row.begin() + static_cast<long>(i));
+    }
+    v.push_back({"missing_required_columns", Join(c), 1, "",
+                 "3 of the 24 required columns are missing from the header: vy_mps, ax_mps2, "
+                 "omega_rr_radps (write nan"});
+  }
+  {
+    Cells c = GoodLog();
+    const std::size_t first = IndexOf(c, "fz_fl_N");
+    for (std::size_t k = 0; k < 5; ++k) c[0][first + k] += "x";
+    v.push_back({"many_unknown_columns", Join(c), 1, "",
+                 "5 unknown columns: fz_fl_Nx, fz_fr_Nx, fz_rl_Nx, fz_rr_Nx, brake_temp_fl_degCx "
+                 "(scw replay --columns"});
+  }
+  v.push_back({"other_csv", "a,b,c\n1,2,3\n", 1, "",
+               "not a controller log header: none of its 3 column(s) (a, b, c) is a log column"});
+  // Issue 50 finding 11: a binary file says so, and never echoes its bytes.
+  v.push_back({"binary_nul", std::string("t_s,\x01\x02") + '\0' + "\x9B[2J,vx\n", 1, "",
+               "a NUL byte: this is a binary file"});
+  v.push_back({"binary_control", "t_s,\x1B]0;title\x07,vx\n", 1, "",
+               "a control character (\\x1B): this is a binary file"});
+  v.push_back({"unknown_column_raw_bytes", Join({{"t_s", "v\xC3\xA9x\xFF"}}), 1, "v\xC3\xA9x\\xFF",
+               "unknown column 'v\xC3\xA9x\\xFF'"});
   v.push_back({"empty_file", "", 1, "", "empty file"});
   v.push_back(
       {"blank_lines_only_after_header", Join({GoodLog()[0]}) + "\n\n", 2, "", "no data rows"});

@@ -7,8 +7,11 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <fstream>
 #include <set>
 #include <string>
 #include <vector>
@@ -319,6 +322,78 @@ TEST(ReplayCommand, SummaryCompareOutputAndExitCodes) {
   // Output folder missing: the run failed (1).
   EXPECT_EQ(
       RunScw("replay " + log + " --params " + Shipped() + " -o /nonexistent-dir/out.csv", txt), 1);
+}
+
+/// Bytes a terminal acts on or shows as garbage: control characters (line breaks aside), DEL and
+/// bytes of no UTF-8 character (the messages must quote a file's text as \xNN).
+std::string RawBytesIn(const std::string& text) {
+  std::string found;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto b = static_cast<unsigned char>(text[i]);
+    if ((b < 0x20 && b != '\n') || b == 0x7F || b >= 0x80) found += "\\x" + std::to_string(b);
+  }
+  return found;
+}
+
+// Issue 50 finding 11: a binary file given as the log (4000 bytes of a fixed pseudo-random
+// sequence, with the header line made long and free of NUL so that the control byte is found
+// by the text check, not the NUL check) is one message saying so; nothing of it is echoed.
+TEST(ReplayCommand, BinaryLogIsNamedNotEchoed) {
+  const TempDir dir("scw_replay_binary");
+  const std::string txt = dir.File("out.txt");
+  std::string bytes;
+  std::uint32_t x = 2463534242u;  // xorshift32: the same bytes on every run
+  for (int i = 0; i < 4000; ++i) {
+    x ^= x << 13;
+    x ^= x >> 17;
+    x ^= x << 5;
+    bytes.push_back(static_cast<char>(x & 0xFF));
+  }
+  struct Case {
+    std::string name, text, message;
+  };
+  std::string no_nul = bytes;
+  for (char& c : no_nul)
+    if (c == '\0' || c == '\n') c = '\x1B';
+  const Case cases[] = {
+      {"random.csv", bytes, "this is a binary file, not a CSV controller log"},
+      {"escape.csv", no_nul, "a control character (\\x"},
+      {"nul.csv", "t_s,vx_mps" + std::string(1, '\0') + ",vy\n0,0,0\n", "a NUL byte"},
+  };
+  for (const Case& c : cases) {
+    std::ofstream(dir.File(c.name), std::ios::binary) << c.text;
+    EXPECT_EQ(RunScw("replay " + dir.File(c.name) + " --params " + Shipped(), txt), 2) << c.name;
+    const std::string s = testing::ReadFile(txt);
+    EXPECT_NE(s.find(dir.File(c.name) + ": line 1: "), std::string::npos) << s;
+    EXPECT_NE(s.find(c.message), std::string::npos) << s;
+    EXPECT_EQ(RawBytesIn(s), "") << c.name << ": " << s;
+    EXPECT_LT(s.size(), 400u) << s;
+  }
+}
+
+// Issue 50 finding 21: a CSV with other columns altogether is one short message that says what a
+// log needs and where the list is, not one line per missing column.
+TEST(ReplayCommand, OtherCsvIsOneShortMessage) {
+  const TempDir dir("scw_replay_other_csv");
+  const std::string txt = dir.File("out.txt");
+  std::ofstream(dir.File("s.csv")) << "a,b,c\n1,2,3\n";
+  EXPECT_EQ(RunScw("replay " + dir.File("s.csv") + " --params " + Shipped(), txt), 2);
+  const std::string s = testing::ReadFile(txt);
+  const auto required = std::count_if(kInputColumns.begin(), kInputColumns.end(),
+                                      [](const LogColumn& c) { return c.required; });
+  EXPECT_NE(s.find(dir.File("s.csv") +
+                   ": line 1: not a controller log header: none of its 3 "
+                   "column(s) (a, b, c) is a log column; a log needs the " +
+                   std::to_string(required) + " required columns t_s, vx_mps, "),
+            std::string::npos)
+      << s;
+  EXPECT_NE(s.find("scw replay --columns"), std::string::npos) << s;
+  // After "error: invalid input", the one problem on one line.
+  const std::size_t at = s.find("error: invalid input\n");
+  ASSERT_NE(at, std::string::npos) << s;
+  const std::string problem = s.substr(at + 21);
+  EXPECT_EQ(std::count(problem.begin(), problem.end(), '\n'), 1) << s;
+  EXPECT_LT(problem.size(), 400u) << s;
 }
 
 }  // namespace

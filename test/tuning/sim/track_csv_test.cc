@@ -78,6 +78,23 @@ TEST_F(TrackCsvBad, MissingCellIsNamed) {
   EXPECT_NE(msg.find("line 4, column w_tr_left_m: missing value"), std::string::npos) << msg;
 }
 
+// Issue 50 finding 11: a binary file is one problem that says so; a header or cell of raw bytes
+// is quoted as \xNN (the terminal never gets the file's control bytes).
+TEST_F(TrackCsvBad, BinaryFileAndRawBytesAreNotEchoed) {
+  const std::string nul = Message(Write("nul.csv", std::string("\x1B[2J\x9B") + '\0' + "x\n1\n"));
+  EXPECT_NE(nul.find("nul.csv: line 1: a NUL byte: this is a binary file, not CSV text"),
+            std::string::npos)
+      << nul;
+  EXPECT_EQ(nul.find('\x1B'), std::string::npos) << nul;
+  const std::string header = Message(Write("head.csv", "x_m,\x1B]0;t\x07,y\xFF\xC3\xA9\n1,2,3\n"));
+  EXPECT_NE(header.find("(the header is 'x_m,\\x1B]0;t\\x07,y\\xFF\xC3\xA9'"), std::string::npos)
+      << header;
+  const std::string cell = Message(Write("cell.csv", Loop(6, "1.0,2.0,\x1B[31m,4.0")));
+  EXPECT_NE(cell.find("line 8, column w_tr_right_m: '\\x1B[31m' is not a number"),
+            std::string::npos)
+      << cell;
+}
+
 TEST_F(TrackCsvBad, TooFewRowsAndOpenLoopsAreRejected) {
   const std::string few =
       Message(Write("few.csv", "x_m,y_m,w_tr_right_m,w_tr_left_m\n0,0,1,1\n1,0,1,1\n"));
