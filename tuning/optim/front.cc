@@ -407,7 +407,7 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
   std::string csv =
       "point,label,lap_budget_s,activations_limited,changed_keys,training_lap_loss_s,"
       "training_stability,training_aborts,held_out_lap_loss_s,held_out_stability,"
-      "held_out_aborts,knife_edges,own_knife_edges,file\n";
+      "held_out_aborts,knife_edges,own_knife_edges,base_training_stability,file\n";
   std::string md =
       "# scw tune --front " + std::to_string(n) + ": clean-lap time against stability\n\n";
   md +=
@@ -443,7 +443,8 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
            std::to_string(Aborts(r.training, 1)) + "," + num(r.held_out_value.lap_loss) + "," +
            num(r.held_out_value.stability) + "," + std::to_string(Aborts(r.held_out, 1)) + "," +
            (r.neighbourhood_done ? std::to_string(r.neighbourhood.edges.size()) : "") + "," +
-           (r.neighbourhood_done ? std::to_string(own) : "") + "," + file + "\n";
+           (r.neighbourhood_done ? std::to_string(own) : "") + "," + num(s_base) + "," + file +
+           "\n";
     const auto [buys, loses] = k == 0 ? Bought(r, 0, r) : Bought(points[k - 1].report, 1, r);
     std::string bought = buys.empty() ? "-" : "survives " + Join(buys);
     if (!loses.empty()) bought += "; loses " + Join(loses);
