@@ -820,7 +820,9 @@ void AddTune(CLI::App& app) {
   cmd->add_option("--algorithm", o->algorithm,
                   "Search algorithm: NLopt's sbplx (Subplex from the base set: the default, "
                   "chosen by experiments/tuning_benchmark.py, docs/tuning-benchmark.md), crs2, "
-                  "isres, esch, direct_l, mlsl, neldermead, bobyqa, cobyla; lhs (a "
+                  "isres, esch, direct_l, mlsl, neldermead, bobyqa, cobyla; auglag (NLopt's "
+                  "augmented Lagrangian around Subplex: the clean-lap budget as a constraint "
+                  "instead of the exact penalty, docs/tuned-files.md); lhs (a "
                   "Latin-hypercube design, batched: see --batch); or A+B (global A on 60 % of "
                   "the budget, then local B from its best point). --seed matters only to the "
                   "stochastic ones (crs2, isres, esch, lhs)")

@@ -9,11 +9,13 @@ namespace scw::tuning {
 
 TrainingObjective::TrainingObjective(const ParameterSpace& space,
                                      const params::StabilityParams& base,
-                                     const BatchEvaluator& training, const TuneObjective& objective)
+                                     const BatchEvaluator& training, const TuneObjective& objective,
+                                     bool split)
     : space_(space),
       base_(base),
       training_(training),
       objective_(objective),
+      split_(split),
       invalid_cost_((training.cost().abort_base + training.cost().abort_progress_weight +
                      training.cost().lap_time_cap) *
                         static_cast<double>(std::max<std::size_t>(1, training.scenarios().size())) +
@@ -46,6 +48,7 @@ TrainingObjective::Pending TrainingObjective::Decode(
     params::StabilityParams set = space_.Decode(points[i], base_, &pr);
     if (!pr.empty()) {
       p.evaluations[i].cost = invalid_cost_;
+      p.evaluations[i].constraint = split_ ? 1e6 : 0.0;
       p.evaluations[i].status = "infeasible: " + pr.items()[0].path;
       continue;
     }
@@ -72,7 +75,8 @@ std::vector<Evaluation> TrainingObjective::Complete(
     std::string status = aborts ? std::to_string(aborts) + " abort(s)" : "";
     if (constrained()) {
       const ObjectiveValue value = objective_.Of(r);
-      ev.cost = value.merit;
+      ev.cost = split_ ? value.stability : value.merit;
+      if (split_) ev.constraint = value.violation;
       ev.columns.push_back(params::FormatDouble(value.stability));
       ev.columns.push_back(params::FormatDouble(value.lap_loss));
       ev.columns.push_back(params::FormatDouble(value.violation));

@@ -30,8 +30,11 @@ namespace scw::tuning {
 
 class TrainingObjective {
  public:
+  /// `split`: the cost is the stability alone and the budget's violation goes into
+  /// Evaluation::constraint (the constrained algorithm auglag); otherwise the cost is the merit.
   TrainingObjective(const ParameterSpace& space, const params::StabilityParams& base,
-                    const BatchEvaluator& training, const TuneObjective& objective);
+                    const BatchEvaluator& training, const TuneObjective& objective,
+                    bool split = false);
 
   double invalid_cost() const { return invalid_cost_; }
   bool constrained() const { return objective_.kind() == ObjectiveKind::kConstrained; }
@@ -55,6 +58,7 @@ class TrainingObjective {
   const params::StabilityParams& base_;
   const BatchEvaluator& training_;
   const TuneObjective& objective_;
+  bool split_;
   double invalid_cost_;
 };
 

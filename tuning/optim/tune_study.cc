@@ -333,6 +333,10 @@ TuneStudy::TuneStudy(params::StabilityParams base, const ParameterSpace& space,
     throw std::invalid_argument("the search plant step must lie in [0, 0.005] s, got " +
                                 params::FormatDouble(options_.search_plant_step));
   CheckTunerBatch(options_.algorithm, options_.batch);
+  if (options_.algorithm == "auglag" && options_.objective != ObjectiveKind::kConstrained)
+    throw std::invalid_argument(
+        "auglag minimises the stability cost subject to the clean-lap budget: it needs the "
+        "constrained objective");
   if (!(options_.budget.lap_s >= 0.0))
     throw std::invalid_argument("the clean-lap budget must be at least 0 s, got " +
                                 params::FormatDouble(options_.budget.lap_s));
@@ -652,11 +656,12 @@ void TuneStudy::Search(const TunePrepared& prep, TuneObserver& observer,
   // The optimiser's space: the frozen dimensions pinned at the base value.
   const ParameterSpace search_space = space_.WithPinned(report.frozen_dims);
   const TuneObjective search_objective = ObjectiveOn(prep.search(), prep.search_base());
-  const TrainingObjective objective(search_space, base_, prep.search(), search_objective);
+  const TrainingObjective objective(search_space, base_, prep.search(), search_objective,
+                                    o.algorithm == "auglag");
   TopPoints top(kSelectCandidates);
   TunerOptions to = SearchOptions(report, objective);
   to.on_record = [&top, &expand](int index, const std::vector<double>& v, const Evaluation& ev) {
-    top.Add(index, expand(v), ev.cost);
+    if (ev.constraint <= 0.0) top.Add(index, expand(v), ev.cost);  // auglag: within the budget
   };
   const BatchObjective batch_objective = [&objective,
                                           &expand](const std::vector<std::vector<double>>& vs) {

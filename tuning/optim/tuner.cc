@@ -36,8 +36,11 @@ constexpr AlgorithmName kAlgorithms[] = {
     {"esch", nlopt::GN_ESCH, true},      {"direct_l", nlopt::GN_DIRECT_L, true},
     {"sbplx", nlopt::LN_SBPLX, false},   {"neldermead", nlopt::LN_NELDERMEAD, false},
     {"bobyqa", nlopt::LN_BOBYQA, false}, {"cobyla", nlopt::LN_COBYLA, false},
-    {"mlsl", nlopt::G_MLSL_LDS, true},
+    {"mlsl", nlopt::G_MLSL_LDS, true},   {"auglag", nlopt::AUGLAG, false},
 };
+
+/// The constrained algorithm: its cost is minimised subject to Evaluation::constraint <= 0.
+bool Constrained(const std::string& spec) { return spec == "auglag"; }
 
 /// The batched design phase; not an NLopt algorithm.
 constexpr const char* kDesign = "lhs";
@@ -106,6 +109,8 @@ class Run {
                             ? o.dimension_names[static_cast<std::size_t>(i)]
                             : "u" + std::to_string(i));
     for (const auto& h : o.log_extra_header) header_.push_back(h);
+    constrained_ = Constrained(o.algorithm);
+    if (constrained_) header_.push_back("constraint");
     if (!o.resume_path.empty()) {
       resume_ = std::make_unique<io::CsvRowReader>(o.resume_path);
       if (!resume_->is_open()) throw ResumeMismatch("cannot read the resume log " + o.resume_path);
@@ -297,7 +302,8 @@ class Run {
  private:
   struct Known {
     double cost;
-    int index;  ///< evaluation number
+    int index;                ///< evaluation number
+    double constraint = 0.0;  ///< auglag only
   };
   struct Answer {
     double cost;
@@ -317,7 +323,7 @@ class Run {
   };
   enum class Replayed { kNo, kYes, kMismatch };
 
-  void Configure(nlopt::opt& opt, const AlgorithmName& a, int budget) const {
+  void Configure(nlopt::opt& opt, const AlgorithmName& a, int budget) {
     opt.set_lower_bounds(std::vector<double>(static_cast<std::size_t>(n_), 0.0));
     opt.set_upper_bounds(std::vector<double>(static_cast<std::size_t>(n_), 1.0));
     opt.set_maxeval(4 * budget + 100);
@@ -325,6 +331,16 @@ class Run {
     if (!a.global) opt.set_initial_step(o_.initial_step);
     if (a.alg == nlopt::GN_CRS2_LM || a.alg == nlopt::GN_ISRES)
       opt.set_population(static_cast<unsigned>(o_.population > 0 ? o_.population : 5 * (n_ + 1)));
+    if (a.alg == nlopt::AUGLAG) {
+      // The augmented Lagrangian's subproblems solved by Subplex from the base point.
+      nlopt::opt local(nlopt::LN_SBPLX, static_cast<unsigned>(n_));
+      local.set_lower_bounds(std::vector<double>(static_cast<std::size_t>(n_), 0.0));
+      local.set_upper_bounds(std::vector<double>(static_cast<std::size_t>(n_), 1.0));
+      local.set_xtol_abs(o_.xtol_abs);
+      local.set_initial_step(o_.initial_step);
+      opt.set_local_optimizer(local);
+      opt.add_inequality_constraint(&Run::ConstraintTrampoline, this, 0.0);
+    }
     if (a.alg == nlopt::G_MLSL_LDS) {
       // Multi-level single linkage on a low-discrepancy sequence: local Subplex searches from
       // the most promising of its sample points.
@@ -395,6 +411,17 @@ class Run {
 
   static double Trampoline(unsigned n, const double* x, double* /*grad*/, void* data) {
     return static_cast<Run*>(data)->Evaluate(std::vector<double>(x, x + n));
+  }
+
+  /// AUGLAG asks for the constraint at the point whose cost it has just asked for: the memo holds
+  /// it. A point not evaluated (the run stopped) counts as violating.
+  static double ConstraintTrampoline(unsigned n, const double* x, double* /*grad*/, void* data) {
+    Run& run = *static_cast<Run*>(data);
+    const std::vector<double> u(x, x + n);
+    if (auto hit = run.memo_.find(u); hit != run.memo_.end()) return hit->second.constraint;
+    run.Evaluate(u);
+    const auto hit = run.memo_.find(u);
+    return hit != run.memo_.end() ? hit->second.constraint : 1.0;
   }
 
   double Elapsed() const {
@@ -520,6 +547,10 @@ class Run {
     params::ParseDouble(cells[2], &ev->cost);
     ev->status = cells[3];
     ev->columns.assign(cells.begin() + 5 + static_cast<long>(nu), cells.end());
+    if (constrained_ && !ev->columns.empty()) {
+      params::ParseDouble(ev->columns.back(), &ev->constraint);
+      ev->columns.pop_back();
+    }
     ++result_.replayed;
     return Replayed::kYes;
   }
@@ -580,10 +611,11 @@ class Run {
   bool Record(const std::vector<double>& u, const std::vector<std::string>& ucells, Evaluation ev,
               double elapsed, bool replayed) {
     const int index = result_.evals++;
-    memo_.emplace(u, Known{ev.cost, index});
+    memo_.emplace(u, Known{ev.cost, index, ev.constraint});
     if (o_.on_record) o_.on_record(index, u, ev);
     if (index == 0) result_.start_cost = ev.cost;
-    if (ev.cost < result_.best_cost) {
+    // With a constraint the best is the best point that meets it (evaluation 0, the base, does).
+    if (ev.cost < result_.best_cost && (!constrained_ || ev.constraint <= 0.0)) {
       if (!std::isfinite(result_.best_cost) ||
           result_.best_cost - ev.cost > kSignificantImprovement * std::abs(result_.best_cost))
         result_.last_improvement_eval = index;
@@ -597,6 +629,7 @@ class Run {
       row.insert(row.end(), ucells.begin(), ucells.end());
       ev.columns.resize(o_.log_extra_header.size());
       row.insert(row.end(), ev.columns.begin(), ev.columns.end());
+      if (constrained_) row.push_back(params::FormatDouble(ev.constraint));
       if (!log_->Write(row)) {  // the log keeps its whole rows, so --resume can continue from it
         error_ = log_->error();
         return false;
@@ -621,6 +654,7 @@ class Run {
   std::unique_ptr<io::CsvRowReader> resume_;
   std::unique_ptr<io::CsvLog> log_;
   bool in_place_ = false;          ///< appending to the resume log itself
+  bool constrained_ = false;       ///< auglag: best and log respect Evaluation::constraint
   bool verify_left_rows_ = false;  ///< a verifying run left rows of the resume log unread
   std::string mismatch_;           ///< why the resume log does not belong to this run
   std::chrono::steady_clock::time_point start_;

@@ -1,8 +1,10 @@
 // Derivative-free tuning loop over the unit cube with NLopt 2.7.1 (ecosystem spec §2).
 //
 // * Algorithms by name: crs2 (GN_CRS2_LM), isres, esch, direct_l, mlsl (G_MLSL_LDS with Subplex
-//   as its local search), sbplx (LN_SBPLX), neldermead, bobyqa, cobyla, and lhs (a batched
-//   Latin-hypercube design, below); "A+B" runs A on a share of the budget (global phase) and
+//   as its local search), sbplx (LN_SBPLX), neldermead, bobyqa, cobyla, auglag (AUGLAG around
+//   Subplex: minimises the cost subject to Evaluation::constraint <= 0, the best is the best
+//   point that meets it; the log gains a `constraint` column), and lhs (a batched Latin-hypercube
+//   design, below); "A+B" runs A on a share of the budget (global phase) and
 //   polishes with B from the best point. Default: "sbplx" (Subplex from the start point: on the
 //   real problem it ends where the best global methods end, and draws no random numbers;
 //   docs/tuning-benchmark.md).
@@ -56,6 +58,8 @@ struct Evaluation {
   double cost = 0.0;
   std::string status = "ok";         ///< "ok" or a short failure reason
   std::vector<std::string> columns;  ///< extra log fields (must match the extra header)
+  /// "auglag" only: the inequality constraint g(u) <= 0 (the clean-lap budget's violation).
+  double constraint = 0.0;
 };
 
 using Objective = std::function<Evaluation(const std::vector<double>& u)>;
