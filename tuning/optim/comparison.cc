@@ -268,16 +268,12 @@ SetChange CompareSets(const BatchEvaluator& ev, const SetEvaluation& baseline,
 }
 
 namespace {
-std::string Signed(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), "%+.*f", digits, x);
-  return buf;
-}
 
 /// "-0.400 (-0.10 %)"
 std::string Delta(double before, double after) {
-  std::string out = Signed(after - before, 3);
-  if (before != 0.0) out += " (" + Signed(100.0 * (after - before) / std::abs(before), 2) + " %)";
+  std::string out = FormatSigned(after - before, 3);
+  if (before != 0.0)
+    out += " (" + FormatSigned(100.0 * (after - before) / std::abs(before), 2) + " %)";
   return out;
 }
 
@@ -399,7 +395,7 @@ std::string SetChangeMarkdown(const std::string& group, const SetChange& c) {
     }
     if (n == 0) continue;
     out += std::string("| ") + OutcomeChangeName(oc) + " | " + std::to_string(n) + " | " +
-           Signed(delta, 3) + " | " + std::to_string(counts[0]) + " | " +
+           FormatSigned(delta, 3) + " | " + std::to_string(counts[0]) + " | " +
            std::to_string(counts[1]) + " | " + std::to_string(counts[2]) + " |\n";
   }
   out +=

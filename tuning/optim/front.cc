@@ -12,17 +12,12 @@
 #include <thread>
 
 #include "params/io/write.h"
+#include "tuning/sim/run_summary.h"
 
 namespace scw::tuning {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string Fixed(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
-  return buf;
-}
 
 /// One evaluation of any search of the front, scored without a budget.
 struct ArchiveEntry {
@@ -147,7 +142,7 @@ namespace {
 std::string Label(const CleanLapBudget& b) {
   if (!std::isfinite(b.lap_s)) return "no budget";
   if (b.lap_s == 0.0 && b.interventions) return "no loss";
-  return "+" + Fixed(b.lap_s, 3) + " s";
+  return "+" + FormatFixed(b.lap_s, 3) + " s";
 }
 
 int Aborts(const std::vector<SetEvaluation>& sets, std::size_t i) {
@@ -414,12 +409,12 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
       "Each point is a tune within its clean-lap budget (the largest loss of a clean lap "
       "against the base set, per lap); the stability cost is that of the critical scenarios "
       "(lower is better). Base set: stability " +
-      Fixed(s_base, 3) + " on the training scenarios, " +
+      FormatFixed(s_base, 3) + " on the training scenarios, " +
       std::to_string(Aborts(points.front().report.training, 0)) + " training and " +
       std::to_string(Aborts(points.front().report.held_out, 0)) +
-      " held-out aborts. Hypervolume of the training front " + Fixed(result.hypervolume, 3) +
-      " (reference point: loss " + Fixed(result.reference.first, 3) + " s/lap, stability " +
-      Fixed(result.reference.second, 3) + "); " + std::to_string(result.evaluations) +
+      " held-out aborts. Hypervolume of the training front " + FormatFixed(result.hypervolume, 3) +
+      " (reference point: loss " + FormatFixed(result.reference.first, 3) + " s/lap, stability " +
+      FormatFixed(result.reference.second, 3) + "); " + std::to_string(result.evaluations) +
       " evaluations.\n\n";
   md +=
       "| point | budget | clean-lap loss train / held-out [s/lap] | stability train / held-out "
@@ -429,7 +424,7 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
     const FrontPoint& p = points[k];
     const TuneReport& r = p.report;
     const auto loss = [](const ObjectiveValue& v) {
-      return std::isfinite(v.lap_loss) ? (v.lap_loss >= 0 ? "+" : "") + Fixed(v.lap_loss, 3)
+      return std::isfinite(v.lap_loss) ? (v.lap_loss >= 0 ? "+" : "") + FormatFixed(v.lap_loss, 3)
                                        : std::string("abort");
     };
     const std::string file = p.folder + "/stability_tuned.yaml";
@@ -449,9 +444,10 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
     std::string bought = buys.empty() ? "-" : "survives " + Join(buys);
     if (!loses.empty()) bought += "; loses " + Join(loses);
     md += "| " + std::to_string(k) + " | " + p.label + " | " + loss(r.tuned_value) + " / " +
-          loss(r.held_out_value) + " | " + Fixed(r.tuned_value.stability, 1) + " / " +
-          Fixed(r.held_out_value.stability, 1) + " | " + std::to_string(Aborts(r.training, 1)) +
-          " / " + std::to_string(Aborts(r.held_out, 1)) + " | " + bought + " | " +
+          loss(r.held_out_value) + " | " + FormatFixed(r.tuned_value.stability, 1) + " / " +
+          FormatFixed(r.held_out_value.stability, 1) + " | " +
+          std::to_string(Aborts(r.training, 1)) + " / " + std::to_string(Aborts(r.held_out, 1)) +
+          " | " + bought + " | " +
           (r.neighbourhood_done
                ? std::to_string(own) + " own of " + std::to_string(r.neighbourhood.edges.size())
                : std::string("not checked")) +

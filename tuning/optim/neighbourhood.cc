@@ -7,15 +7,10 @@
 #include <type_traits>
 
 #include "params/io/write.h"
+#include "tuning/sim/run_summary.h"
 
 namespace scw::tuning {
 namespace {
-
-std::string Fixed(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
-  return buf;
-}
 
 /// A plant unknown at one bound: the override of every scenario.
 struct PlantBound {
@@ -273,9 +268,11 @@ namespace {
 std::string Outcome(const RunMetrics& m) {
   if (!m.aborted()) {
     const double lap = m.MeanLapTime();
-    return std::isfinite(lap) ? "completed, " + Fixed(lap, 3) + " s" : std::string("completed");
+    return std::isfinite(lap) ? "completed, " + FormatFixed(lap, 3) + " s"
+                              : std::string("completed");
   }
-  return std::string(RunStatusName(m.status)) + " at " + Fixed(100.0 * m.Progress(), 0) + " %";
+  return std::string(RunStatusName(m.status)) + " at " + FormatFixed(100.0 * m.Progress(), 0) +
+         " %";
 }
 }  // namespace
 

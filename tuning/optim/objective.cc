@@ -5,22 +5,9 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "tuning/sim/run_summary.h"
+
 namespace scw::tuning {
-namespace {
-
-std::string Fixed(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
-  return buf;
-}
-
-std::string SignedFixed(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%+.*f", digits, x);
-  return buf;
-}
-
-}  // namespace
 
 const char* ObjectiveKindName(ObjectiveKind k) {
   return k == ObjectiveKind::kConstrained ? "constrained" : "sum";
@@ -62,7 +49,7 @@ TuneObjective::TuneObjective(ObjectiveKind kind, CleanLapBudget budget,
     throw std::invalid_argument("TuneObjective: the scenario counts of the inputs differ");
   if (!(budget_.lap_s >= 0.0))
     throw std::invalid_argument("the clean-lap budget must be >= 0 s, got " +
-                                Fixed(budget_.lap_s, 3));
+                                FormatFixed(budget_.lap_s, 3));
   base_value_ = Of(base_);
 }
 
@@ -122,7 +109,7 @@ ObjectiveValue TuneObjective::Of(const SetEvaluation& e) const {
         v.lap_loss = std::max(v.lap_loss, c.lap_loss);
         if (c.lap_loss > budget_.lap_s) {
           c.violation += c.lap_loss - budget_.lap_s;
-          breach = SignedFixed(c.lap_loss, 3) + " s a lap over " + LapBudgetText(budget_.lap_s);
+          breach = FormatSigned(c.lap_loss, 3) + " s a lap over " + LapBudgetText(budget_.lap_s);
         }
       }
       for (std::size_t k = 0; k < 4; ++k) {
@@ -180,10 +167,12 @@ std::string CleanLapMarkdown(const ObjectiveValue& v, const CleanLapBudget& budg
            std::to_string(a[3]);
   };
   for (const auto& c : v.clean) {
-    const auto lap = [](bool done, double t) { return done ? Fixed(t, 3) : std::string("-"); };
+    const auto lap = [](bool done, double t) {
+      return done ? FormatFixed(t, 3) : std::string("-");
+    };
     out += "| " + c.scenario + " | " + lap(c.base_completed, c.base_lap) + " | " +
            lap(c.completed, c.lap) + " | " +
-           (std::isfinite(c.lap_loss) ? SignedFixed(c.lap_loss, 3) : std::string("-")) + " | " +
+           (std::isfinite(c.lap_loss) ? FormatSigned(c.lap_loss, 3) : std::string("-")) + " | " +
            counts(c.base_activations) + " -> " + counts(c.activations) + " | " +
            (!c.base_completed  ? std::string("not constrained (the base aborts)")
             : c.breach.empty() ? std::string("yes")

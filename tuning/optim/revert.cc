@@ -5,15 +5,10 @@
 #include <cstdio>
 
 #include "params/io/write.h"
+#include "tuning/sim/run_summary.h"
 
 namespace scw::tuning {
 namespace {
-
-std::string Signed(double x) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%+.3f", x);
-  return buf;
-}
 
 /// Why a trial is refused ("" when it is kept).
 std::string Refusal(const TuneObjective& objective, const SetEvaluation& current,
@@ -37,7 +32,7 @@ std::string Refusal(const TuneObjective& objective, const SetEvaluation& current
   }
   const double d = trial_value.merit - current_value.merit;
   if (d > tolerance)
-    return "reverting it costs " + Signed(d) + " s of merit, more than the " +
+    return "reverting it costs " + FormatSigned(d, 3) + " s of merit, more than the " +
            params::FormatNumber(tolerance) + " s the clean-lap budget allows";
   return "";
 }

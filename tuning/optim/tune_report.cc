@@ -7,21 +7,10 @@
 #include "params/io/ros2_check.h"
 #include "params/io/write.h"
 #include "tuning/optim/tune_study_detail.h"
+#include "tuning/sim/run_summary.h"
 
 namespace scw::tuning::detail {
 namespace {
-
-std::string Fixed(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, x);
-  return buf;
-}
-
-std::string Signed(double x, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%+.*f", digits, x);
-  return buf;
-}
 
 int Aborts(const SetEvaluation& e) {
   int n = 0;
@@ -53,7 +42,7 @@ std::string BudgetLine(const ObjectiveValue& v, const CleanLapBudget& b) {
     out.pop_back();
   }
   if (std::isfinite(v.lap_loss))
-    out += " (largest change " + Signed(v.lap_loss, 3) + " s a lap";
+    out += " (largest change " + FormatSigned(v.lap_loss, 3) + " s a lap";
   else
     out += " (a clean lap aborts";
   out += v.extra_activations == 0
@@ -130,25 +119,27 @@ std::string AnswerMarkdown(const TuneStudy& study, const TuneReport& r) {
   std::string md = "## The answer\n\n";
   md += "- objective: " + r.objective + "\n";
   if (o.objective == ObjectiveKind::kConstrained)
-    md += "- stability cost (critical training scenarios): " + Fixed(r.base_value.stability, 3) +
-          " -> " + Fixed(r.tuned_value.stability, 3) + "; aborts " +
+    md += "- stability cost (critical training scenarios): " +
+          FormatFixed(r.base_value.stability, 3) + " -> " +
+          FormatFixed(r.tuned_value.stability, 3) + "; aborts " +
           std::to_string(Aborts(r.training[0])) + " -> " + std::to_string(Aborts(r.training[1])) +
           " of " + std::to_string(r.training[0].runs.size()) + " training runs\n";
   else
-    md += "- training cost: " + Fixed(r.training[0].total, 3) + " -> " +
-          Fixed(r.training[1].total, 3) + "; aborts " + std::to_string(Aborts(r.training[0])) +
-          " -> " + std::to_string(Aborts(r.training[1])) + "\n";
+    md += "- training cost: " + FormatFixed(r.training[0].total, 3) + " -> " +
+          FormatFixed(r.training[1].total, 3) + "; aborts " +
+          std::to_string(Aborts(r.training[0])) + " -> " + std::to_string(Aborts(r.training[1])) +
+          "\n";
   md += "- clean laps (training): " + BudgetLine(r.tuned_value, o.budget) + "\n";
   if (!r.held_out.empty())
     md += "- clean laps (held-out): " + BudgetLine(r.held_out_value, o.budget) + "; aborts " +
           std::to_string(Aborts(r.held_out[0])) + " -> " + std::to_string(Aborts(r.held_out[1])) +
           " of " + std::to_string(r.held_out[0].runs.size()) + "\n";
   const std::string step_ms = params::FormatNumber(r.plant_step.used() * 1000.0);
-  md += "- search best: merit " + Fixed(opt.best_cost, 3) + " at evaluation " +
-        std::to_string(opt.best_eval) + " (base " + Fixed(opt.start_cost, 3) +
+  md += "- search best: merit " + FormatFixed(opt.best_cost, 3) + " at evaluation " +
+        std::to_string(opt.best_eval) + " (base " + FormatFixed(opt.start_cost, 3) +
         (r.plant_step.used() > 0 ? ", at the " + step_ms + " ms search step" : std::string()) +
-        "); exported: merit " + Fixed(r.tuned_value.merit, 3) + " (base " +
-        Fixed(r.base_value.merit, 3) + ") at the vehicle's step, " +
+        "); exported: merit " + FormatFixed(r.tuned_value.merit, 3) + " (base " +
+        FormatFixed(r.base_value.merit, 3) + ") at the vehicle's step, " +
         std::to_string(r.changed.size()) + " key(s) changed\n";
   if (!r.unexported_gain.empty()) md += "- **" + r.unexported_gain + "**\n";
   if (r.neighbourhood_done) {
@@ -164,8 +155,8 @@ std::string AnswerMarkdown(const TuneStudy& study, const TuneReport& r) {
             " knife edge(s) before, " + std::to_string(r.neighbourhood.edges.size()) + " after " +
             std::to_string(r.robust_rounds) + " round(s) (" + std::to_string(r.robust_evaluations) +
             " evaluations); largest clean-lap change " +
-            Signed(r.tuned_value_before_robust.lap_loss, 3) + " -> " +
-            Signed(r.tuned_value.lap_loss, 3) + " s a lap\n";
+            FormatSigned(r.tuned_value_before_robust.lap_loss, 3) + " -> " +
+            FormatSigned(r.tuned_value.lap_loss, 3) + " s a lap\n";
   } else {
     md += "- knife edges: not checked\n";
   }

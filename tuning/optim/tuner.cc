@@ -331,26 +331,19 @@ class Run {
     if (!a.global) opt.set_initial_step(o_.initial_step);
     if (a.alg == nlopt::GN_CRS2_LM || a.alg == nlopt::GN_ISRES)
       opt.set_population(static_cast<unsigned>(o_.population > 0 ? o_.population : 5 * (n_ + 1)));
-    if (a.alg == nlopt::AUGLAG) {
-      // The augmented Lagrangian's subproblems solved by Subplex from the base point.
+    // MLSL (multi-level single linkage on a low-discrepancy sequence) starts local Subplex
+    // searches from the most promising of its sample points; AUGLAG solves its augmented
+    // Lagrangian's subproblems with Subplex, the clean-lap budget as the inequality constraint.
+    if (a.alg == nlopt::G_MLSL_LDS || a.alg == nlopt::AUGLAG) {
       nlopt::opt local(nlopt::LN_SBPLX, static_cast<unsigned>(n_));
       local.set_lower_bounds(std::vector<double>(static_cast<std::size_t>(n_), 0.0));
       local.set_upper_bounds(std::vector<double>(static_cast<std::size_t>(n_), 1.0));
       local.set_xtol_abs(o_.xtol_abs);
       local.set_initial_step(o_.initial_step);
       opt.set_local_optimizer(local);
+    }
+    if (a.alg == nlopt::AUGLAG)
       opt.add_inequality_constraint(&Run::ConstraintTrampoline, this, 0.0);
-    }
-    if (a.alg == nlopt::G_MLSL_LDS) {
-      // Multi-level single linkage on a low-discrepancy sequence: local Subplex searches from
-      // the most promising of its sample points.
-      nlopt::opt local(nlopt::LN_SBPLX, static_cast<unsigned>(n_));
-      local.set_lower_bounds(std::vector<double>(static_cast<std::size_t>(n_), 0.0));
-      local.set_upper_bounds(std::vector<double>(static_cast<std::size_t>(n_), 1.0));
-      local.set_xtol_abs(o_.xtol_abs);
-      local.set_initial_step(o_.initial_step);
-      opt.set_local_optimizer(local);
-    }
   }
 
   void NoteResult(nlopt::result r) {

@@ -14,6 +14,12 @@ std::string FormatFixed(double x, int digits) {
   return buf;
 }
 
+std::string FormatSigned(double x, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%+.*f", digits, x);
+  return buf;
+}
+
 std::string FormatRunSummary(const std::string& name, const RunMetrics& m) {
   std::string out = "scenario " + name + ": " + RunStatusName(m.status);
   if (m.aborted())
