@@ -77,15 +77,25 @@ template <class M>
 SCW_FAST_MATH_INLINE typename VecOfMask<M>::type FromBits(M m) noexcept {
   return std::bit_cast<typename VecOfMask<M>::type>(m);
 }
+template <class M>
+constexpr M MaskSplat(std::int64_t v) noexcept {
+  if constexpr (sizeof(M) == sizeof(Mask2))
+    return M{v, v};
+  else
+    return M{v, v, v, v};
+}
 template <class V>
-SCW_FAST_MATH_INLINE MaskOf<V> SignBit() noexcept {
-  return MaskOf<V>{} + INT64_MIN;
+constexpr MaskOf<V> SignBit() noexcept {
+  return MaskSplat<MaskOf<V>>(INT64_MIN);
 }
 
 // Constants as whole registers: a scalar operand would be re-broadcast at every use.
 template <class V = Double2>
-SCW_FAST_MATH_INLINE V Splat(double v) noexcept {
-  return V{} + v;
+constexpr V Splat(double v) noexcept {
+  if constexpr (sizeof(V) == sizeof(Double2))
+    return V{v, v};
+  else
+    return V{v, v, v, v};
 }
 
 // m ? a : b per lane, without a branch.
@@ -107,12 +117,17 @@ SCW_FAST_MATH_INLINE V CopySign(V magnitude, V sign) noexcept {
 // with z = t^2; the even/odd split halves the dependency chain of a plain Horner scheme.
 template <class V>
 SCW_FAST_MATH_INLINE V AtanKernel(V t) noexcept {
-  const V kAt0 = Splat<V>(3.33333333333329318027e-01), kAt1 = Splat<V>(-1.99999999998764832476e-01),
-          kAt2 = Splat<V>(1.42857142725034663711e-01), kAt3 = Splat<V>(-1.11111104054623557880e-01),
-          kAt4 = Splat<V>(9.09088713343650656196e-02), kAt5 = Splat<V>(-7.69187620504482999495e-02),
-          kAt6 = Splat<V>(6.66107313738753120669e-02), kAt7 = Splat<V>(-5.83357013379057348645e-02),
-          kAt8 = Splat<V>(4.97687799461593236017e-02), kAt9 = Splat<V>(-3.65315727442169155270e-02),
-          kAt10 = Splat<V>(1.62858201153657823623e-02);
+  constexpr V kAt0 = Splat<V>(3.33333333333329318027e-01),
+              kAt1 = Splat<V>(-1.99999999998764832476e-01),
+              kAt2 = Splat<V>(1.42857142725034663711e-01),
+              kAt3 = Splat<V>(-1.11111104054623557880e-01),
+              kAt4 = Splat<V>(9.09088713343650656196e-02),
+              kAt5 = Splat<V>(-7.69187620504482999495e-02),
+              kAt6 = Splat<V>(6.66107313738753120669e-02),
+              kAt7 = Splat<V>(-5.83357013379057348645e-02),
+              kAt8 = Splat<V>(4.97687799461593236017e-02),
+              kAt9 = Splat<V>(-3.65315727442169155270e-02),
+              kAt10 = Splat<V>(1.62858201153657823623e-02);
   const V z = t * t;
   const V w = z * z;
   const V s1 = z * (kAt0 + w * (kAt2 + w * (kAt4 + w * (kAt6 + w * (kAt8 + w * kAt10)))));
@@ -124,9 +139,12 @@ SCW_FAST_MATH_INLINE V AtanKernel(V t) noexcept {
 // correction for cos, which costs latency and buys less than 1e-16 the plant does not need).
 template <class V>
 SCW_FAST_MATH_INLINE V SinKernel(V r) noexcept {
-  const V kS1 = Splat<V>(-1.66666666666666324348e-01), kS2 = Splat<V>(8.33333333332248946124e-03),
-          kS3 = Splat<V>(-1.98412698298579493134e-04), kS4 = Splat<V>(2.75573137070700676789e-06),
-          kS5 = Splat<V>(-2.50507602534068634195e-08), kS6 = Splat<V>(1.58969099521155010221e-10);
+  constexpr V kS1 = Splat<V>(-1.66666666666666324348e-01),
+              kS2 = Splat<V>(8.33333333332248946124e-03),
+              kS3 = Splat<V>(-1.98412698298579493134e-04),
+              kS4 = Splat<V>(2.75573137070700676789e-06),
+              kS5 = Splat<V>(-2.50507602534068634195e-08),
+              kS6 = Splat<V>(1.58969099521155010221e-10);
   const V z = r * r;
   const V p = kS2 + z * (kS3 + z * (kS4 + z * (kS5 + z * kS6)));
   return r + r * z * (kS1 + z * p);
@@ -134,9 +152,12 @@ SCW_FAST_MATH_INLINE V SinKernel(V r) noexcept {
 
 template <class V>
 SCW_FAST_MATH_INLINE V CosKernel(V r) noexcept {
-  const V kC1 = Splat<V>(4.16666666666666019037e-02), kC2 = Splat<V>(-1.38888888888741095749e-03),
-          kC3 = Splat<V>(2.48015872894767294178e-05), kC4 = Splat<V>(-2.75573143513906633035e-07),
-          kC5 = Splat<V>(2.08757232129817482790e-09), kC6 = Splat<V>(-1.13596475577881948265e-11);
+  constexpr V kC1 = Splat<V>(4.16666666666666019037e-02),
+              kC2 = Splat<V>(-1.38888888888741095749e-03),
+              kC3 = Splat<V>(2.48015872894767294178e-05),
+              kC4 = Splat<V>(-2.75573143513906633035e-07),
+              kC5 = Splat<V>(2.08757232129817482790e-09),
+              kC6 = Splat<V>(-1.13596475577881948265e-11);
   const V z = r * r;
   const V p = z * (kC1 + z * (kC2 + z * (kC3 + z * (kC4 + z * (kC5 + z * kC6)))));
   return Splat<V>(1.0) - (Splat<V>(0.5) * z - z * p);
@@ -150,17 +171,17 @@ SCW_FAST_MATH_INLINE V CosKernel(V r) noexcept {
 template <class V>
 SCW_FAST_MATH_INLINE V SinShifted(V a, std::int64_t phase) noexcept {
   using M = MaskOf<V>;
-  const V kTwoOverPi = Splat<V>(6.36619772367581382433e-01);
-  const V kPio2Hi = Splat<V>(1.57079632673412561417e+00);  // 33 bits: k kPio2Hi exact
-  const V kPio2Lo = Splat<V>(6.07710050650619224932e-11);  // pi/2 - kPio2Hi
+  constexpr V kTwoOverPi = Splat<V>(6.36619772367581382433e-01);
+  constexpr V kPio2Hi = Splat<V>(1.57079632673412561417e+00);  // 33 bits: k kPio2Hi exact
+  constexpr V kPio2Lo = Splat<V>(6.07710050650619224932e-11);  // pi/2 - kPio2Hi
   // Round to nearest by the 1.5 * 2^52 shift (no libm call); the shifted value's low mantissa
   // bits are k itself, which gives the quadrant without a float -> int conversion.
-  const V kShift = Splat<V>(6755399441055744.0);
+  constexpr V kShift = Splat<V>(6755399441055744.0);
   const V shifted = a * kTwoOverPi + kShift;
   const V k = shifted - kShift;
   const V r = (a - k * kPio2Hi) - k * kPio2Lo;
-  const M q = Bits(shifted) + phase;
-  const M zero = M{}, one = M{} + 1, two = M{} + 2;
+  const M q = Bits(shifted) + MaskSplat<M>(phase);
+  constexpr M zero = MaskSplat<M>(0), one = MaskSplat<M>(1), two = MaskSplat<M>(2);
   const V v = Select<V>((q & one) != zero, CosKernel(r), SinKernel(r));
   return FromBits(Bits(v) ^ (((q & two) != zero) & SignBit<V>()));
 }
@@ -186,11 +207,11 @@ template <class V>
 SCW_FAST_MATH_INLINE V FastAtan(V x) noexcept {
   using namespace fast_math_detail;
   using M = MaskOf<V>;
-  const V kPi2 = Splat<V>(1.57079632679489655800e+00);  // pi/2 rounded
-  const V kPi4 = Splat<V>(7.85398163397448278999e-01);  // pi/4 rounded
-  const V kTanPi8 = Splat<V>(0.41421356237309503);      // sqrt(2) - 1
-  const V kTan3Pi8 = Splat<V>(2.41421356237309503);     // sqrt(2) + 1
-  const V kZero = Splat<V>(0.0), kOne = Splat<V>(1.0), kMinusOne = Splat<V>(-1.0);
+  constexpr V kPi2 = Splat<V>(1.57079632679489655800e+00);  // pi/2 rounded
+  constexpr V kPi4 = Splat<V>(7.85398163397448278999e-01);  // pi/4 rounded
+  constexpr V kTanPi8 = Splat<V>(0.41421356237309503);      // sqrt(2) - 1
+  constexpr V kTan3Pi8 = Splat<V>(2.41421356237309503);     // sqrt(2) + 1
+  constexpr V kZero = Splat<V>(0.0), kOne = Splat<V>(1.0), kMinusOne = Splat<V>(-1.0);
   const V a = Abs(x);
   // atan(a) = c + atan(t), t = (a - tan c)/(1 + a tan c) with c = 0, pi/4, pi/2 below tan(pi/8),
   // below tan(3 pi/8) and beyond, so that |t| <= tan(pi/8) < 7/16: one division. NaN compares

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <type_traits>
 
 #include "plant/common/fast_math.h"
 
@@ -73,14 +75,30 @@ SCW_MF_INLINE V MfArgument(V b, V c, V e, V x) noexcept {
   return c * FastAtan(bx - e * (bx - FastAtan(bx)));
 }
 
-// The tyres of one vector: their inputs and coefficient sets, lane by lane.
+// Index of a coefficient among the doubles of Mf52Params (TireSet4's row).
+inline std::size_t CoefficientIndex(double params::Mf52Params::*f) noexcept {
+  static const params::Mf52Params probe{};
+  return static_cast<std::size_t>(reinterpret_cast<const char*>(&(probe.*f)) -
+                                  reinterpret_cast<const char*>(&probe)) /
+         sizeof(double);
+}
+
+// The tyres of one vector: their inputs and coefficient sets, lane by lane. The coefficients
+// come from four Mf52Params objects (p), or, when `set` is given, from the lanes
+// [first, first + lanes) of a TireSet4.
 template <class V>
 struct Lanes {
   const TireInput* in;
   const params::Mf52Params* const* p;
+  const TireSet4* set = nullptr;
+  std::size_t first = 0;
   SCW_MF_INLINE V operator()(double params::Mf52Params::*f) const noexcept {
     V v;
-    for (int i = 0; i < kLanes<V>; ++i) v[i] = p[i]->*f;
+    if (set != nullptr) {
+      std::memcpy(&v, set->lanes(CoefficientIndex(f)) + first, sizeof(V));
+    } else {
+      for (int i = 0; i < kLanes<V>; ++i) v[i] = p[i]->*f;
+    }
     return v;
   }
   SCW_MF_INLINE V operator()(double TireInput::*f) const noexcept {
@@ -233,12 +251,13 @@ SCW_MF_INLINE void Finish(const Curves<V>& cv, V sin_x, V sin_y, V cos_x, V cos_
 // *p[i].
 template <class V, std::size_t kGroups>
 SCW_MF_INLINE void EvaluateTires(const TireInput* in, const params::Mf52Params* const* p,
-                                 TireForce* out) noexcept {
+                                 const TireSet4* set, TireForce* out) noexcept {
   constexpr std::size_t kL = static_cast<std::size_t>(kLanes<V>);
   Lanes<V> lanes[kGroups];
   Curves<V> cv[kGroups];
   for (std::size_t q = 0; q < kGroups; ++q) {
-    lanes[q] = Lanes<V>{in + kL * q, p + kL * q};
+    lanes[q] = set != nullptr ? Lanes<V>{in + kL * q, nullptr, set, kL * q}
+                              : Lanes<V>{in + kL * q, p + kL * q};
     Prepare(lanes[q], &cv[q]);
   }
   // Stage by stage over all chains: C atan(B x - E (B x - atan(B x))), then sin (pure slip) and
@@ -269,18 +288,16 @@ SCW_MF_INLINE void EvaluateTires(const TireInput* in, const params::Mf52Params* 
     Finish(cv[q], val[q][0], val[q][1], val[q][2], val[q][3], lanes[q], out + kL * q);
 }
 
-void EvaluateFourSse2(const TireInput* in, const params::Mf52Params* const* p,
-                      TireForce* out) noexcept {
-  EvaluateTires<Double2, 2>(in, p, out);
+void EvaluateFourSse2(const TireInput* in, const TireSet4& set, TireForce* out) noexcept {
+  EvaluateTires<Double2, 2>(in, nullptr, &set, out);
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 // The same for AVX2 CPUs, four tyres per Double4: the helpers above are always inlined and so
 // compiled for AVX2 here. AVX2 only (no FMA): every operation rounds as in the SSE2 path.
-__attribute__((target("avx2"))) void EvaluateFourAvx2(const TireInput* in,
-                                                      const params::Mf52Params* const* p,
+__attribute__((target("avx2"))) void EvaluateFourAvx2(const TireInput* in, const TireSet4& set,
                                                       TireForce* out) noexcept {
-  EvaluateTires<Double4, 1>(in, p, out);
+  EvaluateTires<Double4, 1>(in, nullptr, &set, out);
 }
 
 bool HasAvx2() noexcept {
@@ -290,9 +307,8 @@ bool HasAvx2() noexcept {
 const bool kHasAvx2 = HasAvx2();
 #else
 constexpr bool kHasAvx2 = false;
-void EvaluateFourAvx2(const TireInput* in, const params::Mf52Params* const* p,
-                      TireForce* out) noexcept {
-  EvaluateFourSse2(in, p, out);
+void EvaluateFourAvx2(const TireInput* in, const TireSet4& set, TireForce* out) noexcept {
+  EvaluateFourSse2(in, set, out);
 }
 #endif
 
@@ -303,17 +319,32 @@ TireForce TireForces(const TireInput& in, const params::Mf52Params& p) noexcept 
   const TireInput two[2] = {in, in};
   const params::Mf52Params* pp[2] = {&p, &p};
   TireForce f[2];
-  EvaluateTires<Double2, 1>(two, pp, f);
+  EvaluateTires<Double2, 1>(two, pp, nullptr, f);
   return f[0];
+}
+
+TireSet4::TireSet4(const std::array<const params::Mf52Params*, 4>& p) noexcept {
+  static_assert(sizeof(params::Mf52Params) % sizeof(double) == 0 &&
+                    std::is_trivially_copyable_v<params::Mf52Params>,
+                "TireSet4 copies Mf52Params as an array of doubles");
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t k = 0; k < kCoefficients; ++k)
+      std::memcpy(&lanes_[k][i], reinterpret_cast<const char*>(p[i]) + k * sizeof(double),
+                  sizeof(double));
+}
+
+void TireForces4(const std::array<TireInput, 4>& in, const TireSet4& set,
+                 std::array<TireForce, 4>* out) noexcept {
+  if (kHasAvx2)
+    EvaluateFourAvx2(in.data(), set, out->data());
+  else
+    EvaluateFourSse2(in.data(), set, out->data());
 }
 
 void TireForces4(const std::array<TireInput, 4>& in,
                  const std::array<const params::Mf52Params*, 4>& p,
                  std::array<TireForce, 4>* out) noexcept {
-  if (kHasAvx2)
-    EvaluateFourAvx2(in.data(), p.data(), out->data());
-  else
-    EvaluateFourSse2(in.data(), p.data(), out->data());
+  TireForces4(in, TireSet4(p), out);
 }
 
 TirePeakFriction PeakFriction(double fz, double lambda_mu_x, double lambda_mu_y,
