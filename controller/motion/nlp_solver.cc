@@ -628,8 +628,38 @@ struct NlpSolver::Impl {
   Ipopt::SmartPtr<Adapter> adapter;
   const SparseNlp* last_nlp = nullptr;
   Structure last, current;
-  bool reusable = false;  ///< Ipopt's state after the last solve may be reused
+  bool reusable = false;              ///< Ipopt's state after the last solve may be reused
+  bool last_unscaled = false;         ///< the fresh solve's start needed no NLP scaling
+  std::vector<double> z0, grad, jac;  ///< scratch of Unscaled
 };
+
+namespace {
+
+// Ipopt's gradient-based NLP scaling (its default nlp_scaling_method, nlp_scaling_max_gradient
+// 100) is determined from the starting point by a fresh solve and kept by a re-solve on the same
+// structure. Whether the start needs no scaling at all: |df/dz_i| <= 100 for every variable and
+// |dg_r/dz_i| <= 100 for every Jacobian entry (Ipopt takes these maxima over the free variables,
+// per row; over all entries the answer is "no scaling" at most as often). A re-solve is
+// only used when its fresh solve and it both need none, so that it is bit for bit the fresh
+// solve.
+bool Unscaled(SparseNlp* nlp, const Structure& st, std::vector<double>* z0,
+              std::vector<double>* grad, std::vector<double>* jac) {
+  constexpr double kMaxGradient = 100.0;  // Ipopt's nlp_scaling_max_gradient default
+  const auto n = static_cast<std::size_t>(st.sizes.n);
+  z0->resize(n);
+  grad->resize(n);
+  jac->resize(st.jac_rows.size());
+  nlp->Start(z0->data());
+  nlp->Gradient(z0->data(), grad->data());
+  for (double g : *grad)
+    if (!(std::abs(g) <= kMaxGradient)) return false;
+  nlp->JacobianValues(z0->data(), jac->data());
+  for (double v : *jac)
+    if (!(std::abs(v) <= kMaxGradient)) return false;
+  return true;
+}
+
+}  // namespace
 
 NlpSolver::NlpSolver(const NlpSolverOptions& o) : impl_(std::make_unique<Impl>()) {
   std::lock_guard<std::mutex> lock(IpoptMutex());
@@ -687,7 +717,9 @@ NlpResult NlpSolver::Solve(SparseNlp* nlp) noexcept {
     const NlpSolverOptions& o = im.options;
     auto opts = im.app->Options();
     im.current.Read(nlp, &im.bounds);
-    const bool same = im.reusable && nlp == im.last_nlp && im.current == im.last;
+    const bool unscaled = Unscaled(nlp, im.current, &im.z0, &im.grad, &im.jac);
+    const bool same =
+        im.reusable && nlp == im.last_nlp && im.current == im.last && im.last_unscaled && unscaled;
     im.reusable = false;  // until this solve ends normally
     bool warm = false;
     if (o.warm_start) {
@@ -708,6 +740,7 @@ NlpResult NlpSolver::Solve(SparseNlp* nlp) noexcept {
       im.adapter = new Adapter(nlp, &im.bounds, &im.start_mult);
       std::swap(im.last, im.current);
       im.last_nlp = nlp;
+      im.last_unscaled = unscaled;
       st = im.app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(GetRawPtr(im.adapter)));
     }
     r.status = static_cast<int>(st);
