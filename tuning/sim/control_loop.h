@@ -6,14 +6,14 @@
 //
 // One control tick k (period tS; the plant steps `ratio` = tS/h times per tick):
 //   1. d.Begin(k)                            false: the run ends before this tick
-//   2. m = plant.Measure(state, noise)       the sensors (seeded noise when enabled)
+//   2. m = vehicle.Measure(state, noise)     the sensors (seeded noise when enabled)
 //   3. state non-finite or !d.Finite(m)      d.NonFinite(), the run ends
 //   4. d.Input(k, m, &in)                    the controller's input; false: the run ends
 //   5. out = stability.Step(in, &stability state)
 //   6. d.Output(k, m, in, out, state.out)    the observers (state.out: the plant's outputs of its
 //                                            last step); false: the run ends after this tick
-//   7. ratio times: d.Environment(state, &env) ? plant.Step(u, env, &state)
-//                                              : plant.Step(u, &state)     u = out's requests
+//   7. ratio times: d.Environment(state, &env) ? vehicle.Step(u, env, &state)
+//                                              : vehicle.Step(u, &state)   u = out's requests
 //      (false: the nominal road in still air, the cheaper step bit for bit equal to the default
 //      environment)
 //   8. d.End(k)
@@ -32,7 +32,7 @@ namespace scw::tuning {
 
 /// The objects of one run that the loop advances (owned by the caller, outliving the run).
 struct ControlLoop {
-  const plant::Vehicle& plant;
+  const plant::Vehicle& vehicle;  ///< the plant model
   const controller::StabilityController& stability;
   long ratio = 1;                            ///< plant steps per control tick, >= 1
   plant::State* state = nullptr;             ///< the plant's state
@@ -44,7 +44,7 @@ struct ControlLoop {
   void Run(Driver& d) const {
     for (long tick = 0;; ++tick) {
       if (!d.Begin(tick)) return;
-      const plant::Measurement meas = plant.Measure(*state, noise);
+      const plant::Measurement meas = vehicle.Measure(*state, noise);
       if ((state->status & plant::kStatusNonFinite) || !d.Finite(meas)) {
         d.NonFinite();
         return;
@@ -57,9 +57,9 @@ struct ControlLoop {
       for (long k = 0; k < ratio; ++k) {
         plant::Environment env;
         if (d.Environment(*state, &env))
-          plant.Step(act, env, state);
+          vehicle.Step(act, env, state);
         else
-          plant.Step(act, state);
+          vehicle.Step(act, state);
       }
       d.End(tick);
     }
