@@ -6,11 +6,26 @@
 #include <IpIpoptApplication.hpp>
 #include <IpSolveStatistics.hpp>
 #include <IpTNLP.hpp>
+#include <IpUtils.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <vector>
+
+// Ipopt 3.11 times each task of each iteration (IpTimedTask.hpp, Start and End) with
+// Ipopt::CpuTime() and Ipopt::SysTime(), each a getrusage system call: ~40 per iteration, a fifth
+// of a PMPC lap's time spent in the kernel. The library offers no option to turn the timing off
+// (3.13's timing_statistics), but it calls both functions through its PLT, so these definitions,
+// linked into every program that uses NlpSolver, take their place. Ipopt's CPU and system times
+// therefore read 0 in its statistics; the wall-clock times are read as before (vDSO, no system
+// call), and NlpSolver never sets max_cpu_time, the only decision Ipopt takes on them.
+namespace Ipopt {
+Number CpuTime() { return 0.0; }
+Number SysTime() { return 0.0; }
+}  // namespace Ipopt
 
 namespace scw::controller::motion {
 namespace {
@@ -110,6 +125,11 @@ class Adapter final : public Ipopt::TNLP {
 
   double violation() const { return violation_; }
   bool finalized() const { return finalized_; }
+  /// Before each solve of the same problem (ReOptimizeTNLP reuses this object).
+  void Reset() {
+    violation_ = 1e300;
+    finalized_ = false;
+  }
 
  private:
   SparseNlp* nlp_;
@@ -189,39 +209,176 @@ void Init(ipfint* icntl, double* cntl) {
   cntl[0] = 0.1;
 }
 
+// The symbolic phase of one sparsity pattern: the AMD ordering, the permuted upper triangle and
+// the elimination tree with the column counts of L. Ipopt re-runs MA27AD at the start of every
+// solve and MA27BD at every iteration, always for the same KKT pattern of a given problem; the
+// ordering and the tree depend on that pattern alone, so they are computed once per pattern and
+// kept here. The numeric phase reads them in the same order as when it computed them itself, so
+// the factor is bit-identical either way.
+struct SymbolicData {
+  std::vector<ipfint> irn, icn;  ///< the pattern as Ipopt passed it (1-based): the key
+  std::vector<ipfint> perm;      ///< perm[k] = original index of the k-th pivot
+  std::vector<ipfint> ap, ai, entry, parent, colcount;
+  // The row patterns of L in the order the up-looking factorisation visits them: row k has the
+  // columns row_col[t] for t in [row_ptr[k], row_ptr[k+1]), its entry at row_pos[t] of L's
+  // storage; li is L's row index array. All of it follows from the pattern alone.
+  std::vector<ipfint> row_ptr, row_col, row_pos, li;
+  ipfint lnz = 0;
+  double ops = 0.0;
+  std::uint64_t stamp = 0;  ///< identifies the entry in IKEEP (never reused)
+};
+
+// The patterns seen in this process, most recently used last. MA27AD/BD/CD run only inside
+// NlpSolver::Solve, which holds the process-wide Ipopt lock, so the cache needs no lock of its
+// own. A handful of patterns (one per MPC problem size in use) is typical; the oldest is dropped
+// beyond kCapacity, and a factorisation whose entry was dropped recomputes its symbolic phase.
+class SymbolicCache {
+ public:
+  static constexpr std::size_t kCapacity = 16;
+
+  // The entry for the pattern, computed when new (nullptr when AMD or the allocation fails).
+  const SymbolicData* Get(ipfint n, ipfint nz, const ipfint* irn, const ipfint* icn) {
+    for (std::size_t i = entries_.size(); i-- > 0;) {
+      SymbolicData& e = *entries_[i];
+      if (static_cast<ipfint>(e.perm.size()) == n && static_cast<ipfint>(e.irn.size()) == nz &&
+          std::equal(irn, irn + nz, e.irn.begin()) && std::equal(icn, icn + nz, e.icn.begin())) {
+        std::rotate(entries_.begin() + static_cast<std::ptrdiff_t>(i),
+                    entries_.begin() + static_cast<std::ptrdiff_t>(i) + 1, entries_.end());
+        return entries_.back().get();
+      }
+    }
+    auto e = std::make_unique<SymbolicData>();
+    if (!Compute(n, nz, irn, icn, e.get())) return nullptr;
+    e->stamp = ++last_stamp_;
+    if (entries_.size() >= kCapacity) entries_.erase(entries_.begin());
+    entries_.push_back(std::move(e));
+    return entries_.back().get();
+  }
+
+  // The entry stamped `stamp` with these sizes, or nullptr (dropped since, or never made).
+  const SymbolicData* Find(std::uint64_t stamp, ipfint n, ipfint nz) const {
+    for (const auto& e : entries_)
+      if (e->stamp == stamp && static_cast<ipfint>(e->perm.size()) == n &&
+          static_cast<ipfint>(e->irn.size()) == nz)
+        return e.get();
+    return nullptr;
+  }
+
+ private:
+  static bool Compute(ipfint n, ipfint nz, const ipfint* irn, const ipfint* icn, SymbolicData* d) {
+    const auto un = static_cast<std::size_t>(n), unz = static_cast<std::size_t>(nz);
+    std::vector<Eigen::Triplet<double, ipfint>> t;
+    t.reserve(unz);
+    for (ipfint e = 0; e < nz; ++e) t.emplace_back(irn[e] - 1, icn[e] - 1, 1.0);
+    Eigen::SparseMatrix<double, Eigen::ColMajor, ipfint> pattern(n, n);
+    pattern.setFromTriplets(t.begin(), t.end());
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, ipfint> order;
+    Eigen::AMDOrdering<ipfint>()(pattern, order);  // order.indices()[new] = old
+    d->irn.assign(irn, irn + nz);
+    d->icn.assign(icn, icn + nz);
+    d->perm.resize(un);
+    std::vector<ipfint> iperm(un), flag(un);
+    for (ipfint k = 0; k < n; ++k) {
+      d->perm[static_cast<std::size_t>(k)] = order.indices()[k];
+      iperm[static_cast<std::size_t>(order.indices()[k])] = k;
+    }
+    d->ap.resize(un + 1);
+    d->ai.resize(unz);
+    d->entry.resize(unz);
+    d->parent.resize(un);
+    d->colcount.resize(un);
+    PermutedUpper(n, nz, irn, icn, iperm.data(), d->ap.data(), d->ai.data(), d->entry.data());
+    d->lnz =
+        Symbolic(n, d->ap.data(), d->ai.data(), d->parent.data(), d->colcount.data(), flag.data());
+    d->ops = 0.0;
+    for (ipfint c : d->colcount) d->ops += static_cast<double>(c) * c;
+    RowPatterns(n, d, flag.data());
+    return true;
+  }
+
+  // The traversal of the numeric phase (Factorise) without its arithmetic: records each row's
+  // pattern in visiting order and where its entries go.
+  static void RowPatterns(ipfint n, SymbolicData* d, ipfint* flag) {
+    const auto un = static_cast<std::size_t>(n), lnz = static_cast<std::size_t>(d->lnz);
+    std::vector<ipfint> lp(un + 1), count(un, 0), pattern(un);
+    lp[0] = 0;
+    for (std::size_t k = 0; k < un; ++k) lp[k + 1] = lp[k] + d->colcount[k];
+    d->row_ptr.assign(un + 1, 0);
+    d->row_col.resize(lnz);
+    d->row_pos.resize(lnz);
+    d->li.resize(lnz);
+    std::size_t t = 0;
+    for (ipfint k = 0; k < n; ++k) {
+      ipfint top = n;
+      flag[k] = k;
+      for (ipfint p = d->ap[static_cast<std::size_t>(k)];
+           p < d->ap[static_cast<std::size_t>(k) + 1]; ++p) {
+        ipfint i = d->ai[static_cast<std::size_t>(p)];
+        ipfint len = 0;
+        for (; flag[i] != k; i = d->parent[static_cast<std::size_t>(i)]) {
+          pattern[static_cast<std::size_t>(len++)] = i;
+          flag[i] = k;
+        }
+        while (len > 0)
+          pattern[static_cast<std::size_t>(--top)] = pattern[static_cast<std::size_t>(--len)];
+      }
+      for (; top < n; ++top) {
+        const auto i = static_cast<std::size_t>(pattern[static_cast<std::size_t>(top)]);
+        const ipfint p2 = lp[i] + count[i]++;
+        d->row_col[t] = static_cast<ipfint>(i);
+        d->row_pos[t] = p2;
+        d->li[static_cast<std::size_t>(p2)] = k;
+        ++t;
+      }
+      d->row_ptr[static_cast<std::size_t>(k) + 1] = static_cast<ipfint>(t);
+    }
+  }
+
+  std::vector<std::unique_ptr<SymbolicData>> entries_;
+  std::uint64_t last_stamp_ = 0;
+};
+
+SymbolicCache& Cache() {
+  static SymbolicCache cache;
+  return cache;
+}
+
+// IKEEP has 3n entries (MA27's contract; Ipopt allocates them): the ordering fills the first n,
+// the cache entry's stamp is kept in the next two (low and high 31 bits).
+void PutStamp(ipfint n, std::uint64_t stamp, ipfint* ikeep) {
+  ikeep[n] = static_cast<ipfint>(stamp & 0x7fffffffu);
+  ikeep[n + 1] = static_cast<ipfint>((stamp >> 31) & 0x7fffffffu);
+}
+std::uint64_t GetStamp(ipfint n, const ipfint* ikeep) {
+  return static_cast<std::uint64_t>(ikeep[n]) | (static_cast<std::uint64_t>(ikeep[n + 1]) << 31);
+}
+
 void Analyse(ipfint* N, ipfint* NZ, const ipfint* irn, const ipfint* icn, ipfint*, ipfint*,
              ipfint* ikeep, ipfint*, ipfint* nsteps, ipfint*, ipfint*, double*, ipfint* info,
              double* ops) {
   const ipfint n = *N, nz = *NZ;
   std::fill(info, info + 20, 0);
+  if (n < 1) {
+    info[0] = -1;  // MA27: N out of range
+    return;
+  }
   for (ipfint e = 0; e < nz; ++e)
     if (irn[e] < 1 || irn[e] > n || icn[e] < 1 || icn[e] > n) {
       info[0] = 1;  // MA27: entries out of range
       return;
     }
   try {
-    std::vector<Eigen::Triplet<double, ipfint>> t;
-    t.reserve(static_cast<std::size_t>(nz));
-    for (ipfint e = 0; e < nz; ++e) t.emplace_back(irn[e] - 1, icn[e] - 1, 1.0);
-    Eigen::SparseMatrix<double, Eigen::ColMajor, ipfint> pattern(n, n);
-    pattern.setFromTriplets(t.begin(), t.end());
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, ipfint> order;
-    Eigen::AMDOrdering<ipfint>()(pattern, order);  // order.indices()[new] = old
-    std::vector<ipfint> iperm(static_cast<std::size_t>(n)), ap(static_cast<std::size_t>(n) + 1),
-        ai(static_cast<std::size_t>(nz)), entry(static_cast<std::size_t>(nz)),
-        work(3 * static_cast<std::size_t>(n));
-    for (ipfint k = 0; k < n; ++k) {
-      ikeep[k] = order.indices()[k];
-      iperm[static_cast<std::size_t>(order.indices()[k])] = k;
+    const SymbolicData* d = Cache().Get(n, nz, irn, icn);
+    if (d == nullptr) {
+      info[0] = -1;
+      return;
     }
-    PermutedUpper(n, nz, irn, icn, iperm.data(), ap.data(), ai.data(), entry.data());
-    const ipfint lnz =
-        Symbolic(n, ap.data(), ai.data(), work.data(), work.data() + n, work.data() + 2 * n);
+    std::copy(d->perm.begin(), d->perm.end(), ikeep);
+    PutStamp(n, d->stamp, ikeep);
     *nsteps = 1;
-    *ops = 0.0;
-    for (ipfint k = 0; k < n; ++k) *ops += static_cast<double>(work[n + k]) * work[n + k];
-    info[4] = nz + lnz + 3 * n;                              // LA: see Factorise
-    info[5] = kHeader + 2 * (n + 1) + 2 * nz + 6 * n + lnz;  // LIW
+    *ops = d->ops;
+    info[4] = nz + d->lnz + 3 * n;                              // LA: see Factorise
+    info[5] = kHeader + 2 * (n + 1) + 2 * nz + 6 * n + d->lnz;  // LIW
   } catch (...) {
     info[0] = -1;
   }
@@ -232,34 +389,69 @@ void Factorise(ipfint* N, ipfint* NZ, const ipfint* irn, const ipfint* icn, doub
                double*, ipfint* info) {
   const ipfint n = *N, nz = *NZ;
   std::fill(info, info + 20, 0);
-  // Scratch layout first, to know the sizes.
+  if (n < 1) {
+    info[0] = -1;
+    return;
+  }
+  // IW: header, Lp (n+1), perm (n), then either Li (lnz) followed by the numeric scratch (cached
+  // symbolic phase), or the symbolic arrays followed by Li, moved down at the end (no entry).
   ipfint* lp = iw + kHeader;
-  ipfint* perm = lp + n + 1;  // placed before Li: lnz is known only after the symbolic phase
-  ipfint* ap = perm + n;
-  ipfint* ai = ap + n + 1;
-  ipfint* entry = ai + nz;
-  ipfint* iperm = entry + nz;
-  ipfint* parent = iperm + n;
-  ipfint* lnzc = parent + n;
-  ipfint* flag = lnzc + n;
-  ipfint* pattern = flag + n;
-  ipfint* li = pattern + n;
-  const ipfint fixed_iw = static_cast<ipfint>(li - iw);
-  if (*LIW < fixed_iw) {
-    info[0] = -3;
-    info[1] = fixed_iw + nz + n;
-    return;
-  }
-  for (ipfint k = 0; k < n; ++k) {
-    perm[k] = ikeep[k];
-    iperm[ikeep[k]] = k;
-  }
-  PermutedUpper(n, nz, irn, icn, iperm, ap, ai, entry);
-  const ipfint lnz = Symbolic(n, ap, ai, parent, lnzc, flag);
-  if (*LIW < fixed_iw + lnz) {
-    info[0] = -3;
-    info[1] = fixed_iw + lnz;
-    return;
+  ipfint* perm = lp + n + 1;
+  const ipfint *ap, *ai, *entry, *parent, *colcount;
+  ipfint *lnzc, *flag, *pattern, *li;
+  ipfint lnz = 0;
+  ipfint fixed_iw = 0;
+  const SymbolicData* d = Cache().Find(GetStamp(n, ikeep), n, nz);
+  if (d != nullptr) {
+    ap = d->ap.data();
+    ai = d->ai.data();
+    entry = d->entry.data();
+    parent = d->parent.data();
+    colcount = d->colcount.data();
+    lnz = d->lnz;
+    li = perm + n;
+    lnzc = li + lnz;
+    flag = lnzc + n;
+    pattern = flag + n;
+    fixed_iw = static_cast<ipfint>(pattern + n - iw);
+    if (*LIW < fixed_iw) {
+      info[0] = -3;
+      info[1] = fixed_iw;
+      return;
+    }
+    std::copy(d->perm.begin(), d->perm.end(), perm);
+  } else {
+    ipfint* w_ap = perm + n;
+    ipfint* w_ai = w_ap + n + 1;
+    ipfint* w_entry = w_ai + nz;
+    ipfint* iperm = w_entry + nz;
+    ipfint* w_parent = iperm + n;
+    lnzc = w_parent + n;
+    flag = lnzc + n;
+    pattern = flag + n;
+    li = pattern + n;
+    fixed_iw = static_cast<ipfint>(li - iw);
+    if (*LIW < fixed_iw) {
+      info[0] = -3;
+      info[1] = fixed_iw + nz + n;
+      return;
+    }
+    for (ipfint k = 0; k < n; ++k) {
+      perm[k] = ikeep[k];
+      iperm[ikeep[k]] = k;
+    }
+    PermutedUpper(n, nz, irn, icn, iperm, w_ap, w_ai, w_entry);
+    lnz = Symbolic(n, w_ap, w_ai, w_parent, lnzc, flag);
+    if (*LIW < fixed_iw + lnz) {
+      info[0] = -3;
+      info[1] = fixed_iw + lnz;
+      return;
+    }
+    ap = w_ap;
+    ai = w_ai;
+    entry = w_entry;
+    parent = w_parent;
+    colcount = lnzc;  // read into Lp below, before the numeric phase reuses lnzc
   }
   const ipfint need_a = nz + lnz + 2 * n + n;
   if (*LA < need_a) {
@@ -268,11 +460,11 @@ void Factorise(ipfint* N, ipfint* NZ, const ipfint* irn, const ipfint* icn, doub
     return;
   }
   double* lx = a + nz;
-  double* d = lx + lnz;
-  double* y = d + n;
+  double* dg = lx + lnz;
+  double* y = dg + n;
   double* sign = y + n;
   lp[0] = 0;
-  for (ipfint k = 0; k < n; ++k) lp[k + 1] = lp[k] + lnzc[k];
+  for (ipfint k = 0; k < n; ++k) lp[k + 1] = lp[k] + colcount[k];
   // Expected pivot signs from the diagonal of the matrix.
   std::fill(sign, sign + n, 0.0);
   for (ipfint k = 0; k < n; ++k)
@@ -283,7 +475,34 @@ void Factorise(ipfint* N, ipfint* NZ, const ipfint* irn, const ipfint* icn, doub
   std::fill(y, y + n, 0.0);
   ipfint negative = 0;
   bool finite = true;
-  for (ipfint k = 0; k < n; ++k) {
+  if (d != nullptr) {
+    // The same operations in the same order as below, with the row patterns read from the
+    // symbolic phase instead of found by walking the elimination tree.
+    std::copy(d->li.begin(), d->li.end(), li);
+    const ipfint* row_ptr = d->row_ptr.data();
+    const ipfint* row_col = d->row_col.data();
+    const ipfint* row_pos = d->row_pos.data();
+    for (ipfint k = 0; k < n; ++k) {
+      for (ipfint p = ap[k]; p < ap[k + 1]; ++p) y[ai[p]] += a[entry[p]];
+      double dk = y[k] + sign[k] * kStaticReg;
+      y[k] = 0.0;
+      for (ipfint t = row_ptr[k]; t < row_ptr[k + 1]; ++t) {
+        const ipfint i = row_col[t];
+        const double yi = y[i];
+        y[i] = 0.0;
+        const ipfint p2 = row_pos[t];
+        for (ipfint p = lp[i]; p < p2; ++p) y[li[p]] -= lx[p] * yi;
+        const double l_ki = yi / dg[i];
+        dk -= l_ki * yi;
+        lx[p2] = l_ki;
+      }
+      if (!std::isfinite(dk)) finite = false;
+      if (!(sign[k] * dk > kDynamicEps)) dk = sign[k] * kDynamicDelta;
+      dg[k] = dk;
+      if (dk < 0.0) ++negative;
+    }
+  }
+  for (ipfint k = 0; d == nullptr && k < n; ++k) {
     ipfint top = n;
     flag[k] = k;
     lnzc[k] = 0;
@@ -305,7 +524,7 @@ void Factorise(ipfint* N, ipfint* NZ, const ipfint* irn, const ipfint* icn, doub
       y[i] = 0.0;
       const ipfint p2 = lp[i] + lnzc[i];
       for (ipfint p = lp[i]; p < p2; ++p) y[li[p]] -= lx[p] * yi;
-      const double l_ki = yi / d[i];
+      const double l_ki = yi / dg[i];
       dk -= l_ki * yi;
       li[p2] = k;
       lx[p2] = l_ki;
@@ -313,12 +532,11 @@ void Factorise(ipfint* N, ipfint* NZ, const ipfint* irn, const ipfint* icn, doub
     }
     if (!std::isfinite(dk)) finite = false;  // NaN/inf in the matrix: report it as singular
     if (!(sign[k] * dk > kDynamicEps)) dk = sign[k] * kDynamicDelta;
-    d[k] = dk;
+    dg[k] = dk;
     if (dk < 0.0) ++negative;
   }
-  // Li sits after the scratch arrays; CD needs only the header, Lp, perm and Li: move Li down.
-  ipfint* li_final = perm + n;
-  std::copy(li, li + lnz, li_final);
+  // CD needs only the header, Lp, perm and Li: Li must follow perm.
+  if (li != perm + n) std::copy(li, li + lnz, perm + n);
   iw[0] = n;
   iw[1] = nz;
   iw[2] = lnz;
@@ -361,12 +579,87 @@ static std::mutex& IpoptMutex() {
   return m;
 }
 
+// What Ipopt fixes when it first sees a problem and keeps under warm_start_same_structure: the
+// sizes, the sparsity of the Jacobian and the Hessian, and per variable and row which bounds are
+// finite and whether they coincide (a fixed variable is removed, an equal pair makes an equality
+// row). Ipopt's "no bound" is |bound| >= 1e19 (nlp_lower_bound_inf, nlp_upper_bound_inf).
+struct Structure {
+  NlpSizes sizes;
+  std::vector<int> jac_rows, jac_cols, hess_rows, hess_cols;
+  std::vector<unsigned char> bound_kind;  // per variable, then per row
+
+  // Reads `nlp`'s structure; `bounds` receives z_l, z_u, g_l, g_u (n, n, m, m).
+  void Read(SparseNlp* nlp, std::vector<double>* bounds) {
+    sizes = nlp->Sizes();
+    const auto n = static_cast<std::size_t>(sizes.n), m = static_cast<std::size_t>(sizes.m);
+    jac_rows.resize(static_cast<std::size_t>(sizes.nnz_jac));
+    jac_cols.resize(jac_rows.size());
+    hess_rows.resize(static_cast<std::size_t>(sizes.nnz_hess));
+    hess_cols.resize(hess_rows.size());
+    nlp->JacobianStructure(jac_rows.data(), jac_cols.data());
+    nlp->HessianStructure(hess_rows.data(), hess_cols.data());
+    bounds->resize(2 * (n + m));
+    double* b = bounds->data();
+    nlp->Bounds(b, b + n, b + 2 * n, b + 2 * n + m);
+    bound_kind.resize(n + m);
+    auto kind = [](double lo, double up) {
+      return static_cast<unsigned char>((lo > -1e19 ? 1 : 0) | (up < 1e19 ? 2 : 0) |
+                                        (lo == up ? 4 : 0));
+    };
+    for (std::size_t i = 0; i < n; ++i) bound_kind[i] = kind(b[i], b[n + i]);
+    for (std::size_t i = 0; i < m; ++i) bound_kind[n + i] = kind(b[2 * n + i], b[2 * n + m + i]);
+  }
+
+  bool operator==(const Structure& o) const {
+    return sizes.n == o.sizes.n && sizes.m == o.sizes.m && sizes.nnz_jac == o.sizes.nnz_jac &&
+           sizes.nnz_hess == o.sizes.nnz_hess && jac_rows == o.jac_rows && jac_cols == o.jac_cols &&
+           hess_rows == o.hess_rows && hess_cols == o.hess_cols && bound_kind == o.bound_kind;
+  }
+};
+
 struct NlpSolver::Impl {
   NlpSolverOptions options;
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app;
   std::vector<double> bounds;
   std::vector<double> start_mult;  ///< z_l, z_u, lambda of the next warm start
+  // The problem Ipopt last solved, kept for ReOptimizeTNLP: the same SparseNlp with the same
+  // structure is re-solved on Ipopt's existing spaces, matrices and symbolic factorisation
+  // (warm_start_same_structure) instead of rebuilding them in every solve.
+  Ipopt::SmartPtr<Adapter> adapter;
+  const SparseNlp* last_nlp = nullptr;
+  Structure last, current;
+  bool reusable = false;              ///< Ipopt's state after the last solve may be reused
+  bool last_unscaled = false;         ///< the fresh solve's start needed no NLP scaling
+  std::vector<double> z0, grad, jac;  ///< scratch of Unscaled
 };
+
+namespace {
+
+// Ipopt's gradient-based NLP scaling (its default nlp_scaling_method, nlp_scaling_max_gradient
+// 100) is determined from the starting point by a fresh solve and kept by a re-solve on the same
+// structure. Whether the start needs no scaling at all: |df/dz_i| <= 100 for every variable and
+// |dg_r/dz_i| <= 100 for every Jacobian entry (Ipopt takes these maxima over the free variables,
+// per row; over all entries the answer is "no scaling" at most as often). A re-solve is
+// only used when its fresh solve and it both need none, so that it is bit for bit the fresh
+// solve.
+bool Unscaled(SparseNlp* nlp, const Structure& st, std::vector<double>* z0,
+              std::vector<double>* grad, std::vector<double>* jac) {
+  constexpr double kMaxGradient = 100.0;  // Ipopt's nlp_scaling_max_gradient default
+  const auto n = static_cast<std::size_t>(st.sizes.n);
+  z0->resize(n);
+  grad->resize(n);
+  jac->resize(st.jac_rows.size());
+  nlp->Start(z0->data());
+  nlp->Gradient(z0->data(), grad->data());
+  for (double g : *grad)
+    if (!(std::abs(g) <= kMaxGradient)) return false;
+  nlp->JacobianValues(z0->data(), jac->data());
+  for (double v : *jac)
+    if (!(std::abs(v) <= kMaxGradient)) return false;
+  return true;
+}
+
+}  // namespace
 
 NlpSolver::NlpSolver(const NlpSolverOptions& o) : impl_(std::make_unique<Impl>()) {
   std::lock_guard<std::mutex> lock(IpoptMutex());
@@ -418,35 +711,55 @@ NlpSolver::~NlpSolver() {
 
 NlpResult NlpSolver::Solve(SparseNlp* nlp) noexcept {
   NlpResult r;
+  Impl& im = *impl_;
   try {
     std::lock_guard<std::mutex> lock(IpoptMutex());
-    const NlpSolverOptions& o = impl_->options;
+    const NlpSolverOptions& o = im.options;
+    auto opts = im.app->Options();
+    im.current.Read(nlp, &im.bounds);
+    const bool unscaled = Unscaled(nlp, im.current, &im.z0, &im.grad, &im.jac);
+    const bool same =
+        im.reusable && nlp == im.last_nlp && im.current == im.last && im.last_unscaled && unscaled;
+    im.reusable = false;  // until this solve ends normally
     bool warm = false;
     if (o.warm_start) {
-      const NlpSizes sz = nlp->Sizes();
-      impl_->start_mult.resize(2 * static_cast<std::size_t>(sz.n) + sz.m);
-      double* w = impl_->start_mult.data();
+      const NlpSizes sz = im.current.sizes;
+      im.start_mult.resize(2 * static_cast<std::size_t>(sz.n) + sz.m);
+      double* w = im.start_mult.data();
       warm = nlp->StartMultipliers(w, w + sz.n, w + 2 * sz.n);
-      if (!warm) impl_->start_mult.clear();
-      auto opts = impl_->app->Options();
+      if (!warm) im.start_mult.clear();
       opts->SetStringValue("warm_start_init_point", warm ? "yes" : "no");
       opts->SetNumericValue("mu_init", warm ? o.warm_start_mu_init : o.mu_init);
     }
-    Ipopt::SmartPtr<Adapter> adapter = new Adapter(nlp, &impl_->bounds, &impl_->start_mult);
-    const Ipopt::ApplicationReturnStatus st =
-        impl_->app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(GetRawPtr(adapter)));
+    opts->SetStringValue("warm_start_same_structure", same ? "yes" : "no");
+    Ipopt::ApplicationReturnStatus st;
+    if (same) {
+      im.adapter->Reset();
+      st = im.app->ReOptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(GetRawPtr(im.adapter)));
+    } else {
+      im.adapter = new Adapter(nlp, &im.bounds, &im.start_mult);
+      std::swap(im.last, im.current);
+      im.last_nlp = nlp;
+      im.last_unscaled = unscaled;
+      st = im.app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(GetRawPtr(im.adapter)));
+    }
     r.status = static_cast<int>(st);
-    auto stats = impl_->app->Statistics();
+    auto stats = im.app->Statistics();
     if (Ipopt::IsValid(stats)) r.iterations = stats->IterationCount();
-    r.violation = adapter->violation();
+    r.violation = im.adapter->violation();
     const bool converged = st == Ipopt::Solve_Succeeded || st == Ipopt::Solved_To_Acceptable_Level;
     const bool feasible_stop = st == Ipopt::Maximum_Iterations_Exceeded ||
                                st == Ipopt::Search_Direction_Becomes_Too_Small ||
                                st == Ipopt::Restoration_Failed;
-    r.usable = adapter->finalized() && (converged || feasible_stop) &&
-               r.violation <= impl_->options.usable_violation;
+    r.usable = im.adapter->finalized() && (converged || feasible_stop) &&
+               r.violation <= o.usable_violation;
+    // Ipopt's internal structures stay valid after an ordinary end of the algorithm (converged,
+    // stopped, infeasible, diverging); after an error (invalid problem or option, exception,
+    // memory) the next solve starts afresh.
+    im.reusable = static_cast<int>(st) > static_cast<int>(Ipopt::Not_Enough_Degrees_Of_Freedom);
   } catch (...) {
     r.usable = false;
+    im.reusable = false;
   }
   return r;
 }

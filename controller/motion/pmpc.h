@@ -37,8 +37,9 @@
 // time like the plan, no forced iterative refinement. The QP, its tolerance and so the plans are
 // unchanged (differences at the solver tolerance); median solve time ~15 ms → ~1 ms.
 //
-// Workspace: every array of the QP is allocated in MakeState; Ipopt allocates internally in each
-// solve (see nlp_solver.h). Solve times are in State::diagnostics.
+// Workspace: every array of the QP is allocated in MakeState; Ipopt re-solves on the structures
+// of the State's first solve and still allocates its iterates internally (see nlp_solver.h).
+// Solve times are in State::diagnostics.
 #pragma once
 
 #include <Eigen/Core>

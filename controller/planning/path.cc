@@ -6,6 +6,7 @@
 #include <string>
 
 #include "params/schema/field.h"
+#include "plant/common/fast_math.h"
 
 namespace scw::controller::planning {
 
@@ -47,6 +48,18 @@ Path::Path(std::vector<PathPoint> points, double length)
   }
   if (!pr.empty()) throw ConfigError("reference path", pr.items());
   mean_ds_ = length_ / static_cast<double>(points_.size());
+  const std::size_t n = points_.size();
+  for (auto* v : {&seg_ax_, &seg_ay_, &seg_ex_, &seg_ey_, &seg_len2_}) v->resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const PathPoint& a = points_[i];
+    const PathPoint& b = points_[i + 1 == n ? 0 : i + 1];
+    const double ex = b.x - a.x, ey = b.y - a.y;
+    seg_ax_[i] = a.x;
+    seg_ay_[i] = a.y;
+    seg_ex_[i] = ex;
+    seg_ey_[i] = ey;
+    seg_len2_[i] = ex * ex + ey * ey;
+  }
 }
 
 double Path::Wrap(double s) const noexcept {
@@ -97,34 +110,56 @@ PathProjection Path::Project(double x, double y, double psi, double s_hint,
     count = std::min(n, 2 * half + 1);
   }
 
-  // Segment k joins station k to k + 1; segment n − 1 closes the loop back to station 0. The
-  // window, segments first, first + 1, … (count of them, modulo n), is scanned in that order as
-  // at most two runs of plain indices around the closing segment. Only the closest segment's
-  // index, parameter t and squared distance are kept; the strict < keeps the first of equals.
+  // Segment k joins station k to k + 1; segment n − 1 closes the loop back to station 0. Only
+  // the closest segment's index, parameter t and squared distance are kept.
   double best_d2 = std::numeric_limits<double>::infinity();
   double best_t = 0.0;
   std::size_t best_i = 0;
-  const auto consider = [&](std::size_t i, const PathPoint& a, const PathPoint& b) {
-    const double ex = b.x - a.x, ey = b.y - a.y;
-    const double len2 = ex * ex + ey * ey;
-    double t = len2 > 0 ? ((x - a.x) * ex + (y - a.y) * ey) / len2 : 0.0;
-    t = std::clamp(t, 0.0, 1.0);
-    const double px = a.x + t * ex, py = a.y + t * ey;
-    const double d2 = (x - px) * (x - px) + (y - py) * (y - py);
-    if (d2 < best_d2) {
-      best_d2 = d2;
-      best_t = t;
-      best_i = i;
+  // Two segments per Double2, each lane the scalar expressions in their order; the closest is
+  // then taken lane by lane in scan order (the strict < keeps the first of equals).
+  using plant::Double2;
+  using plant::fast_math_detail::Select;
+  using plant::fast_math_detail::Splat;
+  const Double2 qx = Splat(x), qy = Splat(y), zero = Splat(0.0), one = Splat(1.0);
+  const auto load = [](const std::vector<double>& v, std::size_t i) {
+    return Double2{v[i], v[i + 1]};
+  };
+  const auto scan = [&](std::size_t from, std::size_t to) {  // segments [from, to)
+    std::size_t i = from;
+    for (; i + 1 < to; i += 2) {
+      const Double2 ax = load(seg_ax_, i), ay = load(seg_ay_, i), ex = load(seg_ex_, i),
+                    ey = load(seg_ey_, i), len2 = load(seg_len2_, i);
+      Double2 t = Select<Double2>(len2 > zero, ((qx - ax) * ex + (qy - ay) * ey) / len2, zero);
+      t = Select<Double2>(t < zero, zero, Select<Double2>(one < t, one, t));
+      const Double2 px = ax + t * ex, py = ay + t * ey;
+      const Double2 d2 = (qx - px) * (qx - px) + (qy - py) * (qy - py);
+      for (std::size_t l = 0; l < 2; ++l)
+        if (d2[l] < best_d2) {
+          best_d2 = d2[l];
+          best_t = t[l];
+          best_i = i + l;
+        }
+    }
+    for (; i < to; ++i) {
+      const double ax = seg_ax_[i], ay = seg_ay_[i], ex = seg_ex_[i], ey = seg_ey_[i],
+                   len2 = seg_len2_[i];
+      double t = len2 > 0 ? ((x - ax) * ex + (y - ay) * ey) / len2 : 0.0;
+      t = std::clamp(t, 0.0, 1.0);
+      const double px = ax + t * ex, py = ay + t * ey;
+      const double d2 = (x - px) * (x - px) + (y - py) * (y - py);
+      if (d2 < best_d2) {
+        best_d2 = d2;
+        best_t = t;
+        best_i = i;
+      }
     }
   };
-  const PathPoint* const p = points_.data();
+  // The window, segments first, first + 1, … (count of them, modulo n), in that order: at most
+  // two runs of plain indices around the end of the loop.
   const std::size_t end = first + count;  // one past the window's last segment, unwrapped
-  const std::size_t run1 = std::min(end, n - 1);
-  for (std::size_t i = first; i < run1; ++i) consider(i, p[i], p[i + 1]);
-  if (end >= n) {
-    consider(n - 1, p[n - 1], p[0]);
-    for (std::size_t i = 0; i < end - n; ++i) consider(i, p[i], p[i + 1]);
-  }
+  scan(first, std::min(end, n));
+  if (end > n) scan(0, end - n);
+  const PathPoint* const p = points_.data();
 
   // Nothing closer than infinity (non-finite input): the default projection, as before.
   PathProjection best;

@@ -49,6 +49,10 @@ class Path {
  private:
   std::size_t SegmentAt(double s) const noexcept;
   std::vector<PathPoint> points_;
+  // Segment k (station k to k + 1; the last one closes the loop) as Project scans it, one array
+  // per quantity: start point, direction b − a and its squared length (the scan's own
+  // expressions, computed once).
+  std::vector<double> seg_ax_, seg_ay_, seg_ex_, seg_ey_, seg_len2_;
   double length_;
   double mean_ds_;
 };

@@ -135,8 +135,17 @@ std::shared_ptr<const GgvTable> ReferenceCache::PlantGgv(const params::VehiclePa
 
 double ReferenceCache::LimitLapTime(const plant::Track& line, const GgvTable& ggv) {
   const std::string key = TrackKey(line) + params::Fingerprint(ggv, "ggv");
-  return *limit_laps_.Get(
-      key, [&] { return ComputeVelocityProfile(line, ggv, VelocityProfileOptions{}).lap_time; });
+  return *limit_laps_.Get(key, [&] {
+    // Kept between processes too: a one-shot evaluation would otherwise compute this full
+    // velocity profile again in every process, beside the scenario's own.
+    if (store_ != nullptr)
+      if (const auto hit = store_->Load("limit", key);
+          hit && hit->size() == 1 && (*hit)[0].size() == 1)
+        return (*hit)[0][0];
+    const double t = ComputeVelocityProfile(line, ggv, VelocityProfileOptions{}).lap_time;
+    if (store_ != nullptr) store_->Store("limit", key, {{t}});
+    return t;
+  });
 }
 
 }  // namespace scw::controller::planning

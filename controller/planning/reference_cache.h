@@ -5,7 +5,7 @@
 //             content); building Yas Marina North from its clothoids is a quarter of a preparation
 //   lines     the minimum-curvature line per track geometry and line options (~1 s)
 //   ggv       the plant's g-g-v table per planned vehicle and front brake bias (~1.5 s)
-//   limit     the full-limit lap time per line and table
+//   limit     the full-limit lap time per line and table (through the store too)
 // Keys are exact and derived from the inputs themselves, never from a file format: a vehicle by
 // its schema's fingerprint (params/schema/fingerprint.h, noise switch off: the envelope ignores
 // it), a track by every number of its nodes. Results are bit for bit those computed without the
@@ -67,7 +67,8 @@ class ReferenceCache {
   /// go through the store.
   std::shared_ptr<const GgvTable> PlantGgv(const params::VehicleParams& vehicle,
                                            double brake_bias_front);
-  /// The lap time [s] of the velocity profile at the table's full limits on `line`.
+  /// The lap time [s] of the velocity profile at the table's full limits on `line`; it goes
+  /// through the store.
   double LimitLapTime(const plant::Track& line, const GgvTable& ggv);
 
   /// The exact key of a track: its name and every node's numbers.

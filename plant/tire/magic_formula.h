@@ -72,6 +72,26 @@ void TireForces4(const std::array<TireInput, 4>& in,
                  const std::array<const params::Mf52Params*, 4>& p,
                  std::array<TireForce, 4>* out) noexcept;
 
+/// The coefficient sets of TireForces4's four tyres, laid out for its vector evaluation (one
+/// array of four lanes per coefficient). Made once by whoever evaluates the same four sets at
+/// every step (plant::Vehicle); the values are copies, so the sets need not outlive it.
+class TireSet4 {
+ public:
+  TireSet4() = default;
+  explicit TireSet4(const std::array<const params::Mf52Params*, 4>& p) noexcept;
+  /// Coefficient `k` (the k-th double of Mf52Params) of the four tyres.
+  const double* lanes(std::size_t k) const noexcept { return lanes_[k]; }
+
+ private:
+  static constexpr std::size_t kCoefficients = sizeof(params::Mf52Params) / sizeof(double);
+  alignas(32) double lanes_[kCoefficients][4] = {};
+};
+
+/// TireForces4 with the coefficient sets of `set`: the same forces bit for bit, without
+/// gathering the coefficients from four objects at every call.
+void TireForces4(const std::array<TireInput, 4>& in, const TireSet4& set,
+                 std::array<TireForce, 4>* out) noexcept;
+
 /// Pure-slip peak friction coefficients D/F_z at load fz (incl. the lambda scalings): the bound
 /// |F_x| <= mu_x F_z, |F_y| <= mu_y F_z (without vertical shifts).
 struct TirePeakFriction {

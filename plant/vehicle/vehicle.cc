@@ -73,6 +73,7 @@ Vehicle::Vehicle(const params::VehicleParams& p)
     lambda_y_[i] = gr.mu * (IsFront(i) ? gr.front_mu_y : gr.rear_mu_y) * gr.wheel_mu_y[i];
   }
   curve_grip_ = p_.tires.grip_scaling == "curve";
+  tire_set_ = TireSet4({&p_.tires.front, &p_.tires.front, &p_.tires.rear, &p_.tires.rear});
   share_f_ = c.roll_stiffness_share_front;
   inv_bf_ = 1.0 / c.track_front;
   inv_br_ = 1.0 / c.track_rear;
@@ -116,31 +117,40 @@ double Vehicle::KinematicEngineSpeed(const StateVector& x, int gear) const noexc
 void Vehicle::SlipKinematics(const StateVector& x, double c, double s, PerWheel<double>* kappa,
                              PerWheel<double>* alpha, PerWheel<double>* inv_tau_k,
                              PerWheel<double>* inv_tau_a) const noexcept {
+  using fast_math_detail::Select;
+  using fast_math_detail::Splat;
   const auto& k = p_.tires.kinematics;
   const double vx = x[kVx], vy = x[kVy], r = x[kYawRate];
-  Double2 tan_alpha[2];
-  for (std::size_t i = 0; i < 4; ++i) {
-    const double vxw = vx - r * py_[i];
-    const double vyw = vy + r * px_[i];
-    double vxt = vxw, vyt = vyw;
-    if (IsFront(i)) {
+  // Two wheels per Double2 (the front pair, then the rear pair), each lane the scalar formula's
+  // operations in its order; the atan chains of all four overlap (plant/common/fast_math.h).
+  const auto max = [](Double2 a, double b) { return Select<Double2>(a < Splat(b), Splat(b), a); };
+  for (std::size_t j = 0; j < 2; ++j) {
+    const std::size_t i = 2 * j;
+    const Double2 vxw = vx - r * Double2{py_[i], py_[i + 1]};
+    const Double2 vyw = vy + r * Double2{px_[i], px_[i + 1]};
+    Double2 vxt = vxw, vyt = vyw;
+    if (j == 0) {  // the front wheels, rotated by the road-wheel angle
       vxt = c * vxw + s * vyw;
       vyt = -s * vxw + c * vyw;
     }
-    const double avx = std::abs(vxt);
-    (*kappa)[i] =
-        std::clamp((x[kOmega + i] * radius_[i] - vxt) / std::max(avx, k.slip_speed_min_long),
-                   -k.slip_limit, k.slip_limit);
-    tan_alpha[i / 2][i % 2] = vyt / std::max(avx, k.slip_speed_min_lat);
-    const double v_relax = std::max(avx, k.relaxation_speed_min);
-    (*inv_tau_k)[i] = v_relax / k.relaxation_length_long;
-    (*inv_tau_a)[i] = v_relax / k.relaxation_length_lat;
-  }
-  // Two wheels per Double2: the four atan chains overlap (plant/common/fast_math.h).
-  for (std::size_t j = 0; j < 2; ++j) {
-    const Double2 alpha_pair = -FastAtan(tan_alpha[j]);
-    (*alpha)[2 * j] = alpha_pair[0];
-    (*alpha)[2 * j + 1] = alpha_pair[1];
+    const Double2 avx = fast_math_detail::Abs(vxt);
+    const Double2 omega_r =
+        Double2{x[kOmega + i], x[kOmega + i + 1]} * Double2{radius_[i], radius_[i + 1]};
+    const Double2 slip = (omega_r - vxt) / max(avx, k.slip_speed_min_long);
+    const Double2 clamped =
+        Select<Double2>(slip < Splat(-k.slip_limit), Splat(-k.slip_limit),
+                        Select<Double2>(Splat(k.slip_limit) < slip, Splat(k.slip_limit), slip));
+    const Double2 tan_alpha = vyt / max(avx, k.slip_speed_min_lat);
+    const Double2 v_relax = max(avx, k.relaxation_speed_min);
+    const Double2 itk = v_relax / k.relaxation_length_long;
+    const Double2 ita = v_relax / k.relaxation_length_lat;
+    const Double2 alpha_pair = -FastAtan(tan_alpha);
+    for (std::size_t l = 0; l < 2; ++l) {
+      (*kappa)[i + l] = clamped[l];
+      (*alpha)[i + l] = alpha_pair[l];
+      (*inv_tau_k)[i + l] = itk[l];
+      (*inv_tau_a)[i + l] = ita[l];
+    }
   }
 }
 
@@ -169,7 +179,6 @@ void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, const Environ
   e->sin_steer = std::sin(u.steer);
   const double c = e->cos_steer, s = e->sin_steer;
   std::array<TireInput, 4> tire_in;
-  std::array<const params::Mf52Params*, 4> tire_p;
   for (std::size_t i = 0; i < 4; ++i) {
     const double alpha = x[kAlpha + i];
     double road = 1.0;  // the road's factor multiplies the vehicle's
@@ -178,10 +187,9 @@ void Vehicle::Evaluate(const StateVector& x, const PlantInputs& u, const Environ
       if (m > 0.0 && m < kMaxRoadFriction) road = m;
     }
     tire_in[i] = WheelTireInput(i, e->fz[i], x[kKappa + i], IsLeft(i) ? alpha : -alpha, road);
-    tire_p[i] = IsFront(i) ? &p_.tires.front : &p_.tires.rear;
   }
   std::array<TireForce, 4> tire_f;
-  TireForces4(tire_in, tire_p, &tire_f);
+  TireForces4(tire_in, tire_set_, &tire_f);
   double fx = 0.0, fy = 0.0, mz = 0.0;
   for (std::size_t i = 0; i < 4; ++i) {
     const bool left = IsLeft(i);
@@ -391,12 +399,27 @@ void Vehicle::StepOn(const Actuators& u, const Environment* env, State* state) c
   // 4. Tyre relaxation, backward Euler towards the slips of the new velocities.
   PerWheel<double> kk, ka, itk, ita;
   SlipKinematics(x, e.cos_steer, e.sin_steer, &kk, &ka, &itk, &ita);
-  for (std::size_t i = 0; i < 4; ++i) {
-    x[kKappa + i] = (x[kKappa + i] + h * itk[i] * kk[i]) / (1.0 + h * itk[i]);
-    x[kAlpha + i] = (x[kAlpha + i] + h * ita[i] * ka[i]) / (1.0 + h * ita[i]);
+  for (std::size_t i = 0; i < 4; i += 2) {  // two wheels per Double2, the same operations
+    const Double2 tk = h * Double2{itk[i], itk[i + 1]};
+    const Double2 ta = h * Double2{ita[i], ita[i + 1]};
+    const Double2 k_new =
+        (Double2{x[kKappa + i], x[kKappa + i + 1]} + tk * Double2{kk[i], kk[i + 1]}) / (1.0 + tk);
+    const Double2 a_new =
+        (Double2{x[kAlpha + i], x[kAlpha + i + 1]} + ta * Double2{ka[i], ka[i + 1]}) / (1.0 + ta);
+    x[kKappa + i] = k_new[0];
+    x[kKappa + i + 1] = k_new[1];
+    x[kAlpha + i] = a_new[0];
+    x[kAlpha + i + 1] = a_new[1];
   }
 
-  if (!x.allFinite()) {
+  // All finite <=> the sum of x_i - x_i is 0 (inf - inf and NaN give NaN); two lanes at a time
+  // and without a branch per element, the same verdict as x.allFinite().
+  Double2 nan_probe = {0.0, 0.0};
+  for (int i = 0; i < kNumStates; i += 2) {
+    const Double2 v = {x[i], x[i + 1]};
+    nan_probe += v - v;
+  }
+  if (!(nan_probe[0] + nan_probe[1] == 0.0)) {
     x = x_old;
     s.status |= kStatusNonFinite;
   }

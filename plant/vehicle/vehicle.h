@@ -287,6 +287,7 @@ class Vehicle {
   double m_ = 0.0, iz_ = 0.0, g_ = 0.0, lf_ = 0.0, lr_ = 0.0, l_ = 0.0, hcg_ = 0.0;
   PerWheel<double> px_{}, py_{}, radius_{}, inertia_{}, kb_{};
   PerWheel<double> fz_static_{}, lambda_x_{}, lambda_y_{};
+  TireSet4 tire_set_;        // the front, front, rear, rear coefficient sets for TireForces4
   bool curve_grip_ = false;  // tires.grip_scaling == "curve"
   double share_f_ = 0.5, inv_bf_ = 0.0, inv_br_ = 0.0;
   double drag_k_ = 0.0, lift_kf_ = 0.0, lift_kr_ = 0.0, side_k_ = 0.0;  // 1/2 rho c A

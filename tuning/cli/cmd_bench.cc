@@ -1,4 +1,4 @@
-// scw bench --plant [...] — wall-clock speed of the simulation parts on one core.
+// scw bench --plant|--pmpc|--evaluator [...] — wall-clock speed of the simulation parts.
 // Each mode flag runs one workload; without a flag: the default closed loop.
 #include <algorithm>
 #include <chrono>
@@ -29,6 +29,7 @@ namespace {
 struct BenchOptions {
   bool plant = false;
   bool evaluator = false;
+  bool pmpc = false;
   int evaluations = 4;
   std::string scenarios;    ///< --evaluator: scenario set file ("" = the built-in default set)
   std::string job_times;    ///< --evaluator: per-job wall times CSV
@@ -99,6 +100,37 @@ int BenchClosedLoop(const BenchOptions& o) {
                 "wall time: %.4f s for %.1f s simulated (%.2f us per plant step)\n",
                 sc.spec.laps, tuning::RunStatusName(m.status), o.repeat, CpuModel().c_str(), best,
                 m.time, 1e6 * best / (m.time * 1000.0));
+  std::cout << buf << "real-time factor: " << static_cast<long>(m.time / best) << '\n';
+  return kExitOk;
+}
+
+// The point-mass MPC (motion.controller=pmpc) in the closed loop of the built-in scenario, one lap
+// of Yas Marina North, one thread, best of `repeat` runs. The reference (racing line, velocity
+// profile) is prepared once before the timing; a run's time includes building the controllers,
+// every QP solve and the plant.
+int BenchPmpc(const BenchOptions& o) {
+  const tuning::ResolvedScenario sc =
+      tuning::Resolve(tuning::DefaultScenario({"motion.controller=pmpc", "laps=1"}));
+  double best = 1e300;
+  tuning::RunMetrics m;
+  for (int r = 0; r < o.repeat; ++r) {
+    const auto t0 = std::chrono::steady_clock::now();
+    m = tuning::RunClosedLoop(sc, sc.stability);
+    best = std::min(best,
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  if (m.status != tuning::RunStatus::kCompleted) {
+    std::cerr << "error: the PMPC lap ended with status " << tuning::RunStatusName(m.status)
+              << '\n';
+    return kExitFailed;
+  }
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "pmpc closed loop: built-in scenario (Yas Marina North, 1 lap, %s, lap %.3f s), "
+                "plant 1 kHz, QP every %.0f ms, 1 thread, best of %d\ncpu: %s\n"
+                "wall time: %.4f s for %.1f s simulated\n",
+                tuning::RunStatusName(m.status), m.lap_times.empty() ? 0.0 : m.lap_times[0],
+                1e3 * sc.spec.motion.pmpc.solve_period, o.repeat, CpuModel().c_str(), best, m.time);
   std::cout << buf << "real-time factor: " << static_cast<long>(m.time / best) << '\n';
   return kExitOk;
 }
@@ -189,10 +221,14 @@ void AddBench(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "bench",
       "Measure speed (wall clock): the default closed loop on one core (no flag), the "
-      "plant alone (--plant), or tuning evaluations per second (--evaluator)");
+      "plant alone (--plant), the point-mass MPC's closed loop (--pmpc), or tuning evaluations "
+      "per second (--evaluator)");
   auto o = std::make_shared<BenchOptions>();
   cmd->add_flag("--plant", o->plant,
                 "The plant alone driving its reference manoeuvre; prints 'real-time factor: N'");
+  cmd->add_flag("--pmpc", o->pmpc,
+                "The point-mass MPC (motion.controller=pmpc) driving one lap of the built-in "
+                "scenario on one core; prints 'real-time factor: N'");
   cmd->add_flag("--evaluator", o->evaluator,
                 "Tuning evaluations per second with 1 and 2 threads (training scenarios of the "
                 "default set or of --scenarios); under mpirun -np N: with N ranks x 1 thread");
@@ -215,6 +251,7 @@ void AddBench(CLI::App& app) {
   cmd->callback([o] {
     if (o->plant) return SetExitCode(BenchPlant(*o));
     if (o->evaluator) return SetExitCode(BenchEvaluator(*o));
+    if (o->pmpc) return SetExitCode(BenchPmpc(*o));
     SetExitCode(BenchClosedLoop(*o));
   });
 }

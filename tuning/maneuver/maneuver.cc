@@ -13,6 +13,7 @@
 #include "plant/vehicle/vehicle.h"
 #include "tuning/maneuver/maneuver_metrics.h"
 #include "tuning/maneuver/programs.h"
+#include "tuning/sim/control_loop.h"
 #include "tuning/sim/run_observers.h"
 #include "tuning/sim/trace_schema.h"
 
@@ -83,111 +84,142 @@ class Rig {
     run.level = level;
     RunMetrics& metrics = run.metrics;
     ManeuverSignals& sig = run.signals;
-    MetricsAccumulator acc(ts_, options_.sideslip_allowed_deg, brake_gain_);
-    TraceRecorder trace(options_.trace, log_every_);
     plant::State st = car_.MakeState({0.0, 0.0, 0.0, speed});
     plant::SensorNoiseState noise(static_cast<std::uint64_t>(sc_.spec.seed));
-    plant::SensorNoiseState* const noise_state = sc_.plant_vehicle.sensors.noise ? &noise : nullptr;
     controller::StabilityController::State cs;
     const int index = run_index_++;
-    double integral = -1.0;  // speed hold's integrator, initialised at the first tick
-    double distance = 0.0;
-    double last_throttle = 0.0;
     const long n_settle = std::lround(settle / ts_);
-    for (long tick = 0;; ++tick) {
-      const double t = static_cast<double>(tick - n_settle) * ts_;
-      if (t > duration + 1e-9) break;
-      const plant::Measurement meas = car_.Measure(st, noise_state);
-      bool finite = std::isfinite(meas.v_x) && std::isfinite(meas.v_y) &&
-                    std::isfinite(meas.yaw_rate) && std::isfinite(meas.psi);
-      if ((st.status & plant::kStatusNonFinite) || !finite) {
-        metrics.status = RunStatus::kNonFinite;
-        break;
-      }
-      const double speed_now = std::hypot(meas.v_x, meas.v_y);
-      const Command c = program(t);
-      double throttle = c.keep_throttle ? last_throttle : c.throttle;
-      if (c.hold_speed) {
-        if (integral < 0.0) integral = FeedForwardThrottle(meas, c.v_target);
-        const double e = c.v_target - speed_now;
-        integral = std::clamp(integral + 0.5 * e * ts_, 0.0, 1.0);
-        throttle = Throttle(integral, e);
-      } else {
-        integral = -1.0;
-      }
-      last_throttle = throttle;
-      double steer = c.steer;
-      if (c.hold_heading) steer -= m_.heading_gain * meas.psi;
-      steer = std::clamp(steer, -sc_.vehicle.steering.max_angle, sc_.vehicle.steering.max_angle);
-      const bool braking = c.brake[0] + c.brake[1] + c.brake[2] + c.brake[3] > 0.0;
 
-      controller::StabilityInput in;
-      in.t = static_cast<double>(tick) * ts_;
-      in.v_x = meas.v_x;
-      in.v_y = meas.v_y;
-      in.yaw_rate = meas.yaw_rate;
-      in.a_x = meas.a_x;
-      in.a_y = meas.a_y;
-      in.steering_measured = meas.steering_angle;
-      in.steering_request = steer;
-      in.brake_request_bar = c.brake;
-      in.throttle_request = throttle;
-      in.gear_request = meas.gear_request;
-      in.gear = meas.gear;
-      in.engine_speed = meas.engine_speed;
-      in.wheel_speed = meas.wheel_speed;
-      in.brake_measured_bar = meas.brake_pressure;
-      in.long_fx = braking ? BrakeForceOf(c.brake, sc_.vehicle)
-                           : lon_.DriveForce(meas.engine_speed, meas.gear, throttle);
-      const controller::StabilityOutput out = ctl_.Step(in, &cs);
+    // The robot as a driver of the shared control loop (tuning/sim/control_loop.h).
+    struct Driver {
+      Rig& rig;
+      const Program& program;
+      const StopRule& stop;
+      double duration;
+      long n_settle;
+      int index;
+      RunMetrics& metrics;
+      ManeuverSignals& sig;
+      MetricsAccumulator acc;
+      TraceRecorder trace;
+      double integral = -1.0;  // speed hold's integrator, initialised at the first tick
+      double distance = 0.0;
+      double last_throttle = 0.0;
+      // Of the tick in progress.
+      double t = 0.0, speed_now = 0.0, steer = 0.0;
+      Command c{};
+      bool uniform = true;
 
-      const double beta = std::atan2(meas.v_y, std::max(std::abs(meas.v_x), 1.0));
-      controller::motion::MotionOutput mo;
-      mo.steering_request = steer;
-      mo.lateral_error = meas.y;
-      mo.heading_error = meas.psi;
-      mo.v_target = c.hold_speed ? c.v_target : kNaN;
-      const TickRecord record{t,  index, distance, meas.y, beta, speed_now,
-                              0u, meas,  mo,       in,     out,  st.out};
-      acc.Add(record, &metrics);
-      trace.Record(tick, record);
-      sig.t.push_back(t);
-      sig.steer.push_back(steer);
-      sig.yaw_rate.push_back(meas.yaw_rate);
-      sig.a_x.push_back(meas.a_x);
-      sig.a_y.push_back(meas.a_y);
-      sig.beta.push_back(beta);
-      sig.speed.push_back(speed_now);
-      sig.heading.push_back(meas.psi);
-      sig.x.push_back(meas.x);
-      sig.y.push_back(meas.y);
-      const double rl = st.out.kappa[2], rr = st.out.kappa[3];
-      sig.max_slip_rear.push_back(100.0 * (std::abs(rl) >= std::abs(rr) ? rl : rr));
-      if (speed_now > kSlipJudgedAbove) {
-        for (std::size_t i = 0; i < 4; ++i) {
-          const double slip = 100.0 * st.out.kappa[i];
-          lock_[i] = slip < -sc_.spec.abort.lock_slip_pct ? lock_[i] + ts_ : 0.0;
-          spin_[i] = slip > sc_.spec.abort.spin_slip_pct ? spin_[i] + ts_ : 0.0;
-          max_lock_ = std::max(max_lock_, lock_[i]);
-          max_spin_ = std::max(max_spin_, spin_[i]);
+      bool Begin(long tick) {
+        t = static_cast<double>(tick - n_settle) * rig.ts_;
+        return !(t > duration + 1e-9);
+      }
+      static bool Finite(const plant::Measurement& meas) {
+        return std::isfinite(meas.v_x) && std::isfinite(meas.v_y) && std::isfinite(meas.yaw_rate) &&
+               std::isfinite(meas.psi);
+      }
+      void NonFinite() { metrics.status = RunStatus::kNonFinite; }
+      bool Input(long tick, const plant::Measurement& meas, controller::StabilityInput* in) {
+        speed_now = std::hypot(meas.v_x, meas.v_y);
+        c = program(t);
+        double throttle = c.keep_throttle ? last_throttle : c.throttle;
+        if (c.hold_speed) {
+          if (integral < 0.0) integral = rig.FeedForwardThrottle(meas, c.v_target);
+          const double e = c.v_target - speed_now;
+          integral = std::clamp(integral + 0.5 * e * rig.ts_, 0.0, 1.0);
+          throttle = Throttle(integral, e);
+        } else {
+          integral = -1.0;
         }
+        last_throttle = throttle;
+        steer = c.steer;
+        if (c.hold_heading) steer -= rig.m_.heading_gain * meas.psi;
+        const double lock = rig.sc_.vehicle.steering.max_angle;
+        steer = std::clamp(steer, -lock, lock);
+        const bool braking = c.brake[0] + c.brake[1] + c.brake[2] + c.brake[3] > 0.0;
+        in->t = static_cast<double>(tick) * rig.ts_;
+        in->v_x = meas.v_x;
+        in->v_y = meas.v_y;
+        in->yaw_rate = meas.yaw_rate;
+        in->a_x = meas.a_x;
+        in->a_y = meas.a_y;
+        in->steering_measured = meas.steering_angle;
+        in->steering_request = steer;
+        in->brake_request_bar = c.brake;
+        in->throttle_request = throttle;
+        in->gear_request = meas.gear_request;
+        in->gear = meas.gear;
+        in->engine_speed = meas.engine_speed;
+        in->wheel_speed = meas.wheel_speed;
+        in->brake_measured_bar = meas.brake_pressure;
+        in->long_fx = braking ? BrakeForceOf(c.brake, rig.sc_.vehicle)
+                              : rig.lon_.DriveForce(meas.engine_speed, meas.gear, throttle);
+        return true;
       }
-      if (stop && t >= 0.0 && stop(sig)) break;
-
-      const plant::Actuators act{out.steering, out.brake_bar, out.throttle};
-      plant::Environment env;
-      env.mu = c.mu;
-      const bool uniform = c.mu[0] == 1.0 && c.mu[1] == 1.0 && c.mu[2] == 1.0 && c.mu[3] == 1.0;
-      for (long k = 0; k < ratio_; ++k) {
-        if (uniform)
-          car_.Step(act, &st);
-        else
-          car_.Step(act, env, &st);
+      bool Output(long tick, const plant::Measurement& meas, const controller::StabilityInput& in,
+                  const controller::StabilityOutput& out, const plant::StepOutputs& plant_out) {
+        const double beta = std::atan2(meas.v_y, std::max(std::abs(meas.v_x), 1.0));
+        controller::motion::MotionOutput mo;
+        mo.steering_request = steer;
+        mo.lateral_error = meas.y;
+        mo.heading_error = meas.psi;
+        mo.v_target = c.hold_speed ? c.v_target : kNaN;
+        const TickRecord record{t,  index, distance, meas.y, beta, speed_now,
+                                0u, meas,  mo,       in,     out,  plant_out};
+        acc.Add(record, &metrics);
+        trace.Record(tick, record);
+        sig.t.push_back(t);
+        sig.steer.push_back(steer);
+        sig.yaw_rate.push_back(meas.yaw_rate);
+        sig.a_x.push_back(meas.a_x);
+        sig.a_y.push_back(meas.a_y);
+        sig.beta.push_back(beta);
+        sig.speed.push_back(speed_now);
+        sig.heading.push_back(meas.psi);
+        sig.x.push_back(meas.x);
+        sig.y.push_back(meas.y);
+        // Signed: the rear wheel with the larger |slip| (a braking slip reads negative).
+        const double rl = plant_out.kappa[2], rr = plant_out.kappa[3];
+        sig.max_slip_rear.push_back(100.0 * (std::abs(rl) >= std::abs(rr) ? rl : rr));
+        if (speed_now > kSlipJudgedAbove) rig.CountLockSpin(plant_out);
+        if (stop && t >= 0.0 && stop(sig)) return false;
+        uniform = c.mu[0] == 1.0 && c.mu[1] == 1.0 && c.mu[2] == 1.0 && c.mu[3] == 1.0;
+        return true;
       }
-      distance += speed_now * ts_;
-    }
+      // The road under each wheel (split mu, mu jump) as the plant's environment.
+      bool Environment(const plant::State&, plant::Environment* env) const {
+        if (uniform) return false;
+        env->mu = c.mu;
+        return true;
+      }
+      void End(long) { distance += speed_now * rig.ts_; }
+    };
+    Driver driver{*this,
+                  program,
+                  stop,
+                  duration,
+                  n_settle,
+                  index,
+                  metrics,
+                  sig,
+                  MetricsAccumulator(ts_, options_.sideslip_allowed_deg, brake_gain_),
+                  TraceRecorder(options_.trace, log_every_)};
+    const ControlLoop loop{
+        car_, ctl_, ratio_, &st, sc_.plant_vehicle.sensors.noise ? &noise : nullptr, &cs};
+    loop.Run(driver);
     ToStartFrame(&sig);
     return run;
+  }
+
+  /// One tick's wheel slips (the plant's) into the lock/spin timers.
+  void CountLockSpin(const plant::StepOutputs& plant_out) {
+    for (std::size_t i = 0; i < 4; ++i) {
+      const double slip = 100.0 * plant_out.kappa[i];
+      lock_[i] = slip < -sc_.spec.abort.lock_slip_pct ? lock_[i] + ts_ : 0.0;
+      spin_[i] = slip > sc_.spec.abort.spin_slip_pct ? spin_[i] + ts_ : 0.0;
+      max_lock_ = std::max(max_lock_, lock_[i]);
+      max_spin_ = std::max(max_spin_, spin_[i]);
+    }
   }
 
   /// The longest time a wheel stayed locked / spinning (above kSlipJudgedAbove) in the runs since

@@ -8,13 +8,14 @@
 // injected and the subsystem switches applied, exactly as the closed loop gets them. The section
 // `maneuver:` (params/schema/maneuver_params.h) picks the test and its scaling to this car.
 //
-// One tick, per controller period tS (the plant steps tS/h times in between, as in the closed
-// loop): measurement → the robot's command (input program; speed hold by throttle where the
-// program asks for it; heading hold by steering in the split-mu and mu-jump tests) → the stability
-// controller's input (steering, throttle and brake requests; long_fx from the engine map at the
-// requested throttle, or −Σ k_b p / r of the requested pressures; no ESC targets, so ESC uses its
-// own single-track reference) → the stability controller → the plant. The road under each wheel
-// (split mu, mu jump) reaches the plant as its Environment.
+// One tick, per controller period tS (the plant steps tS/h times in between), in the closed
+// loop's own control loop (tuning/sim/control_loop.h; this file drives it and has no step loop):
+// measurement → the robot's command (input program; speed hold by throttle where the program asks
+// for it; heading hold by steering in the split-mu and mu-jump tests) → the stability controller's
+// input (steering, throttle and brake requests; long_fx from the engine map at the requested
+// throttle, or −Σ k_b p / r of the requested pressures; no ESC targets, so ESC uses its own
+// single-track reference) → the stability controller → the plant. The road under each wheel (split
+// mu, mu jump) reaches the plant as its Environment.
 //
 // Runs: each maneuver is a series of runs (sine with dwell: one slowly increasing steer for A, then
 // one run per amplitude; braking in a turn: one per deceleration; the others one run). Every run

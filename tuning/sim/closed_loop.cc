@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "controller/motion/longitudinal.h"
 #include "plant/track/road_surface.h"
 #include "plant/vehicle/vehicle.h"
+#include "tuning/sim/control_loop.h"
 #include "tuning/sim/events.h"
 #include "tuning/sim/motion_factory.h"
 #include "tuning/sim/run_observers.h"
@@ -86,46 +88,42 @@ class RequestPath {
   bool slip_active_ = false, esc_active_ = false;  // of the previous tick
 };
 
-/// Advances the plant through one control period (`ratio` plant steps) with the stability
-/// controller's commands held as the actuator requests. The road under the wheels and the events'
-/// rear grip and wind reach the plant through its environment; on a uniform road with no such event
-/// the default environment is exact and the cheaper step is taken.
-class PlantStepper {
+/// What the plant feels at each of its steps: the road under the wheels and the events' rear grip
+/// and wind, as its environment. On a uniform road with no such event the default environment is
+/// exact and the cheaper step is taken (At returns false).
+class RoadAndAir {
  public:
-  PlantStepper(const plant::Vehicle& car, const plant::Track& track, const plant::RoadSurface& road,
-               long ratio)
-      : car_(car), track_(track), road_(road), ratio_(ratio) {}
+  RoadAndAir(const plant::Vehicle& car, const plant::Track& track, const plant::RoadSurface& road)
+      : car_(car), track_(track), road_(road) {}
 
-  void Advance(const controller::StabilityOutput& out, const EventSchedule::Active& ev,
-               plant::State* st) {
-    const plant::Actuators act{out.steering, out.brake_bar, out.throttle};
-    const bool event_env = ev.rear_grip != 1.0 || ev.wind_x != 0.0 || ev.wind_y != 0.0;
-    if (road_.uniform() && !event_env) {
-      for (long k = 0; k < ratio_; ++k) car_.Step(act, st);
-      return;
+  /// For the control period about to be driven with the events `ev`.
+  void Hold(const EventSchedule::Active& ev) noexcept {
+    ev_ = ev;
+    nominal_ = road_.uniform() && !(ev.rear_grip != 1.0 || ev.wind_x != 0.0 || ev.wind_y != 0.0);
+  }
+
+  /// The environment of the plant step from state `st`; false: the nominal road in still air.
+  bool At(const plant::State& st, plant::Environment* env) {
+    if (nominal_) return false;
+    if (!road_.uniform()) {
+      const auto cp = track_.Project(st.x[plant::kX], st.x[plant::kY], st.x[plant::kPsi], hint_);
+      hint_ = cp.s;
+      *env = road_.UnderWheels(cp, car_.contact_x(), car_.contact_y());
     }
-    for (long k = 0; k < ratio_; ++k) {
-      plant::Environment env;
-      if (!road_.uniform()) {
-        const auto cp =
-            track_.Project(st->x[plant::kX], st->x[plant::kY], st->x[plant::kPsi], road_hint_);
-        road_hint_ = cp.s;
-        env = road_.UnderWheels(cp, car_.contact_x(), car_.contact_y());
-      }
-      env.mu[2] *= ev.rear_grip;
-      env.mu[3] *= ev.rear_grip;
-      env.wind_x = ev.wind_x;
-      env.wind_y = ev.wind_y;
-      car_.Step(act, env, st);
-    }
+    env->mu[2] *= ev_.rear_grip;
+    env->mu[3] *= ev_.rear_grip;
+    env->wind_x = ev_.wind_x;
+    env->wind_y = ev_.wind_y;
+    return true;
   }
 
  private:
   const plant::Vehicle& car_;
   const plant::Track& track_;
   const plant::RoadSurface& road_;
-  long ratio_;
-  double road_hint_ = plant::Track::kNoHint;  ///< last projection of the plant step (local search)
+  EventSchedule::Active ev_;
+  bool nominal_ = true;
+  double hint_ = plant::Track::kNoHint;  ///< last projection of the plant step (local search)
 };
 
 }  // namespace
@@ -160,7 +158,6 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
   const plant::RoadSurface road(track, sc.spec.friction_patches);
   // The scenario's faults, grip events and gusts (tuning/sim/events.h).
   const EventSchedule events(sc.spec.events, track);
-  EventSchedule::State event_state = events.MakeState();
   const double ts = stab.tS;
   const long ratio = std::max(1L, std::lround(ts / car.time_step()));
   // The motion controller may run slower than the stability controller (MPCs); its output is
@@ -177,7 +174,6 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
   MetricsAccumulator metrics(ts, options.sideslip_allowed_deg, brake_gain);
   AbortMonitor aborts(ab, timeout, ts, track);
   TraceRecorder trace(options.trace, log_every);
-  PlantStepper plant_stepper(car, track, road, ratio);
 
   RunMetrics m;
   m.laps_planned = sc.spec.laps;
@@ -187,55 +183,101 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
   const auto start = sc.path->Sample(0.0);
   plant::State st = car.MakeState({start.x, start.y, start.psi, start.v});
   plant::SensorNoiseState noise(static_cast<std::uint64_t>(sc.spec.seed));
-  plant::SensorNoiseState* const noise_state = sc.plant_vehicle.sensors.noise ? &noise : nullptr;
-  auto motion_state = pp.MakeState();
-  controller::motion::MotionOutput mo;
-  RequestPath requests(lon);
   controller::StabilityController::State ctl_state;
-  double s_hint = plant::Track::kNoHint;
 
-  for (long tick = 0;; ++tick) {
-    const double t = static_cast<double>(tick) * ts;
-    const plant::Measurement meas = car.Measure(st, noise_state);
-    if ((st.status & plant::kStatusNonFinite) || !Finite(meas)) {
-      m.status = RunStatus::kNonFinite;
-      break;
-    }
-    const auto tp = track.Project(meas.x, meas.y, meas.psi, s_hint);
-    const double s_before = laps.s();
-    laps.Update(t, tp.s);
-    s_hint = tp.s;
-    if (laps.laps() >= sc.spec.laps) {
-      m.status = RunStatus::kCompleted;
-      break;
-    }
-    EventSchedule::Active ev;
-    if (!events.empty()) {
-      if (tick > 0) events.Update(s_before, tp.s, laps.laps() + 1, t, &event_state);
-      ev = events.At(t, event_state);
-    }
+  // The closed loop as a driver of the shared control loop (tuning/sim/control_loop.h): lap
+  // progress, events, motion control and the request path make the stability controller's input;
+  // the observers see each tick.
+  struct Driver {
+    const ResolvedScenario& sc;
+    const RunOptions& options;
+    const plant::Track& track;
+    const EventSchedule& events;
+    const controller::motion::MotionController& pp;
+    double ts;
+    long motion_every;
+    LapCounter& laps;
+    MetricsAccumulator& metrics;
+    AbortMonitor& aborts;
+    TraceRecorder& trace;
+    RunMetrics& m;
+    RoadAndAir road_and_air;
+    RequestPath requests;
+    EventSchedule::State event_state = events.MakeState();
+    std::unique_ptr<controller::motion::MotionState> motion_state = pp.MakeState();
+    controller::motion::MotionOutput mo{};
+    double s_hint = plant::Track::kNoHint;
+    // Of the tick in progress.
+    double t = 0.0, speed = 0.0;
+    plant::TrackProjection tp{};
+    EventSchedule::Active ev{};
 
-    // Motion control (held between its steps), the request path, stability control.
-    if (tick % motion_every == 0) mo = pp.Step(MotionInputOf(t, meas), motion_state.get());
-    const double speed = std::hypot(meas.v_x, meas.v_y);
-    const controller::StabilityInput in = requests.Input(t, meas, speed, mo, ev);
-    if (options.on_controller_input) options.on_controller_input(in);
-    const controller::StabilityOutput out = ctl.Step(in, &ctl_state);
-    if (options.on_controller_output) options.on_controller_output(out);
-    requests.Feedback(out);
-
-    // The observers see the tick (the trace row of an aborting tick is still written).
-    const double beta = std::atan2(meas.v_y, std::max(std::abs(meas.v_x), 1.0));
-    const TickRecord record{t,       laps.laps(), tp.s, tp.n, beta, speed,
-                            ev.mask, meas,        mo,   in,   out,  st.out};
-    metrics.Add(record, &m);
-    trace.Record(tick, record);
-    if (const auto abort = aborts.Check(record)) {
-      m.status = *abort;
-      break;
+    bool Begin(long tick) {
+      t = static_cast<double>(tick) * ts;
+      return true;
     }
-    plant_stepper.Advance(out, ev, &st);
-  }
+    bool Finite(const plant::Measurement& meas) const { return tuning::Finite(meas); }
+    void NonFinite() { m.status = RunStatus::kNonFinite; }
+    bool Input(long tick, const plant::Measurement& meas, controller::StabilityInput* in) {
+      tp = track.Project(meas.x, meas.y, meas.psi, s_hint);
+      const double s_before = laps.s();
+      laps.Update(t, tp.s);
+      s_hint = tp.s;
+      if (laps.laps() >= sc.spec.laps) {
+        m.status = RunStatus::kCompleted;
+        return false;
+      }
+      ev = EventSchedule::Active{};
+      if (!events.empty()) {
+        if (tick > 0) events.Update(s_before, tp.s, laps.laps() + 1, t, &event_state);
+        ev = events.At(t, event_state);
+      }
+      // Motion control (held between its steps), the request path.
+      if (tick % motion_every == 0) mo = pp.Step(MotionInputOf(t, meas), motion_state.get());
+      speed = std::hypot(meas.v_x, meas.v_y);
+      *in = requests.Input(t, meas, speed, mo, ev);
+      if (options.on_controller_input) options.on_controller_input(*in);
+      return true;
+    }
+    bool Output(long tick, const plant::Measurement& meas, const controller::StabilityInput& in,
+                const controller::StabilityOutput& out, const plant::StepOutputs& plant_out) {
+      if (options.on_controller_output) options.on_controller_output(out);
+      requests.Feedback(out);
+      // The observers see the tick (the trace row of an aborting tick is still written).
+      const double beta = std::atan2(meas.v_y, std::max(std::abs(meas.v_x), 1.0));
+      const TickRecord record{t,       laps.laps(), tp.s, tp.n, beta, speed,
+                              ev.mask, meas,        mo,   in,   out,  plant_out};
+      metrics.Add(record, &m);
+      trace.Record(tick, record);
+      if (const auto abort = aborts.Check(record)) {
+        m.status = *abort;
+        return false;
+      }
+      road_and_air.Hold(ev);
+      return true;
+    }
+    bool Environment(const plant::State& state, plant::Environment* env) {
+      return road_and_air.At(state, env);
+    }
+    void End(long) {}
+  };
+  Driver driver{sc,
+                options,
+                track,
+                events,
+                pp,
+                ts,
+                motion_every,
+                laps,
+                metrics,
+                aborts,
+                trace,
+                m,
+                RoadAndAir(car, track, road),
+                RequestPath(lon)};
+  const ControlLoop loop{
+      car, ctl, ratio, &st, sc.plant_vehicle.sensors.noise ? &noise : nullptr, &ctl_state};
+  loop.Run(driver);
   laps.WriteTo(&m);
   // A completed run drove exactly the planned distance (its last tick lies beyond the line).
   if (!m.aborted()) m.distance = m.distance_planned;

@@ -10,6 +10,10 @@
 // Metrics follow tuning/sim/metrics.h. A run is a pure function of its inputs (scenario, stability
 // set, seed): deterministic and thread-safe, so many runs may execute in parallel.
 //
+// The ticks run in the shared control loop (tuning/sim/control_loop.h), the one step loop that
+// the standard maneuvers drive too: this file supplies its input (lap progress, events, motion
+// control, request path), its observers and the road and air under the car.
+//
 // Each tick is handed as a TickRecord (tuning/sim/tick_record.h) to the run's observers: the lap
 // counter, the metrics and the abort rules (tuning/sim/run_observers.h, which states the rules and
 // their order) and the trace (tuning/sim/trace_schema.h, the one table of its columns).

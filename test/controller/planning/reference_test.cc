@@ -50,17 +50,17 @@ TEST(PrepareReference, ComputesEachStepOncePerInputAndKeepsItThroughTheStore) {
   ASSERT_TRUE(a.path && a.line && a.ggv);
   EXPECT_NE(a.line->x(), Oval().x());             // the optimised line, not the centre line
   EXPECT_GT(a.ideal_lap_time, a.limit_lap_time);  // 90 % of the limits is slower
-  EXPECT_EQ(store.items.size(), 2u);              // the line's offsets and the table
+  EXPECT_EQ(store.items.size(), 3u);  // the line's offsets, the table, the limit lap time
   // The same inputs: the same objects, nothing loaded again.
   const int loads = store.loads;
   const PreparedReference b = PrepareReference(Oval(), car, o, cache);
   EXPECT_EQ(b.ggv.get(), a.ggv.get());
   EXPECT_EQ(b.line.get(), a.line.get());
   EXPECT_EQ(store.loads, loads);
-  // A new cache over the same store: both steps come from the store, bit for bit.
+  // A new cache over the same store: all three come from the store, bit for bit.
   ReferenceCache second(&store);
   const PreparedReference c = PrepareReference(Oval(), car, o, second);
-  EXPECT_EQ(store.hits, 2);
+  EXPECT_EQ(store.hits, 3);
   EXPECT_TRUE(*c.ggv == *a.ggv);
   EXPECT_TRUE(SamePath(*c.path, *a.path));
   EXPECT_EQ(c.ideal_lap_time, a.ideal_lap_time);
