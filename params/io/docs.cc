@@ -30,6 +30,18 @@ std::string EscapeCell(std::string_view s) {
   return out;
 }
 
+std::string Lead(const std::string& cell) {
+  constexpr std::size_t kLead = 200;
+  const std::size_t stop = cell.find(". ");
+  if (stop != std::string::npos && stop + 1 <= kLead) return cell.substr(0, stop + 1);
+  std::size_t cut = cell.rfind(' ', kLead);
+  if (cut == std::string::npos || cut == 0) {
+    cut = kLead;  // one long word: cut it, but not inside a UTF-8 sequence
+    while (cut > 0 && (static_cast<unsigned char>(cell[cut]) & 0xC0) == 0x80) --cut;
+  }
+  return cell.substr(0, cut) + " …";
+}
+
 const char* ScaleName(Scale s) {
   switch (s) {
     case Scale::kFixed:

@@ -15,6 +15,17 @@ namespace detail {
 std::string BoundsText(double lo, double hi);
 std::string EscapeCell(std::string_view s);
 const char* ScaleName(Scale s);
+
+/// A table's rows and what is too long for a cell of them.
+struct TableText {
+  std::string rows;
+  std::string notes;  ///< one list item per long description or default, in row order
+};
+/// Longest cell the table holds [bytes]: a longer description or default goes under the table in
+/// full, and its cell keeps the lead (the docs' rule: no table cell over 300 characters).
+inline constexpr std::size_t kMaxCell = 280;
+/// The lead of a long cell: its first sentence when that fits, else its words up to the limit.
+std::string Lead(const std::string& cell);
 }  // namespace detail
 
 namespace detail {
@@ -86,42 +97,54 @@ std::string DefaultCell(const T& value) {
   }
 }
 
-inline std::string Row(const std::string& path, const std::string& type, std::string_view unit,
-                       const std::string& shown, const std::string& bounds, const Meta& m,
-                       bool required, std::string_view doc) {
-  return "| `" + path + "` | " + type + " | " + EscapeCell(unit) + " | " + shown + " | " +
-         EscapeCell(bounds) + " | " + ScaleName(m.scale) +
-         (m.scale != Scale::kFixed && m.resolution > 0 ? ", step " + FormatNumber(m.resolution)
-                                                       : std::string()) +
-         " | " + (required ? "yes" : (m.workspace_only ? "no (workspace only)" : "no")) + " | " +
-         EscapeCell(doc) + " |\n";
+inline void Row(const std::string& path, const std::string& type, std::string_view unit,
+                const std::string& shown, const std::string& bounds, const Meta& m, bool required,
+                std::string_view doc, TableText* out) {
+  std::string shown_cell = shown;
+  if (shown.size() > kMaxCell) {
+    out->notes += "- `" + path + "`, default: " + shown + "\n";
+    shown_cell = "(under the table)";
+  }
+  std::string doc_cell = EscapeCell(doc);
+  if (doc_cell.size() > kMaxCell) {
+    out->notes += "- `" + path + "`: " + doc_cell + "\n";
+    doc_cell = Lead(doc_cell) + " (in full under the table)";
+  }
+  out->rows +=
+      "| `" + path + "` | " + type + " | " + EscapeCell(unit) + " | " + shown_cell + " | " +
+      EscapeCell(bounds) + " | " + ScaleName(m.scale) +
+      (m.scale != Scale::kFixed && m.resolution > 0 ? ", step " + FormatNumber(m.resolution)
+                                                    : std::string()) +
+      " | " + (required ? "yes" : (m.workspace_only ? "no (workspace only)" : "no")) + " | " +
+      doc_cell + " |\n";
 }
 
 template <class P>
-void MarkdownRows(const P& p, const std::string& prefix, std::string* out);
+void MarkdownRows(const P& p, const std::string& prefix, TableText* out);
 
 /// The rows of one alternative of a list entry under `path` ("training[]"): a block alternative
 /// (kBlock) first gets a row of its own, `training[].monte_carlo`.
 template <class A>
-void AlternativeRows(const std::string& path, std::string* out) {
+void AlternativeRows(const std::string& path, TableText* out) {
   if constexpr (requires { A::kBlock; }) {
     const std::string at = path + "." + std::string(A::kBlock.key);
-    *out += Row(at, "map", "-", "", "", Meta{}, false,
-                "An entry written as a single-key map {" + std::string(A::kBlock.key) +
-                    ": {...}}. " + std::string(A::kBlock.doc));
+    Row(at, "map", "-", "", "", Meta{}, false,
+        "An entry written as a single-key map {" + std::string(A::kBlock.key) + ": {...}}. " +
+            std::string(A::kBlock.doc),
+        out);
     MarkdownRows(A{}, at, out);
   } else {
     MarkdownRows(A{}, path, out);
   }
 }
 template <class E, std::size_t... I>
-void AlternativesRows(const std::string& path, std::string* out, std::index_sequence<I...>) {
+void AlternativesRows(const std::string& path, TableText* out, std::index_sequence<I...>) {
   (AlternativeRows<std::variant_alternative_t<I, E>>(path, out), ...);
 }
 
 /// The rows of MarkdownTable for the fields of `p`, keys prefixed with `prefix`.
 template <class P>
-void MarkdownRows(const P& p, const std::string& prefix, std::string* out) {
+void MarkdownRows(const P& p, const std::string& prefix, TableText* out) {
   ForEachField(
       p,
       [&](const std::string& path, const auto& value, const Meta& m) {
@@ -130,13 +153,12 @@ void MarkdownRows(const P& p, const std::string& prefix, std::string* out) {
         const bool required = !m.optional && !kIsOptional<T>;
         if constexpr (kIsStruct<U>) {
           // A std::optional group: one row for it, then its fields (required when it is given).
-          *out += Row(path, "map", "-", DefaultCell(value), "", m, false,
-                      "Optional section; when given, every key below marked required must be "
-                      "given.");
+          Row(path, "map", "-", DefaultCell(value), "", m, false,
+              "Optional section; when given, every key below marked required must be given.", out);
           MarkdownRows(U{}, path, out);
         } else {
-          *out += Row(path, TypeName<T>(), m.unit, DefaultCell(value), BoundsCell<U>(m), m,
-                      required, m.doc);
+          Row(path, TypeName<T>(), m.unit, DefaultCell(value), BoundsCell<U>(m), m, required, m.doc,
+              out);
           // A list's entry fields follow it as `key[].field`, with the entry's defaults; a map's
           // struct values as `key.<key>.field`.
           if constexpr (kIsList<U>) {
@@ -162,13 +184,17 @@ void MarkdownRows(const P& p, const std::string& prefix, std::string* out) {
 /// one row per field of its entries (`parameters[].lo`; a variant entry's block alternative as
 /// `training[].monte_carlo` and its fields); a map of structs (`v.Map`) one row followed by its
 /// values' fields (`vary.<key>.uniform`); a std::optional group one row followed by its fields.
+/// A description or default longer than detail::kMaxCell keeps its lead in the table and follows
+/// it in full, one list item per key, under the table.
 template <class P>
 std::string MarkdownTable(const P& defaults = P{}) {
-  std::string out =
+  detail::TableText out;
+  out.rows =
       "| Key | Type | Unit | Default | Bounds | Tuning | Required | Description |\n"
       "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
   detail::MarkdownRows(defaults, "", &out);
-  return out;
+  if (out.notes.empty()) return out.rows;
+  return out.rows + "\nIn full:\n\n" + out.notes;
 }
 
 }  // namespace scw::params

@@ -50,4 +50,14 @@ std::vector<Corner> FindCorners(const Track& t) {
   return out;
 }
 
+double CornerLength(const Corner& c, const Track& t) {
+  double d = std::fmod(c.s_to - c.s_from, t.length());
+  if (d < 0.0) d += t.length();
+  return d + t.step();
+}
+
+bool IsShortCorner(const Corner& c, const Track& t) {
+  return CornerLength(c, t) < kShortCornerLength;
+}
+
 }  // namespace scw::plant

@@ -22,4 +22,17 @@ struct Corner {
 /// Corners of `track` (pure; a straight-free track without any run returns an empty list).
 std::vector<Corner> FindCorners(const Track& track);
 
+/// A corner's length [m]: its nodes plus the node spacing after the last one (a corner of one node
+/// is one spacing long), measured forward across s = 0 for a corner over the start line.
+double CornerLength(const Corner& corner, const Track& track);
+
+/// Corners the rule counts although a driver may not call them corners: shorter than
+/// kShortCornerLength (a few nodes just below the radius threshold) or with a smallest radius
+/// above kKinkRadius (a bend far gentler than the others). `scw track info` flags them; they keep
+/// their numbers, since scenario files name corners by number.
+inline constexpr double kShortCornerLength = 10.0;  // [m]
+inline constexpr double kKinkRadius = 150.0;        // [m]
+bool IsShortCorner(const Corner& corner, const Track& track);
+inline bool IsKink(const Corner& corner) { return corner.min_radius > kKinkRadius; }
+
 }  // namespace scw::plant

@@ -477,6 +477,20 @@ TrackProjection Track::Project(double px, double py, double heading, double s_hi
       best_i = i;
       best_t = t;
     }
+  // Node N is node 0, but its tangent is cos/sin of ψ0 + 2π, which may round differently from
+  // node 0's: a point within rounding of node 0's normal can then be refused by both segment N−1
+  // (g(1) ≥ 0) and segment 0 (g(0) < 0), and the search above finds a far segment instead (a
+  // racing line starting at s = 0 of a CSV track did). Its foot is node 0.
+  const double g_first = tx_[0] * (px - x_[0]) + ty_[0] * (py - y_[0]);
+  const double g_last = tx_[n_] * (px - x_[n_]) + ty_[n_] * (py - y_[n_]);
+  if (g_first < 0.0 && g_last >= 0.0) {
+    const double d2_node = (px - x_[0]) * (px - x_[0]) + (py - y_[0]) * (py - y_[0]);
+    if (d2_node < best) {
+      best = d2_node;
+      best_i = 0;
+      best_t = 0.0;
+    }
+  }
   if (best_i == n_) {  // degenerate (exactly on a normal everywhere): nearest node
     best_i = 0;
     for (std::size_t i = 0; i < n_; ++i) {

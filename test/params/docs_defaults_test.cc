@@ -118,7 +118,7 @@ TEST(DocsDefaultsTest, DefaultsQuotedInTheDocsAreTheSchemas) {
                          << m.value << ", the schema's default is " << known;
     }
   // The check must see the mentions it exists for.
-  EXPECT_TRUE(limit_fraction) << "README.md no longer quotes the default limit_fraction";
+  EXPECT_TRUE(limit_fraction) << "the docs no longer quote the default limit_fraction";
   EXPECT_GE(checked, 3);
 }
 
@@ -181,7 +181,7 @@ TEST(DocsDefaultsTest, RatioRangesQuotedInTheDocsAreTheDefaultSpaces) {
       }
     }
   }
-  EXPECT_GE(checked, 3) << "README.md and docs/tuned-files.md no longer quote the ratio range";
+  EXPECT_GE(checked, 3) << "README.md and docs/*.md no longer quote the ratio range";
 }
 
 }  // namespace

@@ -34,19 +34,6 @@ std::string Fixed(double x, int digits) {
   return s.str();
 }
 
-/// Forward distance from a to b on a closed track of length L, in [0, L).
-double Ahead(double a, double b, double length) {
-  double d = std::fmod(b - a, length);
-  if (d < 0.0) d += length;
-  return d;
-}
-
-// Corners that the detection rule (plant/track/corners.h) counts although a driver may not call
-// them corners: a few nodes just below the radius threshold, or a bend far gentler than the
-// others. They are flagged, never renumbered: scenario files name corners by number.
-constexpr double kShortCorner = 10.0;  // [m] shorter than this: "short"
-constexpr double kKinkRadius = 150.0;  // [m] smallest radius above this: "kink"
-
 int Info(const TrackOptions& o) {
   const plant::Track t = tuning::LoadTrackFile(o.track);
   double wmin = 1e9, wmax = 0.0;
@@ -73,13 +60,14 @@ int Info(const TrackOptions& o) {
                "   #  dir    from [m]   to [m]  length [m]  min R [m]  apex at [m]  note\n";
   int flagged = 0;
   for (const plant::Corner& c : corners) {
-    const double length = Ahead(c.s_from, c.s_to, t.length()) + t.step();
+    const double length = plant::CornerLength(c, t);
     const double to = t.Wrap(c.s_to + t.step());
     std::string note;
     auto add = [&](const std::string& what) { note += (note.empty() ? "" : "; ") + what; };
     if (c.s_to < c.s_from) add("spans the start line");
-    if (length < kShortCorner) add("short: only " + Fixed(length, 1) + " m below 250 m radius");
-    if (c.min_radius > kKinkRadius) add("kink: min R above " + Fixed(kKinkRadius, 0) + " m");
+    if (plant::IsShortCorner(c, t))
+      add("short: only " + Fixed(length, 1) + " m below 250 m radius");
+    if (plant::IsKink(c)) add("kink: min R above " + Fixed(plant::kKinkRadius, 0) + " m");
     flagged += note.find("short") != std::string::npos || note.find("kink") != std::string::npos;
     std::cout << std::setw(4) << c.number << "  " << (c.left ? "left " : "right") << std::setw(11)
               << std::setprecision(1) << c.s_from << std::setw(9) << to << std::setw(12) << length

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -116,6 +118,35 @@ TEST(TrackCsvPublic, BothPublicFormatsLoad) {
   const Track m = LoadTrackCsv(monza);  // racetrack-database
   EXPECT_NEAR(m.length(), 5790.2, 10.0);
   EXPECT_NEAR(std::abs(m.total_turning()), 2 * 3.141592653589793, 1e-9);
+}
+
+// The shipped example of a user's own track (examples/club, docs/track-files.md) loads as the
+// docs describe it, and a point on the normal of node 0 projects there from any side: the racing
+// line of this track starts 5e-12 m behind node 0 and 3.9 m to its right, where the tangent of
+// node N (= node 0, at psi0 + 2 pi) rounded differently and the search took a segment 138 m away,
+// so every run on it ended off track at t = 0.
+TEST(TrackCsvPublic, TheClubExampleLoadsAndItsStartNormalProjectsToTheStart) {
+  const Track t = LoadTrackCsv(std::string(SCW_SOURCE_DIR) + "/examples/club/club.csv");
+  EXPECT_EQ(t.name(), "club");
+  EXPECT_NEAR(t.length(), 1523.5, 1.0);
+  EXPECT_EQ(t.width_left()[0] + t.width_right()[0], 12.0);
+  EXPECT_NEAR(t.total_turning(), 2 * 3.141592653589793, 1e-9);
+  const TrackPose p0 = t.PoseAt(0.0);
+  const double nx = -std::sin(p0.heading), ny = std::cos(p0.heading);
+  const double tx = std::cos(p0.heading), ty = std::sin(p0.heading);
+  for (double n : {-5.9, -3.9192725794505785, 0.0, 2.5, 5.9})
+    for (double along : {-1e-9, -5.388756266230354e-12, 0.0, 1e-12, 1e-9}) {
+      const TrackProjection r = t.Project(p0.x + n * nx + along * tx, p0.y + n * ny + along * ty,
+                                          p0.heading, Track::kNoHint);
+      const double s = r.s > t.length() / 2 ? r.s - t.length() : r.s;
+      EXPECT_NEAR(s, 0.0, 1e-6) << "n " << n << ", along " << along;
+      EXPECT_NEAR(r.n, n, 1e-6) << "n " << n << ", along " << along;
+    }
+  // The racing line's first point, as the planner gives it.
+  const TrackProjection line =
+      t.Project(-5.388756266230354e-12, -3.9192725794505785, -0.010067302224018903, Track::kNoHint);
+  EXPECT_LT(std::min(line.s, t.length() - line.s), 1e-6);
+  EXPECT_NEAR(line.n, -3.919, 0.01);
 }
 
 TEST(RacingLine, GivenRacelineFileLoads) {
