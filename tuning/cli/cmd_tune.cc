@@ -413,8 +413,11 @@ class TuneRun : public tuning::TuneObserver {
   }
 
   void Screened(const tuning::TuneReport& r) const {
-    std::cerr << "  screen: " << r.screening.sets << " sets x " << r.screening.scenarios.size()
-              << " scenarios in " << Seconds(SecondsSince(t_screen_)) << "; ";
+    if (r.screening.sets == 0)  // a resume: the frozen set comes from the log's screen file
+      std::cerr << "  screen: read from the log's screen file; ";
+    else
+      std::cerr << "  screen: " << r.screening.sets << " sets x " << r.screening.scenarios.size()
+                << " scenarios in " << Seconds(SecondsSince(t_screen_)) << "; ";
     if (r.frozen.empty()) {
       std::cerr << "every parameter changes some training run at an end of its range\n";
       return;

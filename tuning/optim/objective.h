@@ -85,8 +85,8 @@ struct CleanLapCheck {
 struct ObjectiveValue {
   double stability = 0.0;  ///< S
   double total = 0.0;      ///< J (SetEvaluation::total)
-  /// max ΔT_c over the clean scenarios both sets complete [s per lap] (0 without any); +inf when
-  /// the set aborts a clean scenario the base completes.
+  /// max ΔT_c over the clean scenarios both sets complete [s per lap], negative when every clean
+  /// lap is faster (0 without any); +inf when the set aborts a clean scenario the base completes.
   double lap_loss = 0.0;
   int extra_activations = 0;  ///< Σ_{c,k} max(0, n − n_base)
   double violation = 0.0;     ///< V [s]

@@ -144,11 +144,17 @@ std::string AnswerMarkdown(const TuneStudy& study, const TuneReport& r) {
   if (!r.unexported_gain.empty()) md += "- **" + r.unexported_gain + "**\n";
   if (r.neighbourhood_done) {
     const auto keys = r.neighbourhood.EdgeKeys();
-    md += "- knife edges: " + (r.neighbourhood.edges.empty()
-                                   ? std::string("none")
-                                   : "**" + std::to_string(r.neighbourhood.edges.size()) + "** (");
-    for (std::size_t i = 0; i < keys.size(); ++i) md += (i ? ", " : "") + keys[i];
-    md += r.neighbourhood.edges.empty() ? "" : ")";
+    const int own = OwnEdges(r.neighbourhood);
+    md += "- knife edges: ";
+    if (r.neighbourhood.edges.empty()) {
+      md += "none";
+    } else {
+      md += "**" + std::to_string(own) + " the set's own**, " +
+            std::to_string(static_cast<int>(r.neighbourhood.edges.size()) - own) +
+            " where the base set is lost too (";
+      for (std::size_t i = 0; i < keys.size(); ++i) md += (i ? ", " : "") + keys[i];
+      md += ")";
+    }
     md += " in " + std::to_string(r.neighbourhood.neighbours.size()) + " neighbours\n";
     if (o.robust)
       md += "- robust: " + std::to_string(r.neighbourhood_before_robust.edges.size()) +

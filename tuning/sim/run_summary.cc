@@ -15,6 +15,8 @@ std::string FormatFixed(double x, int digits) {
 }
 
 std::string FormatSigned(double x, int digits) {
+  // A change that rounds to zero is written +0.000, never -0.000.
+  if (std::abs(x) < 0.5 * std::pow(10.0, -digits)) x = 0.0;
   char buf[64];
   std::snprintf(buf, sizeof(buf), "%+.*f", digits, x);
   return buf;
