@@ -42,9 +42,11 @@ const ArchiveEntry* BestWithin(const std::vector<ArchiveEntry>& archive, const C
 }
 
 /// Lockstep rounds over several searches, each in its own thread: a search submits the sets of
-/// its next point and waits; when every running search waits (or has ended), the round's sets
-/// run as one batch in search order and each search gets its results. The round's composition
-/// depends only on what the searches ask, so the batches are the same for any timing.
+/// its next point and waits; the calling thread (Coordinate) waits until every running search has
+/// submitted or ended, runs the round's sets as one batch in search order and hands each search
+/// its results. The round's composition depends only on what the searches ask, so the batches are
+/// the same for any timing; the batch runs on the thread that calls Coordinate (the main thread:
+/// MPI is initialised MPI_THREAD_FUNNELED).
 class Gate {
  public:
   using Runner = std::function<std::vector<SetEvaluation>(
@@ -55,70 +57,74 @@ class Gate {
         sets_(static_cast<std::size_t>(searches)),
         results_(static_cast<std::size_t>(searches)) {}
 
+  /// From search k's thread: blocks until the round with these sets has run.
   std::vector<SetEvaluation> Submit(int k, std::vector<params::StabilityParams> sets) {
     std::unique_lock<std::mutex> lock(mutex_);
     const auto i = static_cast<std::size_t>(k);
     sets_[i] = std::move(sets);
     state_[i] = kWaiting;
-    const long round = round_;
-    MaybeRun();
-    cv_.wait(lock, [&] { return round_ != round; });
+    cv_.notify_all();
+    cv_.wait(lock, [&] { return state_[i] == kAnswered; });
     state_[i] = kRunning;
     if (failure_) std::rethrow_exception(failure_);
     return std::move(results_[i]);
   }
 
+  /// From search k's thread when its search has ended (normally or not).
   void Done(int k) {
-    std::unique_lock<std::mutex> lock(mutex_);
+    std::lock_guard<std::mutex> lock(mutex_);
     state_[static_cast<std::size_t>(k)] = kDone;
-    MaybeRun();
-  }
-
-  int rounds() const { return static_cast<int>(round_); }
-
- private:
-  enum State { kRunning, kWaiting, kDone };
-  /// Runs the round when nobody is running any more (called with the lock held; the other
-  /// searches wait for this round, so holding it while the batch runs costs nothing).
-  void MaybeRun() {
-    bool waiting = false;
-    for (State s : state_) {
-      if (s == kRunning) return;
-      waiting = waiting || s == kWaiting;
-    }
-    if (!waiting) return;
-    std::vector<params::StabilityParams> all;
-    std::vector<std::size_t> count(state_.size(), 0);
-    for (std::size_t k = 0; k < state_.size(); ++k)
-      if (state_[k] == kWaiting) {
-        count[k] = sets_[k].size();
-        all.insert(all.end(), sets_[k].begin(), sets_[k].end());
-      }
-    std::vector<SetEvaluation> results;
-    try {
-      results = all.empty() ? std::vector<SetEvaluation>{} : run_(all, static_cast<int>(round_));
-      if (results.size() != all.size()) throw std::runtime_error("the front's batch lost results");
-    } catch (...) {
-      failure_ = std::current_exception();
-    }
-    std::size_t at = 0;
-    for (std::size_t k = 0; k < state_.size() && !failure_; ++k) {
-      if (state_[k] != kWaiting) continue;
-      results_[k].assign(results.begin() + static_cast<long>(at),
-                         results.begin() + static_cast<long>(at + count[k]));
-      at += count[k];
-    }
-    ++round_;
     cv_.notify_all();
   }
 
+  /// From the calling thread: runs rounds until every search has ended.
+  void Coordinate() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      cv_.wait(lock, [&] {
+        return std::all_of(state_.begin(), state_.end(),
+                           [](State s) { return s == kWaiting || s == kDone; });
+      });
+      if (std::all_of(state_.begin(), state_.end(), [](State s) { return s == kDone; })) return;
+      std::vector<params::StabilityParams> all;
+      std::vector<std::size_t> count(state_.size(), 0);
+      for (std::size_t k = 0; k < state_.size(); ++k)
+        if (state_[k] == kWaiting) {
+          count[k] = sets_[k].size();
+          all.insert(all.end(), sets_[k].begin(), sets_[k].end());
+        }
+      // The searches all wait for this round: the lock costs nothing while the batch runs.
+      std::vector<SetEvaluation> results;
+      try {
+        results = all.empty() ? std::vector<SetEvaluation>{} : run_(all, round_);
+        if (results.size() != all.size())
+          throw std::runtime_error("the front's batch lost results");
+      } catch (...) {
+        failure_ = std::current_exception();
+      }
+      std::size_t at = 0;
+      for (std::size_t k = 0; k < state_.size(); ++k) {
+        if (state_[k] != kWaiting) continue;
+        if (!failure_)
+          results_[k].assign(results.begin() + static_cast<long>(at),
+                             results.begin() + static_cast<long>(at + count[k]));
+        at += count[k];
+        state_[k] = kAnswered;
+      }
+      ++round_;
+      cv_.notify_all();
+    }
+  }
+
+ private:
+  enum State { kRunning, kWaiting, kAnswered, kDone };
   Runner run_;
   std::mutex mutex_;
   std::condition_variable cv_;
   std::vector<State> state_;
   std::vector<std::vector<params::StabilityParams>> sets_;
   std::vector<std::vector<SetEvaluation>> results_;
-  long round_ = 0;
+  int round_ = 0;
   std::exception_ptr failure_;
 };
 
@@ -319,6 +325,7 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
         gate.Done(j);
       });
     }
+    gate.Coordinate();
     for (auto& t : threads) t.join();
     for (const auto& f : failures)
       if (f) std::rethrow_exception(f);

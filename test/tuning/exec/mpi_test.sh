@@ -29,6 +29,7 @@ set_file=$work/set.yaml
 tune_args=(tune --scenarios "$set_file" --max-evals 20 --no-sensitivity --progress never)
 evaluate_args=(evaluate --scenarios "$set_file" --progress never
   "$(dirname "$0")/../../../params/stability/default.yaml" ref/stability_tuned.yaml)
+front_args=(tune --scenarios "$set_file" --front 3 --max-evals 4 --no-neighbourhood --progress never)
 sweep_args=(sweep --set laps=1 --vary gg_scale=1.0:0.1:1.5 --stop-at-first-abort
   --config none:subsystems.esc=false,subsystems.cs=false --config all --progress never)
 
@@ -71,6 +72,21 @@ EOF
       fail "plain evaluate failed: $(cat ref_evaluate.log)"
     "$scw" "${sweep_args[@]}" -o ref_sweep.csv >ref_sweep.txt 2>ref_sweep.log ||
       fail "plain sweep failed: $(cat ref_sweep.log)"
+    rm -rf ref_front
+    "$scw" "${front_args[@]}" --out-dir ref_front >ref_front.log 2>&1 ||
+      fail "plain front failed: $(cat ref_front.log)"
+    ;;
+
+  front_np2)
+    # The front's searches run in lockstep threads; their batches go out on the main thread
+    # (MPI_THREAD_FUNNELED): the same front as the plain run.
+    rm -rf front_np2
+    on_mpi 2 "${front_args[@]}" --out-dir front_np2 >front_np2.log 2>&1 ||
+      fail "mpirun -np 2 scw tune --front failed: $(cat front_np2.log)"
+    cmp ref_front/front.csv front_np2/front.csv || fail "front.csv differs from the plain run's"
+    for k in 0 1 2; do
+      same_run "ref_front/point_$k" "front_np2/point_$k"
+    done
     ;;
 
   tune_np*)
