@@ -69,16 +69,28 @@ report.py).
 
     python3 experiments/claims_map.py [--processes 2] [--laps 3] [--stability FILE] [--quick]
         [--families a,b] [--reuse]
+
+A variant whose `none` steers with more than 0.35° RMS above 1.6 Hz in a completed run (sweep
+column steer_hf_rms_deg) is marked limit-cycling and set aside when the report names what flips a
+claim. The vehicle-file values are varied as edited copies of the built-in file (`vehicle`;
+VEHICLE_EDITS). --quick: brake dead time 0 and 116 ms only; --reuse: a sweep whose table and
+recorded command exist is read, not run (an interrupted map goes on where it stopped).
+
+Time on 2 cores (idle 2-vCPU AMD EPYC, 2026-11-30, main ef88433): the shipped set's map from
+scratch 28.0 min wall, 53.8 CPU-min (44 variants, 42 sweeps; every table identical to a run with
+reuse); the tuned sets' maps (the families run_all.sh gives a given set) about 23 min
+(tuned_paper_sim_seed1) and 20 min (tuned_seed1). Since 2026-12-05 pmpc_lookahead runs only on
+request. Earlier measurements: the history of experiments/README.md.
 """
 
 import argparse
 import os
 import sys
 
-import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
-import report  # noqa: E402
+import debpython  # noqa: F401  (first: Debian's numpy/matplotlib, else a re-run with them)
+import scwexp  # noqa: E402
+from scwexp import claims, plots  # noqa: E402
 
-import matplotlib.pyplot as plt  # noqa: E402
 
 STUDY = "claims_map"
 S1 = "abort.lock_slip_pct=50,abort.spin_slip_pct=30,abort.slip_time=0.1," \
@@ -323,24 +335,24 @@ def split(rows, keys):
 def evaluate(ser1, ser2):
     """{claim: {ok, margin, text}} on one perturbation."""
     res = {}
-    for k, fn, ser in (("a", report.claim_a, ser1), ("b", report.claim_b, ser2),
-                       ("c", report.claim_c, ser2), ("d", report.claim_d, ser2)):
+    for k, fn, ser in (("a", claims.claim_a, ser1), ("b", claims.claim_b, ser2),
+                       ("c", claims.claim_c, ser2), ("d", claims.claim_d, ser2)):
         ok, items = fn(ser)
         res[k] = {"ok": bool(ok), "failed": [n for n, o, _ in items if o is False],
                   "items": [[n, o, t] for n, o, t in items]}
     on, off = ser1["sc_on"], ser1["sc_off"]
-    res["a"]["margin"] = report.stable(on) - report.stable(off)
-    d = [r for r in report.done_runs(on) if r["gg_scale"] >= report.abort_gg(off) - 1e-6]
+    res["a"]["margin"] = claims.stable(on) - claims.stable(off)
+    d = [r for r in claims.done_runs(on) if r["gg_scale"] >= claims.abort_gg(off) - 1e-6]
     res["a"]["acts"] = f"ABS/TC in {sum(1 for r in d if r['abs_count'] + r['tc_count'] > 0)}" \
         f" of {len(d)} deciding"
-    na = report.abort_gg(ser2["none"])
-    res["b"]["margin"] = min(report.abort_gg(ser2[k]) for k in ("esc", "cs", "esc+cs")) - na
-    r = report.run_at(ser2["esc+cs"], na)
-    res["b"]["acts"] = f"ESC+CS at {na:.3f}: {report.acts(r)}" if r else "–"
+    na = claims.abort_gg(ser2["none"])
+    res["b"]["margin"] = min(claims.abort_gg(ser2[k]) for k in ("esc", "cs", "esc+cs")) - na
+    r = claims.run_at(ser2["esc+cs"], na)
+    res["b"]["acts"] = f"ESC+CS at {na:.3f}: {claims.acts(r)}" if r else "–"
     a = ser2["esc+cs"]
-    b = report.best_run(a)
+    b = claims.best_run(a)
     res["c"]["margin"] = (a["max_stable"] - b["gg_scale"]) if b else float("nan")
-    above = [x for x in report.done_runs(a) if b and x["gg_scale"] > b["gg_scale"] + 1e-6]
+    above = [x for x in claims.done_runs(a) if b and x["gg_scale"] > b["gg_scale"] + 1e-6]
     res["c"]["acts"] = "ESC above best " + ("/".join(str(int(x["esc_count"])) for x in above)
                                             or "–")
     items = res["d"]["items"]
@@ -361,67 +373,6 @@ def pack(rows_by_cfg, names, refined=True):
             rs = scwexp.cut_at_first_abort([r for r in rs if not r.get("refined")])
         out[n] = scwexp.pack_series(rs)
     return out
-
-
-def heat_map(variants, path, set_label="shipped"):
-    claims = ("a", "b", "c", "d")
-    fig, axes = plt.subplots(1, 4, figsize=(16, 4.2))
-    for ax, k in zip(axes, claims):
-        grid = [[None] * len(COLUMNS) for _ in STEERS]
-        for v in variants:
-            key = v.get("grid")
-            if key is None:
-                continue
-            i, j = STEERS.index(key[1]), COLUMNS.index(key[0])
-            grid[i][j] = v["claims"][k]
-        for i in range(len(STEERS)):
-            for j in range(len(COLUMNS)):
-                c = grid[i][j]
-                color = "#bbbbbb" if c is None else ("#7fc97f" if c["ok"] else "#f0a0a0")
-                ax.add_patch(plt.Rectangle((j - 0.5, i - 0.5), 1, 1, color=color))
-                if c is not None:
-                    unit = " s" if k == "d" else ""
-                    ax.text(j, i, f"{'holds' if c['ok'] else 'fails'}\n{c['margin']:+.3f}{unit}",
-                            ha="center", va="center", fontsize=9)
-        ax.set_xlim(-0.5, len(COLUMNS) - 0.5)
-        ax.set_ylim(-0.5, len(STEERS) - 0.5)
-        ax.set_xticks(range(len(COLUMNS)))
-        ax.set_xticklabels([f"{b * 1000:.0f}" if b != "nodyn" else "none" for b in COLUMNS])
-        ax.set_yticks(range(len(STEERS)))
-        ax.set_yticklabels([f"{s * 1000:.0f}" for s in STEERS])
-        ax.set_xlabel("brake dead time [ms]")
-        if k == "a":
-            ax.set_ylabel("steering dead time [ms]")
-        ax.set_title(f"claim ({k}): margin = {MARGIN_NAMES[k]}", fontsize=9)
-    fig.suptitle(f"Claims map, {set_label} set: pass (green) / fail (red) with the margin; brake "
-                 "dead time within the fixed 150 ms response, 'none': no brake dynamics; real "
-                 "car's actuators otherwise (study 1 seed 1, study 2 rear μy 0.80)", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
-
-
-def bars(variants, path, set_label="shipped"):
-    claims = ("a", "b", "c", "d")
-    fig, axes = plt.subplots(1, 4, figsize=(17, 0.45 * len(variants) + 1.8), sharey=True)
-    labels = [v["label"] for v in variants]
-    for ax, k in zip(axes, claims):
-        vals = [v["claims"][k]["margin"] for v in variants]
-        cols = ["tab:green" if v["claims"][k]["ok"] else "tab:red" for v in variants]
-        ax.barh(range(len(variants)), vals, color=cols)
-        ax.axvline(THRESH[k], color="k", ls=":", lw=1)
-        ax.set_title(f"({k}) {MARGIN_NAMES[k]}", fontsize=9)
-        ax.grid(True, axis="x", alpha=0.3)
-    axes[0].set_yticks(range(len(variants)))
-    axes[0].set_yticklabels(labels, fontsize=8)
-    axes[0].invert_yaxis()
-    fig.suptitle(f"Claims map, {set_label} set, one at a time: margin per claim (green: claim "
-                 "holds; dotted: the criterion's threshold)", fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
 
 
 MARGIN_NAMES = {"a": "max stable on − off [GG]", "b": "first abort: min(ESC, CS, ESC+CS) − none "
@@ -451,6 +402,104 @@ def label_of(keys, vals):
         v = words.get((k, v), v)
         parts.append(f"{n} {float(v) * scale:g} {unit}".strip() if scale else f"{n} {v}")
     return ", ".join(parts)
+
+
+def run_family(scw, args, out, fam, base_sets, configs, names, variants, commands, axes):
+    """One family of the map: its sweep (reused with --reuse), the first aborts bisected and
+    probed, and a variant per value (appended to `variants`; the sweeps' commands to
+    `commands`, a family's own GG axis to `axes`). Returns the vehicle file's own runs at the
+    axis step and its variant, (coarse rows, variant), when this family has them, else None."""
+    base = None
+    tag, flabel, vary = fam[:3]
+    axis = fam[3] if len(fam) > 3 else args.gg
+    if axis != args.gg:
+        axes[flabel] = axis
+    sets = list(base_sets)
+    if tag == "no_brake_dyn":
+        veh = no_brake_dynamics_vehicle(scw, os.path.join(out, "vehicle_no_brake_dyn.yaml"))
+        sets.append(f"vehicle={veh}")
+    vary = expand_vehicle_edits(scw, out, vary)
+    keys = [v.split("=", 1)[0] for v in vary]
+    csv_path = os.path.join(out, f"sweep_{tag}.csv")
+    cmd = scwexp.mpc_sweep_cmd(scw, args, sets, [f"gg_scale={axis}"] + vary, configs,
+                               csv_path, processes=args.processes)
+    scwexp.reuse_or_run(cmd, csv_path, os.path.join(out, f"scw_{tag}.log"), args.reuse)
+    rows = scwexp.read_csv(csv_path)
+    commands.append(" ".join(cmd))
+    # bisect the first aborts: one series per (config, variant); the variant's keys are
+    # folded into the configuration's overrides
+    groups = list(split(rows, keys).items())
+    cfgs, sub = [], []
+    for i, (vals, by_cfg) in enumerate(groups):
+        extra = ",".join(f"{k}={v}" for k, v in zip(keys, vals))
+        cfgs += [f"{n}#{i}:{o},{extra}" for n, o in CONFIGS]
+        sub += [dict(r, config=f"{c}#{i}") for c, rs in by_cfg.items() for r in rs]
+    coarse = sub  # the axis' own runs: the GG-resolution variant reads them
+    if scwexp.REFINE_LEVELS > 0:
+        sub, rc = scwexp.refine_first_aborts(scw, args, sets, cfgs, sub, None, csv_path,
+                                             os.path.join(out, f"scw_{tag}.log"),
+                                             reuse=args.reuse, probe=against_none)
+        commands += rc
+
+    def unfold(rs):
+        out_rows = []
+        for r in rs:
+            name, i = r["config"].split("#")
+            vals = groups[int(i)][0]
+            out_rows.append(dict(r, config=name, **dict(zip(keys, vals))))
+        return split(out_rows, keys)
+    coarse_by = unfold(coarse)
+    for vals, by_cfg in unfold(sub).items():
+        lab = label_of(keys, vals)
+        if tag == "no_brake_dyn":
+            lab = NO_DYN + ("" if float(vals[0]) == 0.03 else ", " + lab)
+        s1 = pack(by_cfg, names[:2])
+        s2 = pack(by_cfg, names[2:])
+        v = {"family": flabel, "label": lab, "claims": evaluate(s1, s2),
+             "series": {**s1, **s2}, "command": " ".join(cmd),
+             "changes": changes_of(tag, keys, vals)}
+        act, from_col = nearest_column(keys, vals)
+        if from_col is not None:  # a variant of the paper's simulator's column
+            v["column_actuators"], v["column_changes"] = act, from_col
+        if tag == "brake_steer" and len(keys) == 2:
+            v["grid"] = (float(vals[0]), float(vals[1]))
+        elif tag == "no_brake_dyn":
+            v["grid"] = ("nodyn", float(vals[0]))
+        if tag == "brake_steer" and float(vals[0]) == 0.116 and \
+                (len(keys) == 1 or float(vals[1]) == 0.03):
+            base = (coarse_by[vals], v)
+            v["label"] = "vehicle file (brake 116 ms, steering 30 ms)"
+        variants.append(v)
+    return base
+
+
+def table_and_text(variants, set_label, args, axes):
+    """The map's table (a row per variant: each claim's verdict, margin and activations, and
+    `none`'s steering above 1.6 Hz) and its paragraph (what was run, where each claim holds)."""
+    table = ["| variant | (a) | (b) | (c) | (d) | `none`'s steering above 1.6 Hz |",
+             "|---|---|---|---|---|---|"]
+    for v in variants:
+        cells = []
+        for k in ("a", "b", "c", "d"):
+            c = v["claims"][k]
+            unit = " s" if k == "d" else ""
+            cells.append(f"{'**holds**' if c['ok'] else 'fails'} {c['margin']:+.3f}{unit} "
+                         f"({c['acts']})" + ("" if c["ok"] else
+                                            f"; fails on: {', '.join(c['failed'])[:100]}"))
+        hf = claims.steer_hf(v)
+        cells.append("–" if hf is None else f"{hf:.2f}° RMS" + claims.cycling_mark(v))
+        table.append(f"| {v['label']} | " + " | ".join(cells) + " |")
+    holds = {k: [claims.cycling_label(v) for v in variants if v["claims"][k]["ok"]]
+             for k in "abcd"}
+    text = ("One perturbation per study (study 1 sensor-noise seed 1, study 2 rear μy 0.80), "
+            f"the {set_label} stability set, {args.laps} laps, GG "
+            f"{args.gg} with the first abort bisected" + "".join(
+                f" ({fl}: GG {ax})" for fl, ax in axes.items()) + "; every other plant value as "
+            "the vehicle file. Margins: " + "; ".join(f"({k}) {MARGIN_NAMES[k]} (criterion ≥ {THRESH[k]})"
+                                          for k in "abcd") + ". A claim holds only with its "
+            "whole criterion (P5 included). Holds with: " +
+            "; ".join(f"({k}) " + (", ".join(holds[k]) or "no variant") for k in "abcd") + ".")
+    return table, text
 
 
 def main(argv=None):
@@ -487,66 +536,9 @@ def main(argv=None):
         fams = [f for f in FAMILIES if f[0] in want]
     axes = {}  # a family's own GG axis
     for fam in fams:
-        tag, flabel, vary = fam[:3]
-        axis = fam[3] if len(fam) > 3 else args.gg
-        if axis != args.gg:
-            axes[flabel] = axis
-        sets = list(base_sets)
-        if tag == "no_brake_dyn":
-            veh = no_brake_dynamics_vehicle(scw, os.path.join(out, "vehicle_no_brake_dyn.yaml"))
-            sets.append(f"vehicle={veh}")
-        vary = expand_vehicle_edits(scw, out, vary)
-        keys = [v.split("=", 1)[0] for v in vary]
-        csv_path = os.path.join(out, f"sweep_{tag}.csv")
-        cmd = scwexp.mpc_sweep_cmd(scw, args, sets, [f"gg_scale={axis}"] + vary, configs,
-                                   csv_path, processes=args.processes)
-        scwexp.reuse_or_run(cmd, csv_path, os.path.join(out, f"scw_{tag}.log"), args.reuse)
-        rows = scwexp.read_csv(csv_path)
-        commands.append(" ".join(cmd))
-        # bisect the first aborts: one series per (config, variant); the variant's keys are
-        # folded into the configuration's overrides
-        groups = list(split(rows, keys).items())
-        cfgs, sub = [], []
-        for i, (vals, by_cfg) in enumerate(groups):
-            extra = ",".join(f"{k}={v}" for k, v in zip(keys, vals))
-            cfgs += [f"{n}#{i}:{o},{extra}" for n, o in CONFIGS]
-            sub += [dict(r, config=f"{c}#{i}") for c, rs in by_cfg.items() for r in rs]
-        coarse = sub  # the axis' own runs: the GG-resolution variant reads them
-        if scwexp.REFINE_LEVELS > 0:
-            sub, rc = scwexp.refine_first_aborts(scw, args, sets, cfgs, sub, None, csv_path,
-                                                 os.path.join(out, f"scw_{tag}.log"),
-                                                 reuse=args.reuse, probe=against_none)
-            commands += rc
-
-        def unfold(rs):
-            out_rows = []
-            for r in rs:
-                name, i = r["config"].split("#")
-                vals = groups[int(i)][0]
-                out_rows.append(dict(r, config=name, **dict(zip(keys, vals))))
-            return split(out_rows, keys)
-        coarse_by = unfold(coarse)
-        for vals, by_cfg in unfold(sub).items():
-            lab = label_of(keys, vals)
-            if tag == "no_brake_dyn":
-                lab = NO_DYN + ("" if float(vals[0]) == 0.03 else ", " + lab)
-            s1 = pack(by_cfg, names[:2])
-            s2 = pack(by_cfg, names[2:])
-            v = {"family": flabel, "label": lab, "claims": evaluate(s1, s2),
-                 "series": {**s1, **s2}, "command": " ".join(cmd),
-                 "changes": changes_of(tag, keys, vals)}
-            act, from_col = nearest_column(keys, vals)
-            if from_col is not None:  # a variant of the paper's simulator's column
-                v["column_actuators"], v["column_changes"] = act, from_col
-            if tag == "brake_steer" and len(keys) == 2:
-                v["grid"] = (float(vals[0]), float(vals[1]))
-            elif tag == "no_brake_dyn":
-                v["grid"] = ("nodyn", float(vals[0]))
-            if tag == "brake_steer" and float(vals[0]) == 0.116 and \
-                    (len(keys) == 1 or float(vals[1]) == 0.03):
-                base = (coarse_by[vals], v)
-                v["label"] = "vehicle file (brake 116 ms, steering 30 ms)"
-            variants.append(v)
+        found = run_family(scw, args, out, fam, base_sets, configs, names, variants,
+                           commands, axes)
+        base = found or base
     if base is not None:
         s1 = pack(base[0], names[:2], refined=False)
         s2 = pack(base[0], names[2:], refined=False)
@@ -557,34 +549,14 @@ def main(argv=None):
                                      "(no bisection)"]})
     figures = []
     if any("grid" in v for v in variants):
-        heat = heat_map(variants, os.path.join(out, "claims_map.png"), set_label)
+        heat = plots.claims_map_heat_map(variants, os.path.join(out, "claims_map.png"), set_label,
+                                         COLUMNS, STEERS, MARGIN_NAMES)
         figures.append(os.path.relpath(heat, out))
     one = [v for v in variants if "grid" not in v or v["grid"][1] == 0.03]
-    one_path = bars(one, os.path.join(out, "claims_map_one_at_a_time.png"), set_label)
+    one_path = plots.claims_map_bars(one, os.path.join(out, "claims_map_one_at_a_time.png"),
+                                     set_label, MARGIN_NAMES, THRESH)
     figures.append(os.path.relpath(one_path, out))
-    table = ["| variant | (a) | (b) | (c) | (d) | `none`'s steering above 1.6 Hz |",
-             "|---|---|---|---|---|---|"]
-    for v in variants:
-        cells = []
-        for k in ("a", "b", "c", "d"):
-            c = v["claims"][k]
-            unit = " s" if k == "d" else ""
-            cells.append(f"{'**holds**' if c['ok'] else 'fails'} {c['margin']:+.3f}{unit} "
-                         f"({c['acts']})" + ("" if c["ok"] else
-                                            f"; fails on: {', '.join(c['failed'])[:100]}"))
-        hf = report.steer_hf(v)
-        cells.append("–" if hf is None else f"{hf:.2f}° RMS" + report.cycling_mark(v))
-        table.append(f"| {v['label']} | " + " | ".join(cells) + " |")
-    holds = {k: [report.cycling_label(v) for v in variants if v["claims"][k]["ok"]]
-             for k in "abcd"}
-    text = ("One perturbation per study (study 1 sensor-noise seed 1, study 2 rear μy 0.80), "
-            f"the {set_label} stability set, {args.laps} laps, GG "
-            f"{args.gg} with the first abort bisected" + "".join(
-                f" ({fl}: GG {ax})" for fl, ax in axes.items()) + "; every other plant value as "
-            "the vehicle file. Margins: " + "; ".join(f"({k}) {MARGIN_NAMES[k]} (criterion ≥ {THRESH[k]})"
-                                          for k in "abcd") + ". A claim holds only with its "
-            "whole criterion (P5 included). Holds with: " +
-            "; ".join(f"({k}) " + (", ".join(holds[k]) or "no variant") for k in "abcd") + ".")
+    table, text = table_and_text(variants, set_label, args, axes)
     summary = {"study": study, "set_label": set_label, "commands": commands, "variants": variants, "table": table,
                "text": text, "figures": figures, "wall_time_s": timer.seconds(),
                "reused": [os.path.basename(x) for x in scwexp.REUSED],
@@ -592,7 +564,7 @@ def main(argv=None):
     scwexp.write_summary(study, summary)
     print("\n".join(table))
     print(f"{study}: {timer.seconds():.0f} s wall, {timer.cpu_seconds():.0f} s CPU")
-    report.update(args)
+    scwexp.update_report(args)
     return 0
 
 

@@ -33,6 +33,17 @@ Reads results/columns/*/study2_lateral/summary.json (run experiments/run_all.sh 
     python3 experiments/esc_margin.py [--processes 2] [--reuse] [--resolution 0.001]
                                       [--scan-step 0.0025] [--threshold-probe 0.5,0.3]
                                       [--falloff-probe 0,1.5]
+
+Why the grid: `none` with tuned_paper_sim_seed1 on the real car was lost at GG 1.040625 and
+completed at 1.0414 and 1.042187; a bisection finds an edge, the grid shows the band. Per column
+where `none` completes the report says whether a GG is lost below a completed one, and Δ(ESC) in
+every lap `none` completes while ESC acts. The threshold probe's sets are
+results/esc_margin/stability_<column>_eb<factor>.yaml. One `scw sweep` per column, plus one per
+bisection round and one per column and factor; run_all.sh runs it after the columns; its tables
+and sentences are in the report's "Where each claim reproduces".
+
+Time on 2 cores: 6 min for the six reference columns without the probes (2026-11-28), about
+8 min with them (2026-11-29, beside a test run; 2-vCPU Intel Xeon @ 2.5 GHz).
 """
 
 import argparse
@@ -41,8 +52,10 @@ import os
 import re
 import sys
 
-import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
-import report  # noqa: E402
+import debpython  # noqa: F401  (first: Debian's numpy/matplotlib, else a re-run with them)
+import scwexp  # noqa: E402
+from scwexp import claims  # noqa: E402
+from scwexp.results import find_columns  # noqa: E402
 import study2_lateral  # noqa: E402
 
 STUDY = "esc_margin"
@@ -177,10 +190,10 @@ def factors(text):
 
 
 def judged_gg(series):
-    """The GG claim (d) is judged at (report.claim_d_gg), None without all four configurations."""
+    """The GG claim (d) is judged at (claims.claim_d_gg), None without all four configurations."""
     if any(k not in series for k in CONFIGS):
         return None
-    return report.claim_d_gg(series)
+    return claims.claim_d_gg(series)
 
 
 def stability_path(column):
@@ -189,7 +202,52 @@ def stability_path(column):
     return text if text and text != "params/stability/default.yaml" else None
 
 
-def main(argv=None):
+def threshold_probe(scw, args, out, name, col, sets, stab, gg_d, fa, factor, rows_out,
+                    commands):
+    """All four configurations at the judged GG with ESC's sideslip-error thresholds scaled by
+    `factor` in a copy of the column's set (a diagnostic): rows into rows_out."""
+    tag = f"eb{round(factor * 100)}"
+    probe_set = os.path.join(out, f"stability_{name}_{tag}.yaml")
+    scaled_beta_error_set(stab or DEFAULT_SET, factor, probe_set)
+    probe_csv = os.path.join(out, f"probe_{name}_{tag}.csv")
+    cmd = [scw, "sweep", "-o", probe_csv, "--processes", str(args.processes or 2),
+           "--set"] + sets + ["--stability", probe_set]
+    for c, ov in CONFIG_OVERRIDES.items():
+        cmd += ["--config", f"{c}.{tag}:{ov},gg_scale={gg_d}"]
+    scwexp.reuse_or_run(cmd, probe_csv, os.path.join(out, f"scw_probe_{name}_{tag}.log"),
+                        args.reuse)
+    commands.append(" ".join(cmd))
+    for r in scwexp.read_csv(probe_csv):
+        cfg = r["config"].split(".", 1)[0]
+        rows_out.append(dict(row_of(name, col, cfg, tag, gg_d, fa, r), factor=factor))
+
+
+def falloff_probe(scw, args, out, name, col, sets, stab, series, fa, rows_out, commands):
+    """`none` at its last completed GG and its first abort with the rear tyre's loss beyond its
+    peak scaled (--falloff-probe): rows into rows_out."""
+    bounds = none_bounds(series)
+    if not (args.falloff_probe and bounds):
+        return
+    fo_csv = os.path.join(out, f"falloff_{name}.csv")
+    cmd = [scw, "sweep", "-o", fo_csv, "--processes", str(args.processes or 2),
+           "--set"] + sets
+    for c in falloff_configs(bounds[0], bounds[1], args.falloff_probe):
+        cmd += ["--config", c]
+    if stab:
+        cmd += ["--stability", stab]
+    scwexp.reuse_or_run(cmd, fo_csv, os.path.join(out, f"scw_falloff_{name}.log"),
+                        args.reuse)
+    commands.append(" ".join(cmd))
+    for r in scwexp.read_csv(fo_csv):
+        cfg, tag = r["config"].split(".", 1)
+        scale, at = tag.split("_", 1)
+        rows_out.append(dict(row_of(name, col, cfg, f"falloff_{at}",
+                                    bounds[0] if at == "last" else bounds[1], fa, r),
+                             falloff=int(scale[2:]) / 100.0))
+
+
+def parse_args(argv=None):
+    """The command line (see the module's docstring)."""
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     scwexp.add_common_args(p, laps=3)
@@ -210,13 +268,17 @@ def main(argv=None):
     p.add_argument("--scan-step", type=float, default=SCAN_STEP,
                    help=f"run `none` and ESC on a grid of this GG step between `none`'s last "
                         f"completed GG and its first abort (default {SCAN_STEP}; 0: off)")
-    args = p.parse_args(argv)
+    return p.parse_args(argv)
+
+
+def main(argv=None):
+    args = parse_args(argv)
     scwexp.apply_common_args(args)
     scw = scwexp.find_scw()
     out = scwexp.results_dir(STUDY)
     timer = scwexp.Timer()
     rows_out, commands = [], []
-    cols = [(n, ss["study2_lateral"]) for n, _, ss in report.find_columns(scwexp.RESULTS)
+    cols = [(n, ss["study2_lateral"]) for n, _, ss in find_columns(scwexp.RESULTS)
             if ss.get("study2_lateral")]
     if not cols:
         sys.exit("error: no study-2 columns in results/columns (run experiments/run_all.sh)")
@@ -265,45 +327,17 @@ def main(argv=None):
             cfg, tag = r["config"].split(".", 1)
             rows_out.append(row_of(name, col, cfg, tag, gg_of[tag], fa, r))
         for factor in (args.threshold_probe if gg_d is not None else []):
-            tag = f"eb{round(factor * 100)}"
-            probe_set = os.path.join(out, f"stability_{name}_{tag}.yaml")
-            scaled_beta_error_set(stab or DEFAULT_SET, factor, probe_set)
-            probe_csv = os.path.join(out, f"probe_{name}_{tag}.csv")
-            cmd = [scw, "sweep", "-o", probe_csv, "--processes", str(args.processes or 2),
-                   "--set"] + sets + ["--stability", probe_set]
-            for c, ov in CONFIG_OVERRIDES.items():
-                cmd += ["--config", f"{c}.{tag}:{ov},gg_scale={gg_d}"]
-            scwexp.reuse_or_run(cmd, probe_csv, os.path.join(out, f"scw_probe_{name}_{tag}.log"),
-                                args.reuse)
-            commands.append(" ".join(cmd))
-            for r in scwexp.read_csv(probe_csv):
-                cfg = r["config"].split(".", 1)[0]
-                rows_out.append(dict(row_of(name, col, cfg, tag, gg_d, fa, r), factor=factor))
-        bounds = none_bounds(series)
-        if args.falloff_probe and bounds:
-            fo_csv = os.path.join(out, f"falloff_{name}.csv")
-            cmd = [scw, "sweep", "-o", fo_csv, "--processes", str(args.processes or 2),
-                   "--set"] + sets
-            for c in falloff_configs(bounds[0], bounds[1], args.falloff_probe):
-                cmd += ["--config", c]
-            if stab:
-                cmd += ["--stability", stab]
-            scwexp.reuse_or_run(cmd, fo_csv, os.path.join(out, f"scw_falloff_{name}.log"),
-                                args.reuse)
-            commands.append(" ".join(cmd))
-            for r in scwexp.read_csv(fo_csv):
-                cfg, tag = r["config"].split(".", 1)
-                scale, at = tag.split("_", 1)
-                rows_out.append(dict(row_of(name, col, cfg, f"falloff_{at}",
-                                            bounds[0] if at == "last" else bounds[1], fa, r),
-                                     falloff=int(scale[2:]) / 100.0))
+            threshold_probe(scw, args, out, name, col, sets, stab, gg_d, fa, factor,
+                            rows_out, commands)
+        falloff_probe(scw, args, out, name, col, sets, stab, series, fa, rows_out,
+                      commands)
     summary = {"study": STUDY, "rows": rows_out, "commands": commands,
                "text": text_of(rows_out), "wall_time_s": timer.seconds(),
                "cpu_time_s": timer.cpu_seconds(),
                "reused": [os.path.basename(x) for x in scwexp.REUSED]}
     scwexp.write_summary(STUDY, summary)
     print("\n".join(summary["text"]))
-    report.update(args)
+    scwexp.update_report(args)
     return 0
 
 

@@ -18,15 +18,20 @@ Writes experiments/results/study1_longitudinal/: sweep.csv, sweep_brake40ms.csv,
 study1_longitudinal.png, study1_brake40ms.png, summary.json, scw*.log.
 
     python3 experiments/study1_longitudinal.py [--gg 1.0:0.05:1.8] [--refine 1] [--results DIR] [--laps 3] [--processes 2]
+
+Diagnostic (unscored): the same with ESC and CS off in both configurations. The first abort of
+each configuration is re-run with `scw simulate --trace` and described (diagnosis/).
+
+Time: ~6 min on 2 cores (3 laps, the default axis).
 """
 
 import argparse
 import os
 import sys
 
-import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
-import report  # noqa: E402  (regenerates report.md after the study)
-import studyplot  # noqa: E402
+import debpython  # noqa: F401  (first: Debian's numpy/matplotlib, else a re-run with them)
+import scwexp  # noqa: E402
+from scwexp import plots  # noqa: E402
 
 STUDY = "study1_longitudinal"
 CONTROLLER = "pmpc"
@@ -43,7 +48,7 @@ TOP = [("max_slip_front_pct", "-", ", front"), ("max_slip_rear_pct", "--", ", re
 def figure(per_pert, path, title):
     panels = [(f"sensor-noise seed {v}", per_pert[v]) for v in per_pert]
     lines = [(n, label, color, "-") for n, _, label, color in CONFIGS]
-    return studyplot.plot_grid(panels, lines, TOP, "max |slip| [%] (front solid, rear dashed)",
+    return plots.plot_grid(panels, lines, TOP, "max |slip| [%] (front solid, rear dashed)",
                                path, title)
 
 
@@ -114,7 +119,7 @@ def main(argv=None):
         out)
     summary["diagnosis_perturbation"] = first
     scwexp.finish_study(STUDY, scw, args, sets, summary, timer, per_pert, "seed", out, main_wall)
-    report.update(args)
+    scwexp.update_report(args)
     return 0
 
 

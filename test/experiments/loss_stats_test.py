@@ -1,4 +1,4 @@
-"""experiments/loss_stats.py on synthetic data: Wilson's interval against values computed by
+"""scwexp.analysis (the former experiments/loss_stats.py) on synthetic data: Wilson's interval against values computed by
 hand, the loss curve, the crossings and their interval."""
 
 import os
@@ -6,7 +6,7 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
                                 "experiments"))
-import loss_stats  # noqa: E402
+from scwexp import analysis as loss_stats  # noqa: E402
 
 
 def close(a, b, tol=1e-4):
