@@ -5,7 +5,7 @@ judge the paper's claims, analyse and plot; the drivers (experiments/<study>.py)
     paths     where the scw binary and the results are (RESULTS, ROOT_RESULTS, find_scw)
     runner    running scw: commands, sweeps reused by their recorded command, the track's corners
     sweeps    a study's sweep: the GG axis, each series' first abort bisected, probe runs
-    results   sweep tables and summaries as dicts, the columns of a results tree
+    results   sweep tables and summaries as dicts; typed records and their loader (`load`)
     claims    the paper's claims (a)-(f) as pure functions over series
     analysis  statistics: P(loss | GG) with Wilson intervals, margins, claim (d)'s premise
     diagnose  an aborted run re-run with a trace and described; places on the track
