@@ -32,17 +32,9 @@ import sys
 import debpython  # noqa: F401  (first: Debian's numpy/matplotlib, else a re-run with them)
 import scwexp  # noqa: E402
 from scwexp import plots  # noqa: E402
-
-STUDY = "study1_longitudinal"
-CONTROLLER = "pmpc"
-BASE_SETS = ["abort.lock_slip_pct=50", "abort.spin_slip_pct=30", "abort.slip_time=0.1",
-             "abort.max_lateral_error=100", "sensor_noise=true"]
-PERT = ("seed", [1, 2, 3])
-CONFIGS = [
-    ("sc_on", "subsystems.abs=true,subsystems.tc=true", "slip control on", "tab:blue"),
-    ("sc_off", "subsystems.abs=false,subsystems.tc=false", "slip control off", "tab:red"),
-]
-TOP = [("max_slip_front_pct", "-", ", front"), ("max_slip_rear_pct", "--", ", rear")]
+from scwexp.studies import (  # noqa: E402
+    STUDY1 as STUDY, STUDY1_CONTROLLER as CONTROLLER, STUDY1_BASE_SETS as BASE_SETS,
+    STUDY1_PERT as PERT, STUDY1_CONFIGS as CONFIGS, STUDY1_TOP as TOP)
 
 
 def figure(per_pert, path, title):

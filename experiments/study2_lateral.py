@@ -37,19 +37,10 @@ import sys
 import debpython  # noqa: F401  (first: Debian's numpy/matplotlib, else a re-run with them)
 import scwexp  # noqa: E402
 from scwexp import knife_edge, plots, trace_plot  # noqa: E402
-
-STUDY = "study2_lateral"
-CONTROLLER = "pmpc"
-BASE_SETS = ["plan_with_nominal_grip=true", "abort.lock_slip_pct=100"]
-PERT = ("grip.rear_mu_y", ["0.78", "0.8", "0.82"])
-MAIN_PERT = "0.8"
-CONFIGS = [
-    ("none", "subsystems.esc=false,subsystems.cs=false", "no lateral SC", "tab:gray"),
-    ("esc", "subsystems.esc=true,subsystems.cs=false", "ESC only", "tab:red"),
-    ("cs", "subsystems.esc=false,subsystems.cs=true", "CS only", "tab:blue"),
-    ("esc+cs", "subsystems.esc=true,subsystems.cs=true", "ESC + CS", "tab:purple"),
-]
-TOP = [("max_abs_sideslip_deg", None, "")]
+from scwexp.studies import (  # noqa: E402
+    STUDY2 as STUDY, STUDY2_CONTROLLER as CONTROLLER, STUDY2_BASE_SETS as BASE_SETS,
+    STUDY2_PERT as PERT, STUDY2_MAIN_PERT as MAIN_PERT, STUDY2_CONFIGS as CONFIGS,
+    STUDY2_TOP as TOP)
 
 
 def against_none(name):

@@ -26,16 +26,10 @@ import sys
 import debpython  # noqa: F401  (first: Debian's numpy/matplotlib, else a re-run with them)
 import scwexp  # noqa: E402
 from scwexp import plots  # noqa: E402
-
-STUDY = "study3_motion"
-BASE_SETS = ["plan_with_nominal_grip=true", "abort.lock_slip_pct=100"]
-PERT = ("grip.rear_mu_y", ["0.78", "0.8", "0.82"])
-MAIN_PERT = "0.8"
-CONTROLLERS = ["pure_pursuit", "pmpc", "nmpc"]
-VARIANTS = [("off", "subsystems.esc=false,subsystems.cs=false", "without SC", "-"),
-            ("sc", "subsystems.esc=true,subsystems.cs=true", "with ESC + CS", "--")]
-COLORS = {"pure_pursuit": "tab:blue", "pmpc": "tab:orange", "nmpc": "tab:green"}
-SENSITIVITY_CONTROLLERS = ["pure_pursuit", "pmpc"]
+from scwexp.studies import (  # noqa: E402
+    STUDY3 as STUDY, STUDY3_BASE_SETS as BASE_SETS, STUDY3_PERT as PERT,
+    STUDY3_MAIN_PERT as MAIN_PERT, STUDY3_CONTROLLERS as CONTROLLERS, STUDY3_VARIANTS as VARIANTS,
+    STUDY3_COLORS as COLORS, STUDY3_SENSITIVITY_CONTROLLERS as SENSITIVITY_CONTROLLERS)
 
 
 def run_controllers(scw, args, out, controllers, pert, extra_sets, tag):

@@ -7,6 +7,9 @@ judge the paper's claims, analyse and plot; the drivers (experiments/<study>.py)
     sweeps    a study's sweep: the GG axis, each series' first abort bisected, probe runs
     results   sweep tables and summaries as dicts; typed records and their loader (`load`)
     claims    the paper's claims (a)-(f) as pure functions over series
+    studies   the three studies' definitions (configurations, overrides, perturbations)
+    claims_map  the claims map's families, edited vehicle files, variants and verdicts
+    esc_margin  claim (d)'s premise: judged GG, the band at `none`'s loss, probes, table
     analysis  statistics: P(loss | GG) with Wilson intervals, margins, claim (d)'s premise
     diagnose  an aborted run re-run with a trace and described; places on the track
     knife_edge  the mechanism at the knife edge from traces

@@ -30,7 +30,8 @@ from scwexp.report import claims_map as report_maps  # noqa: E402
 from scwexp.report import esc_margin as report_esc  # noqa: E402
 from scwexp.report import goal as report_goal  # noqa: E402
 from scwexp.report import verdicts as report_verdicts  # noqa: E402
-import esc_margin  # noqa: E402
+import esc_margin  # noqa: E402  (the driver: finest_band runs sweeps)
+from scwexp import esc_margin as esc_lib  # noqa: E402
 
 FIELDS = ["config", "gg_scale", "grip.rear_mu_y", "status", "mean_lap_time_s", "esc_count",
           "cs_count", "abs_count", "tc_count"]
@@ -237,7 +238,7 @@ class ClaimsMaps(unittest.TestCase):
         self.assertNotIn("single modelling choice", b)
 
     def test_a_vehicle_file_value_is_edited_in_place_and_named_as_one_choice(self):
-        import claims_map
+        from scwexp import claims_map
         lines = ["name: \"eav24\"", "chassis:", "  mass: 720.0",
                  "  roll_stiffness_share_front: 0.5", "tires:", "  front:", "    lky: 0.8",
                  "  rear:", "    fnomin: 4000.0", "    lky: 1.0", "brakes:", "  delay: 0.116"]
@@ -289,7 +290,7 @@ class ClaimsMaps(unittest.TestCase):
 
     def test_the_single_choice_is_named_against_the_sets_real_car_column(self):
         import json
-        import claims_map
+        from scwexp import claims_map
         # what a variant changes from the vehicle file, one entry per modelling choice
         self.assertEqual(claims_map.changes_of(
             "brake_steer", ["plant.brake_dead_time", "plant.steering_delay"], ["0.116", "0.03"]),
@@ -330,7 +331,7 @@ class ClaimsMaps(unittest.TestCase):
 
 
     def test_every_vehicle_edit_family_finds_its_key_in_the_vehicle_file(self):
-        import claims_map
+        from scwexp import claims_map
         # the edited copies start from `scw vehicle init`, the same text as the repository's
         # eav24.yaml; a key the file does not write (an omitted default) could not be edited
         path = os.path.join(os.path.dirname(os.path.abspath(EXP)), "params", "vehicles",
@@ -346,7 +347,7 @@ class ClaimsMaps(unittest.TestCase):
             self.assertEqual(len(out), len(lines), tag)
 
     def test_the_paper_setup_family_counts_each_of_its_choices(self):
-        import claims_map
+        from scwexp import claims_map
         fam = [f for f in claims_map.FAMILIES if f[0] == "paper_setup"]
         self.assertEqual(len(fam), 1)
         edits = [x for x in fam[0][2] if x.startswith("@")]
@@ -378,7 +379,7 @@ class ClaimsMaps(unittest.TestCase):
 
     def test_a_paper_sim_variant_is_one_change_from_the_paper_sim_column(self):
         import json
-        import claims_map
+        from scwexp import claims_map
         # the pair (paper's simulator, yaw-rate feedback) is two changes from the vehicle file
         # and one from the set's paper's-sim column; a dead time varied beside the simulator's
         # actuators replaces the model's own, so it is a change even at the vehicle file's value
@@ -509,19 +510,19 @@ class EscMargin(unittest.TestCase):
 
     def test_highest_common_completed_gg(self):
         s = self.series({"none": 1.05, "esc": 1.2, "cs": 1.025, "esc+cs": 1.4})
-        self.assertEqual(esc_margin.judged_gg(s), 1.0)
+        self.assertEqual(esc_lib.judged_gg(s), 1.0)
         s = self.series({"none": 1.1, "esc": 1.2, "cs": 1.2, "esc+cs": 1.4})
-        self.assertEqual(esc_margin.judged_gg(s), 1.05)
+        self.assertEqual(esc_lib.judged_gg(s), 1.05)
 
     def test_the_papers_gg_when_all_complete_it(self):
         s = self.series({"none": 1.4, "esc": 1.4, "cs": 1.4, "esc+cs": 1.4})
-        self.assertEqual(esc_margin.judged_gg(s), claims.GG_D)
+        self.assertEqual(esc_lib.judged_gg(s), claims.GG_D)
 
     def test_none_without_a_common_run_or_a_configuration(self):
         s = self.series({"none": 1.0, "esc": 1.2, "cs": 1.2, "esc+cs": 1.4})
-        self.assertIsNone(esc_margin.judged_gg(s))
+        self.assertIsNone(esc_lib.judged_gg(s))
         del s["cs"]
-        self.assertIsNone(esc_margin.judged_gg(s))
+        self.assertIsNone(esc_lib.judged_gg(s))
 
 
 class EscMarginTerms(unittest.TestCase):
@@ -536,10 +537,10 @@ class EscMarginTerms(unittest.TestCase):
         return r
 
     def test_levels_reach_the_resolution(self):
-        self.assertEqual(esc_margin.bisection_levels(1.025, 1.05, 0.001), 5)  # 0.025/32 < 0.001
-        self.assertEqual(esc_margin.bisection_levels(1.0, 1.05, 0.025), 1)
-        self.assertEqual(esc_margin.bisection_levels(1.0, 1.001, 0.001), 0)
-        self.assertEqual(esc_margin.bisection_levels(1.0, 1.05, 0), 0)
+        self.assertEqual(esc_lib.bisection_levels(1.025, 1.05, 0.001), 5)  # 0.025/32 < 0.001
+        self.assertEqual(esc_lib.bisection_levels(1.0, 1.05, 0.025), 1)
+        self.assertEqual(esc_lib.bisection_levels(1.0, 1.001, 0.001), 0)
+        self.assertEqual(esc_lib.bisection_levels(1.0, 1.05, 0), 0)
 
     def test_finest_band_bisects_a_summary_series(self):
         # a summary's runs have no `config` key (the regression of the first full run)
@@ -569,10 +570,10 @@ class EscMarginTerms(unittest.TestCase):
     def test_scan_grid_lies_strictly_inside_the_edge(self):
         runs = {"none": {"runs": [{"gg_scale": 1.025, "status": "completed"},
                                   {"gg_scale": 1.05, "status": "sideslip"}]}}
-        self.assertEqual(esc_margin.scan_grid(runs, 0.0025),
+        self.assertEqual(esc_lib.scan_grid(runs, 0.0025),
                          [1.0275, 1.03, 1.0325, 1.035, 1.0375, 1.04, 1.0425, 1.045, 1.0475])
-        self.assertEqual(esc_margin.scan_grid(runs, 0), [])
-        self.assertEqual(esc_margin.scan_grid({"none": {"runs": runs["none"]["runs"][:1]}},
+        self.assertEqual(esc_lib.scan_grid(runs, 0), [])
+        self.assertEqual(esc_lib.scan_grid({"none": {"runs": runs["none"]["runs"][:1]}},
                                               0.0025), [])
 
     def test_scan_text_finds_non_monotone_loss_and_prices_esc(self):
@@ -597,12 +598,12 @@ class EscMarginTerms(unittest.TestCase):
                       "\n".join(report_esc.esc_margin_scan_text(mono)))
 
     def test_falloff_probe_runs_none_at_both_edges_and_names_the_cliff(self):
-        self.assertEqual(esc_margin.falloffs("0, 1.5"), [0.0, 1.5])
-        self.assertEqual(esc_margin.falloffs(""), [])
+        self.assertEqual(esc_lib.falloffs("0, 1.5"), [0.0, 1.5])
+        self.assertEqual(esc_lib.falloffs(""), [])
         for bad in ("1", "-0.5", "x", "nan"):
             with self.assertRaises(argparse.ArgumentTypeError):
-                esc_margin.falloffs(bad)
-        cfgs = esc_margin.falloff_configs(1.025, 1.05, [0.0, 1.5])
+                esc_lib.falloffs(bad)
+        cfgs = esc_lib.falloff_configs(1.025, 1.05, [0.0, 1.5])
         self.assertEqual(len(cfgs), 6)
         self.assertEqual(cfgs[0], "none.fo100_last:subsystems.esc=false,subsystems.cs=false,"
                                   "gg_scale=1.025,plant.rear_tire_falloff=1")
@@ -656,7 +657,7 @@ class EscMarginTerms(unittest.TestCase):
                     "      beta_error_threshold_deactivate: 0.018\n"
                     "      beta_threshold_activate: [0.1, 0.2]\n")
         dst = os.path.join(WORK, "set_eb50.yaml")
-        esc_margin.scaled_beta_error_set(src, 0.5, dst)
+        esc_lib.scaled_beta_error_set(src, 0.5, dst)
         with open(dst) as f:
             out = f.read()
         self.assertIn("beta_error_threshold_activate: [0.0305, 0.0175]", out)
@@ -666,18 +667,18 @@ class EscMarginTerms(unittest.TestCase):
         with open(src, "w") as f:
             f.write("stability: {}\n")
         with self.assertRaises(SystemExit) as e:
-            esc_margin.scaled_beta_error_set(src, 0.5, dst)
+            esc_lib.scaled_beta_error_set(src, 0.5, dst)
         self.assertIn("ESC.beta_error_threshold_activate: expected once, found 0",
                       str(e.exception))
-        self.assertEqual(esc_margin.factors("0.5, 0.3"), [0.5, 0.3])
-        self.assertEqual(esc_margin.factors(""), [])
+        self.assertEqual(esc_lib.factors("0.5, 0.3"), [0.5, 0.3])
+        self.assertEqual(esc_lib.factors(""), [])
         for bad in ("0", "-1", "x", "nan"):
             with self.assertRaises(argparse.ArgumentTypeError):
-                esc_margin.factors(bad)
+                esc_lib.factors(bad)
         # the real file, when the checkout has it: both keys found once
-        real = esc_margin.DEFAULT_SET
+        real = esc_lib.DEFAULT_SET
         if os.path.exists(real):
-            esc_margin.scaled_beta_error_set(real, 0.3, dst)
+            esc_lib.scaled_beta_error_set(real, 0.3, dst)
 
     def test_probe_text_judges_claim_d_per_column_and_factor(self):
         def r(cfg, lap, esc=0, status="completed", f=0.3):
@@ -705,7 +706,7 @@ class EscMarginTerms(unittest.TestCase):
         self.assertEqual(scwexp.esc_binding_terms(r), ["e_β"])
         self.assertEqual(scwexp.esc_terms_text({"max_esc_margin": "0.3"}), "")
         self.assertIn("margin 0.37 (β 2.41 · e_β 0.37 · e_ψ 3.51) · ESC 0×",
-                      "\n".join(esc_margin.text_of([r])))
+                      "\n".join(esc_lib.text_of([r])))
 
     def test_report_sentences(self):
         rows = [self.row("vehicle", "none", "judged", "completed", 0.37, (2.41, 0.37, 3.51)),
