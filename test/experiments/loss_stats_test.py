@@ -1,5 +1,5 @@
-"""scwexp.analysis (the former experiments/loss_stats.py) on synthetic data: Wilson's interval against values computed by
-hand, the loss curve, the crossings and their interval."""
+"""scwexp.analysis (the former experiments/loss_stats.py) on synthetic data: Wilson's interval
+against values computed by hand, the loss curve, the crossings and their interval."""
 
 import os
 import sys
