@@ -69,7 +69,7 @@ def separated(a, b, gap=0.0):
 
 
 # ---------------------------------------------------------------------------------------------
-# Part 5: the margin of every series
+# The margin of every series (claim (c) as a quantity) and claim (d)'s premise over a map
 
 def margin_of(a):
     """(best GG, max stable, first abort, margin in GG, margin in steps of the axis, lap cost

@@ -293,6 +293,20 @@ class Study:
             raise KeyError(f"{self.path}: no runs of configuration {config!r}")
         return analysis.loss_curve(pairs)
 
+    def sweep_loss_curve(self, config, table=None, **where):
+        """P(loss | GG) from the sweep tables' rows instead of the summary's series: every row of
+        `config` that has a GG (of `table` only, when given) and whose columns equal `where`
+        (e.g. **{"grip.rear_mu_y": 0.8}). A table without --stop-at-first-abort (seeded runs
+        over the whole grid) holds the runs above a series' first abort too."""
+        from scwexp import analysis
+        pairs = [(r.gg_scale, r.lost) for name, rows in sorted(self.sweeps.items())
+                 if table in (None, name) for r in rows
+                 if r.config == config and r.gg_scale is not None
+                 and all(r.values.get(k) == v for k, v in where.items())]
+        if not pairs:
+            raise KeyError(f"{self.path}: no sweep rows of configuration {config!r} with {where}")
+        return analysis.loss_curve(pairs)
+
 
 def _number(value, where, required=True, finite=True):
     """value as a float; ResultsError naming `where` when it is missing (required), not a

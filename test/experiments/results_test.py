@@ -114,6 +114,12 @@ class Load(unittest.TestCase):
         self.assertEqual([c[0] for c in s.loss_curve("none", perturbation="0.78")], [1.0, 1.05])
         with self.assertRaises(KeyError):
             s.loss_curve("cs")
+        # from the sweep table's rows, filtered by a column
+        self.assertEqual([c[:4] for c in s.sweep_loss_curve("none")], [(1.0, 1, 0, 0.0),
+                                                                       (1.05, 1, 1, 1.0)])
+        self.assertEqual(s.sweep_loss_curve("esc", **{"grip.rear_mu_y": 0.8})[1][:3], (1.05, 1, 0))
+        with self.assertRaises(KeyError):
+            s.sweep_loss_curve("esc", **{"grip.rear_mu_y": 0.78})
 
     def test_gzip_tables_and_gg_from_the_recorded_command(self):
         d = write_study(os.path.join(WORK, "gz"), gz=True,

@@ -10,8 +10,6 @@ from scwexp.results import column_of
 from scwexp.sweeps import GG_AXIS
 
 
-# ---------------------------------------------------------------------------------------------
-
 CHANGES = """\
 ## What had to change to run the studies as the paper did
 
