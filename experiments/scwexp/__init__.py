@@ -11,7 +11,8 @@ judge the paper's claims, analyse and plot; the drivers (experiments/<study>.py)
     claims_map  the claims map's families, edited vehicle files, variants and verdicts
     esc_margin  claim (d)'s premise: judged GG, the band at `none`'s loss, probes, table
     analysis  statistics: P(loss | GG) with Wilson intervals, margins, claim (d)'s premise
-    diagnose  an aborted run re-run with a trace and described; places on the track
+    diagnose  an aborted run re-run with a trace and described
+    track     the track's corners (`scw track info`) and places on it (T1, braking into ...)
     knife_edge  the mechanism at the knife edge from traces
     plots     the studies' figures; trace_plot: one or more traces over distance or time
     study     what every study driver shares: its options, its column, its end
@@ -24,7 +25,7 @@ they re-run themselves with Debian's /usr/bin/python3.
 """
 
 from scwexp import paths, sweeps
-from scwexp.diagnose import CORNER_NAMES, diagnose_abort, diagnose_series, place
+from scwexp.diagnose import diagnose_abort, diagnose_series
 from scwexp.paths import (BINARY_CANDIDATES, HERE, ROOT, find_scw, results_dir,
                           set_results)
 from scwexp.results import (ACTIVATION_KEYS, ESC_TERM_NAMES, ESC_TERMS,
@@ -33,12 +34,12 @@ from scwexp.results import (ACTIVATION_KEYS, ESC_TERM_NAMES, ESC_TERMS,
                             perturbed_series, read_csv, read_summary, row_at, series, to_float,
                             write_json, write_summary)
 from scwexp.runner import (REUSED, Timer, brake_40ms_vehicle, list_controllers,
-                           mpc_sweep_cmd, reuse_or_run, run, sweep_cmd, threads_arg,
-                           track_corners)
+                           mpc_sweep_cmd, reuse_or_run, run, sweep_cmd, threads_arg)
 from scwexp.study import (add_common_args, apply_common_args, column_info,
                           finish_study, update_report)
 from scwexp.sweeps import (GG_AXIS, GG_STEP, cut_at_first_abort,
                            refine_first_aborts, series_bounds, study_sweep)
+from scwexp.track import CORNER_NAMES, place, track_corners
 
 # The flat names of the scripts (the module scwexp.py they used before the package); also
 # scwexp.mark_aborts (matplotlib, on first use) and the live settings below.

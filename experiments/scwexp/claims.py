@@ -5,7 +5,7 @@ marks a claims-map variant whose motion controller limit-cycles. No files, no sc
 
 import math
 
-from scwexp.diagnose import place
+from scwexp.track import place
 from scwexp.results import ACTIVATION_KEYS, SLIP_STATUSES, to_float
 
 

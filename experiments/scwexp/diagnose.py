@@ -1,34 +1,10 @@
-"""Places on the track (T1, hairpin, braking into, exit of) and the diagnosis of an aborted run:
-re-run with `scw simulate --trace` and its last seconds described."""
+"""The diagnosis of an aborted run: re-run with `scw simulate --trace` (the same scenario keys,
+so the same run) and its last seconds described."""
 
-import math
 import os
 
 from scwexp import paths, runner
 from scwexp.results import read_csv
-
-
-# Named places of Yas Marina North (the spec's names; corners from `scw track info`).
-CORNER_NAMES = {1: "T1", 5: "hairpin", 7: "chicane", 8: "chicane"}
-
-
-def place(s, corners):
-    """'braking into T1', 'corner 3', 'exit of corner 3', 'straight' for arc length s [m]."""
-    if s is None or (isinstance(s, float) and math.isnan(s)) or not corners:
-        return "–"
-    best, dist = None, 1e9
-    for c in corners:
-        d = 0.0 if c["from"] <= s <= c["to"] else min(abs(s - c["from"]), abs(s - c["to"]))
-        if d < dist:
-            best, dist = c, d
-    name = CORNER_NAMES.get(best["n"], f"corner {best['n']}")
-    if dist == 0.0:
-        return name
-    if s < best["from"] and dist <= 150:
-        return f"braking into {name}"
-    if s > best["to"] and dist <= 120:
-        return f"exit of {name}"
-    return "straight"
 
 
 def diagnose_abort(scw, args, sets, config_overrides, gg, path_stem, window=2.0):

@@ -24,7 +24,7 @@ import math
 import os
 import subprocess
 
-from scwexp.diagnose import place
+from scwexp.track import place
 from scwexp.paths import ROOT
 from scwexp.results import read_csv, write_json
 

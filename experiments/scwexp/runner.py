@@ -1,6 +1,6 @@
 """Running scw: a command echoed with its log, the sweep command lines (threads, or worker processes
 for the Ipopt-based controllers), a sweep reused when its recorded command is the same, CPU and
-wall time, an edited vehicle file, the track's corners."""
+wall time, an edited vehicle file."""
 
 import os
 import resource
@@ -134,15 +134,3 @@ def brake_40ms_vehicle(scw, path):
     return path
 
 
-def track_corners(scw, sets=()):
-    """Corners (number, from, to) of the scenario's track, parsed from `scw track info`."""
-    track = next((s.split("=", 1)[1] for s in sets if s.startswith("track=")), None)
-    cmd = [scw, "track", "info"] + (["--track", track] if track else [])
-    out = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT).stdout
-    corners = []
-    for line in out.splitlines():
-        f = line.split()
-        if len(f) >= 6 and f[0].isdigit() and f[1] in ("left", "right"):
-            corners.append({"n": int(f[0]), "dir": f[1], "from": float(f[2]),
-                            "to": float(f[3]), "r_min": float(f[4])})
-    return corners

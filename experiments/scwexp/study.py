@@ -9,7 +9,7 @@ import sys
 from scwexp import paths, sweeps
 from scwexp.paths import ROOT, set_results
 from scwexp.results import fmt, write_summary
-from scwexp.runner import track_corners
+from scwexp.track import track_corners
 from scwexp.sweeps import GG_AXIS
 
 

@@ -2,7 +2,7 @@
 mechanism behind a failing claim."""
 
 from scwexp.claims import CORNERS, active_count, done_runs, g
-from scwexp.diagnose import place
+from scwexp.track import place
 from scwexp.report.common import col_title
 from scwexp.results import ACTIVATION_KEYS, STUDIES
 
