@@ -1,0 +1,145 @@
+"""The report's first page (issue 48 item 1): at most PAGE_LINES lines that answer "does
+stability control do what the paper says, and under which conditions": the verdict table
+(claims x columns, one symbol and one number per cell), one sentence per claim (where it holds,
+what blocks it), the three figures and the links to the appendices."""
+
+import os
+
+from scwexp.claims import CRITERIA
+from scwexp.report import page_data as D
+from scwexp.report.common import col_title
+from scwexp.results import column_of
+
+PAGE_LINES = 60
+SYMBOL = {True: "✓", False: "✗", None: "?"}
+SHORT = {"a": "slip control: higher GG, faster, gradual slip",
+         "b": "without lateral SC the car spins first",
+         "c": "with ESC the best lap lies below the limit",
+         "d": "at GG 1.3 ESC costs 0.05–0.40 s, ESC + CS less",
+         "e": "SC raises the controller's limit",
+         "f": "best lap below the limit with SC only"}
+UNIT = {"a": "GG", "b": "GG", "c": "GG", "d": "s", "e": "GG", "f": "GG"}
+NUMBER = {"a": "max stable GG, SC on − off", "b": "first abort, min(ESC, CS, ESC + CS) − none",
+          "c": "ESC + CS, max stable − best-lap GG", "d": "Δ lap, ESC − none [s]",
+          "e": "max stable GG, with SC − without", "f": "with SC, max stable − best-lap GG"}
+
+
+def _cell(res, key):
+    if res is None:
+        return "–"
+    m = res["margin"]
+    num = "–" if m is None else (f"{m:+.3f}" if UNIT[key] == "s" else f"{m:+.2f}")
+    return f"{SYMBOL[res['ok']]} {num}"
+
+
+def verdict_rows(cols):
+    """The verdict table's lines and {(claim, controller or None): {column: result}}."""
+    titles = [col_title(c) for c in cols]
+    out = ["| claim | " + " | ".join(titles) + " |", "|---|" + "---|" * len(cols)]
+    res = {}
+    keys = [(k, None) for k in "abcd"] + [(k, x) for k in "ef"
+                                          for x in D.study3_controllers(cols)]
+    for k, ctrl in keys:
+        rs = {c[0]: D.claim_result(k, c, ctrl) for c in cols}
+        res[(k, ctrl)] = rs
+        name = f"({k}) {SHORT[k]}" + (f", `{ctrl}` (unscored)" if ctrl else "")
+        out.append(f"| {name} | " + " | ".join(_cell(rs[c[0]], k) for c in cols) + " |")
+    return out, res
+
+
+def _names(items, most=3):
+    items = list(items)
+    if len(items) <= most:
+        return ", ".join(items)
+    return ", ".join(items[:most]) + f" and {len(items) - most} more"
+
+
+def claim_sentence(key, ctrl, rs, cols, maps):
+    """One sentence: where the claim holds (columns, then claims-map variants that are not
+    limit-cycling) and what blocks it elsewhere (its criterion item failing most often)."""
+    by = {c[0]: c for c in cols}
+    yes = [col_title(by[n]) for n, r in rs.items() if r and r["ok"]]
+    no = [n for n, r in rs.items() if r and not r["ok"]]
+    lead = f"**({key})**" + (f" `{ctrl}`" if ctrl else "")
+    if not any(rs.values()):
+        return f"- {lead}: not evaluable: no column has its study."
+    text = f"- {lead} holds in {_names(yes) if yes else 'no scored column'}"
+    if no:
+        count = {}
+        for n in no:
+            for item in rs[n]["failed"]:
+                count[item] = count.get(item, 0) + 1
+        if count:
+            item, c = max(count.items(), key=lambda x: x[1])
+            text += f"; elsewhere it fails on {item} ({c} of {len(no)} columns)"
+    if key in "abcd" and maps:
+        vs = [(cm, v) for cm in maps for v in cm.get("variants", [])]
+        ok = [f"{v['label']} ({cm['set_label']})" for cm, v in vs
+              if v["claims"].get(key, {}).get("ok") and not D.limit_cycling(v)]
+        text += (f"; the claims map finds it in {len(ok)} of {len(vs)} variants"
+                 + (f" ({_names(ok, 2)})" if ok else ""))
+    return text + "."
+
+
+def figures(cols, maps, esc_margin, root):
+    """Draws figures A, B and C under root/page/ and returns their markdown (image and caption
+    lines)."""
+    from scwexp import page_plots as P
+    os.makedirs(os.path.join(root, "page"), exist_ok=True)
+    out = []
+    col = D.paper_like(cols)
+    if col is not None:
+        a = D.figure_a_data(col)
+        info = column_of(col)
+        path = P.figure_a(a, D.PAPER_POINTS, D.LIMIT_FRACTION, os.path.join(root, "page", "a.png"),
+                          f"A. Study 2, {col_title(col)}, {a['perturbation']}")
+        out += [f"![A: study 2 as the paper drew it]({os.path.relpath(path, root)})", "",
+                f"**A.** Study 2 in the column most like the paper's setup ({col_title(col)}: "
+                + ("the paper's simulator's actuators" if info["actuators"] == "paper_sim"
+                   else "no column has the paper's simulator's actuators") + f"), "
+                f"{a['perturbation']}; top: {a['what']}, × where a series was lost; bottom: "
+                "mean lap time; the paper's points (★ at GG 1.3, grey band at GG 1.4); top axis: "
+                f"% of the plant's combined limits (GG 1.0 = {D.LIMIT_FRACTION * 100:.0f} %).", ""]
+    b = D.figure_b_data(cols, esc_margin)
+    path = P.figure_b(b, {c[0]: col_title(c) for c in cols}, D.LIMIT_FRACTION,
+                      os.path.join(root, "page", "b.png"), "B. `none`'s ESC margin against GG")
+    out += [f"![B: none's ESC margin]({os.path.relpath(path, root)})", "",
+            "**B.** Study 2, `none` (no lateral SC), main rear μy, with esc_margin.py's finer runs: "
+            "the closest approach to ESC's activation condition (> 1: it held); × = lost. "
+            "Where `none` completes below 1, ESC cannot act, so it cannot cost time (claim (d)).",
+            ""]
+    rows, missing = D.figure_c_data(maps, cols)
+    path = P.figure_c(rows, missing, os.path.join(root, "page", "c.png"),
+                      "C. Gain over `none` in first-abort GG, every claims-map variant")
+    n, cyc, good = D.gains_summary(rows)
+    out += [f"![C: gain of ESC and ESC + CS over none]({os.path.relpath(path, root)})", "",
+            f"**C.** First-abort GG of ESC and ESC + CS minus `none`'s, scored columns (bold) "
+            f"and {n} claims-map variants ({cyc} limit-cycling, grey); ESC + CS gains a full "
+            f"step in {len(good)}" + (f" ({_names([r[0] for r in good], 2)})" if good else "")
+            + "." + (" Missing: " + "; ".join(missing) + "." if missing else ""), ""]
+    return out
+
+
+def page(cols, maps, esc_margin, root, appendix_links, laps):
+    """The first page's lines (at most PAGE_LINES once fitted)."""
+    vt, res = verdict_rows(cols)
+    out = ["# Does stability control do what the paper says?", "",
+           f"Yas Marina North, the EAV24/25 plant, {laps} per run, study 2 at rear μy 0.78/0.80/"
+           "0.82; GG 1.0 = 70 %, GG 1.43 = 100 % of the plant's combined limits. A claim holds "
+           "in a column if its criterion (written before the numbers, "
+           "[method](appendix/method.md)) holds in 2 of 3 perturbations.", "",
+           "## Verdict", ""] + vt + [
+           "", "✓ holds, ✗ does not, – not run; the number (main perturbation): "
+           + "; ".join(f"({k}) {NUMBER[k]}" for k in "abcd")
+           + "; (e)/(f) as (b)/(c) per controller.", "", "## Where each claim holds", ""]
+    for (k, ctrl), rs in res.items():
+        out.append(claim_sentence(k, ctrl, rs, cols, maps))
+    out += ["", "## Figures", ""] + figures(cols, maps, esc_margin, root)
+    out += ["## Appendices", ""] + appendix_links
+    return out
+
+
+def criteria_lines():
+    """The claims' criteria as a list (for the method appendix)."""
+    return [f"- **({k}) {CRITERIA[k][0]}.** Criterion: {CRITERIA[k][1]}" for k in "abcdef"]
+
