@@ -1,14 +1,13 @@
-"""Builds experiments/results/report.md from the studies' summary.json files: what was changed
-to run the studies as the paper did, the explicit pass criterion of each claim of the paper
-(written before the numbers), the verdict per perturbation and overall (a claim holds if it holds
-in at least two of three perturbations), the mechanism seen in the data where a claim fails, the
-figures with the subsystem activation counts beside them, and the unscored sensitivity runs.
+"""Builds experiments/results/report.md from the studies' summary.json files: the first page
+(page: verdicts, a sentence per claim, figures A-C) and the appendices under appendix/ (the
+method and criteria; every claim side by side; one file per column; one per claims map), each
+fitted to table cells of at most 200 characters and lines of at most 400 (markdown).
 
-One module per section, each only reading results: method (what changed, the GG axis, sets),
-verdicts (the claim tables), goal (where each claim reproduces), esc_margin (claim (d)'s
-premise), figures (the sets overlaid), margins (claim (c) as a quantity), knife_edge,
-claims_map, findings, columns (each column's details), publish. Its entry point is
-experiments/report.py; nothing else imports the report.
+One module per section, each only reading results: page and page_data (the first page), method
+(what changed, the GG axis, sets), verdicts (the claim tables), goal (where each claim
+reproduces), esc_margin (claim (d)'s premise), figures (the sets overlaid), margins (claim (c)
+as a quantity), knife_edge, claims_map, findings, columns (each column's details), markdown,
+publish. Its entry point is experiments/report.py; nothing else imports the report.
 """
 
 import argparse
