@@ -14,26 +14,6 @@ characters, no line over 400.
 
 The report itself is the package scwexp.report, one module per section; this file is its only
 entry point and the only file that imports it.
-"""Builds experiments/results/report.md from the studies' summary.json files: what was changed
-to run the studies as the paper did, the explicit pass criterion of each claim of the paper
-(written before the numbers), the verdict per perturbation and overall (a claim holds if it holds
-in at least two of three perturbations), the mechanism seen in the data where a claim fails, the
-figures with the subsystem activation counts beside them, and the unscored sensitivity runs.
-
-    python3 experiments/report.py                      (after the studies; each study runs it)
-    python3 experiments/report.py --publish experiments/reference-results
-        (also copies report.md and the figures it links there, same relative paths)
-
-The report itself is the package scwexp.report, one module per section; this file is its only
-entry point and the only file that imports it.
-
-The sections: the changes made to run the studies as the paper did, the method (GG axis,
-actuator models, sets), every claim per set and actuator model side by side with activation
-counts, where each claim reproduces (or which claims-map variant flips it) with claim (d)'s
-premise (esc_margin.py), the sets overlaid in one figure per study and actuator model, the
-margin of every series (claim (c) as a quantity), the knife-edge account, the claims maps, then
-per column the details: criteria before the numbers, verdicts per perturbation, the mechanism of
-each failure, figures with activation counts, sensitivity runs.
 """
 
 import sys
