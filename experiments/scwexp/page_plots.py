@@ -5,6 +5,7 @@ against GG per column; C, the gain of ESC and ESC + CS over `none` per claims-ma
 draws what it is given and writes on the figure what is missing; none invents a number."""
 
 import math
+import textwrap
 
 import debpython  # noqa: F401  (Debian numpy/matplotlib; before importing them)
 import matplotlib  # noqa: E402
@@ -120,20 +121,24 @@ def figure_c(rows, missing, path, title, step=0.05):
     row (ESC, ESC + CS), limit-cycling rows grey, scored columns' labels bold; claim (b)'s one
     step dotted; `missing` written under the bars."""
     n = max(1, len(rows))
-    fig, ax = plt.subplots(figsize=(8.0, 0.32 * n + 2.2))
+    dense = n > 40   # the full reference: over a hundred variants
+    fig, ax = plt.subplots(figsize=(8.0, (0.13 if dense else 0.32) * n + 2.2))
     h = 0.38
     for i, (label, ge, gb, cyc, _) in enumerate(rows):
         for off, gv, c in ((-h / 2, ge, "tab:red"), (h / 2, gb, "tab:purple")):
             if gv is None or (isinstance(gv, float) and math.isnan(gv)):
-                ax.text(0, i + off, " no run", fontsize=6, va="center")
+                ax.text(0, i + off, " no run", fontsize=5 if dense else 6, va="center")
                 continue
             ax.barh(i + off, gv, height=h, color="0.75" if cyc else c,
                     hatch="//" if cyc else None, edgecolor="0.5" if cyc else c)
-            ax.plot([gv], [i + off], "|", ms=7, color="0.5" if cyc else c)
-            ax.annotate(f"{gv:+.3f}", (gv, i + off), xytext=(3, 0), textcoords="offset points",
-                        fontsize=6, va="center")
+            ax.plot([gv], [i + off], "|", ms=3 if dense else 7, color="0.5" if cyc else c)
+            if not dense:
+                ax.annotate(f"{gv:+.3f}", (gv, i + off), xytext=(3, 0),
+                            textcoords="offset points", fontsize=6, va="center")
     ax.set_yticks(range(len(rows)))
-    ax.set_yticklabels([r[0] + (" (limit-cycling)" if r[3] else "") for r in rows], fontsize=7)
+    ax.set_yticklabels([r[0] + (" (limit-cycling)" if r[3] else "") for r in rows],
+                       fontsize=5 if dense else 7)
+    ax.set_ylim(n - 0.5, -0.5)
     for t, r in zip(ax.get_yticklabels(), rows):
         if r[4]:
             t.set_fontweight("bold")
@@ -141,7 +146,6 @@ def figure_c(rows, missing, path, title, step=0.05):
             t.set_color("0.5")
     ax.axvline(0, color="k", lw=0.8)
     ax.axvline(step, color="k", ls=":", lw=1)
-    ax.invert_yaxis()
     from matplotlib.patches import Patch
     ax.legend(handles=[Patch(color="tab:red", label="ESC − none"),
                        Patch(color="tab:purple", label="ESC + CS − none"),
@@ -151,11 +155,12 @@ def figure_c(rows, missing, path, title, step=0.05):
     ax.grid(True, axis="x", alpha=0.3)
     if not rows:
         _note(ax, "no study 2 and no claims map in this results tree")
-    if missing:
-        fig.text(0.01, 0.005, "Missing: " + "; ".join(missing), fontsize=7, color="tab:red",
-                 va="bottom")
+    note = textwrap.fill("Missing: " + "; ".join(missing), 120) if missing else ""
+    if note:
+        fig.text(0.01, 0.005, note, fontsize=7, color="tab:red", va="bottom")
     fig.suptitle(title, fontsize=9)
-    fig.tight_layout(rect=(0, 0.04 if missing else 0, 1, 1))
+    bottom = (note.count("\n") + 1) * 0.14 / fig.get_figheight() if note else 0
+    fig.tight_layout(rect=(0, bottom, 1, 1))
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path

@@ -50,8 +50,8 @@ def verdict_rows(cols):
 def _names(items, most=3):
     items = list(items)
     if len(items) <= most:
-        return ", ".join(items)
-    return ", ".join(items[:most]) + f" and {len(items) - most} more"
+        return "; ".join(items)
+    return "; ".join(items[:most]) + f" and {len(items) - most} more"
 
 
 def claim_sentence(key, ctrl, rs, cols, maps):
