@@ -28,7 +28,7 @@ from scwexp.report.markdown import MAX_LINE, fit, relink
 from scwexp.report.method import CHANGES, method_section
 from scwexp.report.page import page
 from scwexp.report.publish import publish
-from scwexp.report.verdicts import verdict_table
+from scwexp.report.verdicts import verdict_by_claim, verdict_table
 from scwexp.results import find_columns, read_summary, read_summary_in
 
 
@@ -67,8 +67,9 @@ def _across(cols, root):
     out = ["# Every claim per parameter set and actuator model", "",
            "Verdict (perturbations in which the criterion holds), then the deciding numbers "
            "of the main perturbation with the activation counts (ESC/CS/ABS/TC). Each "
-           "column's criteria item by item are in its own appendix.", ""]
-    out += vt + [""]
+           "column's criteria item by item are in its own appendix. Claims (e) and (f), "
+           "unscored, are in the columns' appendices.", ""]
+    out += verdict_by_claim(cols)
     out += goal_section(results, cols)
     figs_ov = overlay_figures(cols, root)
     out += ["## Figures: the sets overlaid", "",

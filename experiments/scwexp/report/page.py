@@ -7,7 +7,7 @@ import os
 
 from scwexp.claims import CRITERIA
 from scwexp.report import page_data as D
-from scwexp.report.common import col_title
+from scwexp.report.common import col_title, from_column
 from scwexp.results import column_of
 
 PAGE_LINES = 60
@@ -71,12 +71,17 @@ def claim_sentence(key, ctrl, rs, cols, maps):
                 count[item] = count.get(item, 0) + 1
         if count:
             item, c = max(count.items(), key=lambda x: x[1])
-            text += f"; elsewhere it fails on {item} ({c} of {len(no)} columns)"
+            text += (f"; {'elsewhere it' if yes else 'it'} fails on “{item}” ({c} of {len(no)} "
+                     f"column{'s' * (len(no) != 1)})")
     if key in "abcd" and maps:
         vs = [(cm, v) for cm in maps for v in cm.get("variants", [])]
-        ok = [f"{v['label']} ({cm['set_label']})" for cm, v in vs
-              if v["claims"].get(key, {}).get("ok") and not D.limit_cycling(v)]
-        text += (f"; the claims map finds it in {len(ok)} of {len(vs)} variants"
+        # the fewest changes from the nearest scored column first
+        held = sorted(((cm, v) for cm, v in vs if v["claims"].get(key, {}).get("ok")
+                       and not D.limit_cycling(v)),
+                      key=lambda p: len(from_column(p[1])[1] or [None, None]))
+        ok = [f"{v['label']} ({cm['set_label']} set)" for cm, v in held]
+        text += (f"; the claims maps find it in {len(ok)} of {len(vs)} variants (limit-cycling "
+                 "ones aside)"
                  + (f" ({_names(ok, 2)})" if ok else ""))
     return text + "."
 

@@ -128,14 +128,16 @@ def figure_a_data(col):
     s = col[2]["study2_lateral"]
     p, ser = main_series(s)
     idx = _sweep_index(os.path.join(col[1], "study2_lateral"))
-    found = {k for k, _ in SIDESLIP_KEYS if any(k in v for v in idx.values())}
+    found = {k for k, _ in SIDESLIP_KEYS if any(k in v for v in idx.values())
+             or any(r.get(k) is not None for a in ser.values() for r in a["runs"])}
     key, what = next(((k, w) for k, w in SIDESLIP_KEYS if k in found), SIDESLIP_KEYS[-1])
     out = {}
     for name, a in ser.items():
         pts = []
         for r in a["runs"]:
-            row = idx.get((round(r["gg_scale"], 6), to_float(r.get("max_abs_sideslip_deg")),
-                           r["status"]), r)
+            row = r if r.get(key) is not None else idx.get(
+                (round(r["gg_scale"], 6), to_float(r.get("max_abs_sideslip_deg")), r["status"]),
+                r)
             y = to_float(row.get(key))
             lap = r["mean_lap_time_s"] if r["status"] == "completed" else None
             pts.append((r["gg_scale"], y, lap, r["status"] != "completed"))
