@@ -34,6 +34,9 @@ def figure_a(data, paper, fraction, path, title):
     (× at the run that ended the series); bottom: mean lap time of the completed runs, the
     paper's Δ at GG 1.3 drawn from our `none` lap there (or stated, if `none` has none)."""
     fig, (ax_t, ax_l) = plt.subplots(2, 1, figsize=(7.2, 6.8), sharex=True)
+    if data is None:
+        _note(ax_t, "no study 2 in this results tree (experiments/study2_lateral.py)")
+        data = {"series": {}, "key": "", "what": "sideslip", "labels": {}}
     ggs = [p[0] for pts in data["series"].values() for p in pts]
     for name, pts in data["series"].items():
         c = COLORS.get(name, "k")

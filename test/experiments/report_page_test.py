@@ -6,7 +6,7 @@ on a tiny real results tree (data/report_tiny.tar.gz), then the verdict table an
 figures A, B and C within report.md's first 60 lines, the figures written, no table cell over
 200 characters and no line over 400 in report.md and every appendix, every relative link of
 them resolving, the same in a --publish copy; and the same tree without its claims map and
-esc_margin run still gives three figures, the page saying what is missing.
+esc_margin run, or without study 2, still gives three figures, the page saying what is missing.
 
     python3 test/experiments/report_page_test.py EXPERIMENTS_DIR WORK_DIR
 
@@ -157,6 +157,16 @@ class Report(unittest.TestCase):
             self.assertIn(f"]({fig})", head)
         self.assertIn("Missing: no claims map in this results tree", head)
         self.assertNotIn("claims_map.md", text)
+        self.check_tree(root)
+
+    def test_without_study_2_figure_a_says_so(self):
+        root = unpack("no_study2", drop=[f"columns/shipped__{a}/study2_lateral"
+                                         for a in ("vehicle", "paper_sim")])
+        head = "\n".join(build(root).splitlines()[:PAGE])
+        for fig in ("page/a.png", "page/b.png", "page/c.png"):
+            self.assertIn(f"]({fig})", head)
+            self.assertTrue(os.path.exists(os.path.join(root, fig)))
+        self.assertIn("**A.** Missing: no column has study 2", head)
         self.check_tree(root)
 
 

@@ -93,23 +93,32 @@ def figures(cols, maps, esc_margin, root):
     os.makedirs(os.path.join(root, "page"), exist_ok=True)
     out = []
     col = D.paper_like(cols)
-    if col is not None:
-        a = D.figure_a_data(col)
-        info = column_of(col)
-        path = P.figure_a(a, D.PAPER_POINTS, D.LIMIT_FRACTION, os.path.join(root, "page", "a.png"),
-                          f"A. Study 2, {col_title(col)}, {a['perturbation']}")
-        out += [f"![A: study 2 as the paper drew it]({os.path.relpath(path, root)})", "",
-                f"**A.** Study 2 in the column most like the paper's setup ({col_title(col)}: "
-                + ("the paper's simulator's actuators" if info["actuators"] == "paper_sim"
+    a = D.figure_a_data(col) if col is not None else None
+    path = P.figure_a(a, D.PAPER_POINTS, D.LIMIT_FRACTION, os.path.join(root, "page", "a.png"),
+                      f"A. Study 2, {col_title(col)}, {a['perturbation']}" if a else
+                      "A. Study 2: not run")
+    out += [f"![A: study 2 as the paper drew it]({os.path.relpath(path, root)})", ""]
+    if a is None:
+        out += ["**A.** Missing: no column has study 2, so the paper's figure cannot be drawn.",
+                ""]
+    else:
+        paper_sim = column_of(col)["actuators"] == "paper_sim"
+        out += [f"**A.** Study 2 in the column most like the paper's setup ({col_title(col)}: "
+                + ("the paper's simulator's actuators" if paper_sim
                    else "no column has the paper's simulator's actuators") + f"), "
-                f"{a['perturbation']}; top: {a['what']}, × where a series was lost; bottom: "
+                f"{a['perturbation']}; top: {a['caption']}; × where a series was lost; bottom: "
                 "mean lap time; the paper's points (★ at GG 1.3, grey band at GG 1.4); top axis: "
-                f"% of the plant's combined limits (GG 1.0 = {D.LIMIT_FRACTION * 100:.0f} %).", ""]
+                f"% of the plant's combined limits (GG 1.0 = {D.LIMIT_FRACTION * 100:.0f} %).",
+                ""]
     b = D.figure_b_data(cols, esc_margin)
     path = P.figure_b(b, {c[0]: col_title(c) for c in cols}, D.LIMIT_FRACTION,
                       os.path.join(root, "page", "b.png"), "B. `none`'s ESC margin against GG")
     out += [f"![B: none's ESC margin]({os.path.relpath(path, root)})", "",
-            "**B.** Study 2, `none` (no lateral SC), main rear μy, with esc_margin.py's finer runs: "
+            "**B.** Missing: no study-2 run of `none` with its ESC margin in this results tree."
+            if not any(b.values()) else
+            "**B.** Study 2, `none` (no lateral SC), main rear μy, "
+            + ("with esc_margin.py's finer runs" if esc_margin and esc_margin.get("rows") else
+               "the study's GG axis only (esc_margin.py not run)") + ": "
             "the closest approach to ESC's activation condition (> 1: it held); × = lost. "
             "Where `none` completes below 1, ESC cannot act, so it cannot cost time (claim (d)).",
             ""]

@@ -16,8 +16,14 @@ from scwexp.results import column_of, read_sweep, to_float
 # The sideslip of figure A, in the order tried: the sideslip error over ESC's activation
 # threshold (taken while ESC's oversteer signs hold, so not at the low-speed hairpin), else the
 # plain max |β| of an older table.
-SIDESLIP_KEYS = (("max_esc_beta_error_ratio", "sideslip error |e_β,f| / ESC's threshold Eβ_a"),
-                 ("max_abs_sideslip_deg", "max |β| over the run [deg] (taken at the hairpin)"))
+SIDESLIP_KEYS = (
+    ("max_esc_beta_error_ratio", "max sideslip error |e_β,f| / Eβ_a [-]",
+     "the largest sideslip error |e_β,f| (β against ESC's single-track reference) over ESC's "
+     "speed-scheduled activation threshold Eβ_a, taken while ESC's oversteer signs hold, not at "
+     "the low-speed hairpin (1: ESC's threshold)"),
+    ("max_abs_sideslip_deg", "max |β| [deg]",
+     "max |β| over the run, which the low-speed hairpin sets (the sweep tables with the "
+     "sideslip error are not in this results tree)"))
 LIMIT_FRACTION = 0.7   # GG 1.0 = 70 % of the plant's combined limits (method, "GG mapping")
 # The paper's study-2 statements (§V): at GG 1.3 ESC costs 0.15 s and ESC + CS 0.05 s against
 # `none`; `none` is lost before GG 1.4.
@@ -128,9 +134,9 @@ def figure_a_data(col):
     s = col[2]["study2_lateral"]
     p, ser = main_series(s)
     idx = _sweep_index(os.path.join(col[1], "study2_lateral"))
-    found = {k for k, _ in SIDESLIP_KEYS if any(k in v for v in idx.values())
+    found = {k for k, *_ in SIDESLIP_KEYS if any(k in v for v in idx.values())
              or any(r.get(k) is not None for a in ser.values() for r in a["runs"])}
-    key, what = next(((k, w) for k, w in SIDESLIP_KEYS if k in found), SIDESLIP_KEYS[-1])
+    key, what, caption = next((x for x in SIDESLIP_KEYS if x[0] in found), SIDESLIP_KEYS[-1])
     out = {}
     for name, a in ser.items():
         pts = []
@@ -142,7 +148,8 @@ def figure_a_data(col):
             lap = r["mean_lap_time_s"] if r["status"] == "completed" else None
             pts.append((r["gg_scale"], y, lap, r["status"] != "completed"))
         out[name] = pts
-    return {"series": out, "key": key, "what": what, "labels": s.get("configs", {}),
+    return {"series": out, "key": key, "what": what, "caption": caption,
+            "labels": s.get("configs", {}),
             "perturbation": f"{s['perturbation']['label']} {p}"}
 
 
