@@ -137,9 +137,12 @@ def figures(cols, maps, esc_margin, root):
 def page(cols, maps, esc_margin, root, appendix_links, laps):
     """The first page's lines (at most PAGE_LINES once fitted)."""
     vt, res = verdict_rows(cols)
+    s2 = next((c[2]["study2_lateral"] for c in cols if c[2].get("study2_lateral")), None)
+    pert = (f", study 2 at {s2['perturbation']['label']} "
+            + "/".join(s2["perturbation"].get("values", [])) if s2 else "")
     out = ["# Does stability control do what the paper says?", "",
-           f"Yas Marina North, the EAV24/25 plant, {laps} per run, study 2 at rear μy 0.78/0.80/"
-           "0.82; GG 1.0 = 70 %, GG 1.43 = 100 % of the plant's combined limits. A claim holds "
+           f"Yas Marina North, the EAV24/25 plant, {laps} per run{pert}; GG 1.0 = 70 %, "
+           "GG 1.43 = 100 % of the plant's combined limits. A claim holds "
            "in a column if its criterion (written before the numbers, "
            "[method](appendix/method.md)) holds in 2 of 3 perturbations.", "",
            "## Verdict", ""] + vt + [
