@@ -120,15 +120,16 @@ def figure_b(series, titles, fraction, path, title):
 
 
 def figure_c(rows, missing, path, title, step=0.05):
-    """rows: [(label, gain ESC, gain ESC + CS, limit-cycling, scored)]: two horizontal bars per
-    row (ESC, ESC + CS), limit-cycling rows grey, scored columns' labels bold; claim (b)'s one
+    """rows: [(label, gain ESC, gain ESC + CS, limit-cycling, scored, ESC open, ESC + CS
+    open)]: two horizontal bars per row (ESC, ESC + CS), limit-cycling rows grey, scored
+    columns' labels bold, "≥" where the series never aborted (a lower bound); claim (b)'s one
     step dotted; `missing` written under the bars."""
     n = max(1, len(rows))
     dense = n > 40   # the full reference: over a hundred variants
     fig, ax = plt.subplots(figsize=(8.0, (0.13 if dense else 0.32) * n + 2.2))
     h = 0.38
-    for i, (label, ge, gb, cyc, _) in enumerate(rows):
-        for off, gv, c in ((-h / 2, ge, "tab:red"), (h / 2, gb, "tab:purple")):
+    for i, (label, ge, gb, cyc, _, oe, ob) in enumerate(rows):
+        for off, gv, c, lb in ((-h / 2, ge, "tab:red", oe), (h / 2, gb, "tab:purple", ob)):
             if gv is None or (isinstance(gv, float) and math.isnan(gv)):
                 ax.text(0, i + off, " no run", fontsize=5 if dense else 6, va="center")
                 continue
@@ -136,7 +137,7 @@ def figure_c(rows, missing, path, title, step=0.05):
                     hatch="//" if cyc else None, edgecolor="0.5" if cyc else c)
             ax.plot([gv], [i + off], "|", ms=3 if dense else 7, color="0.5" if cyc else c)
             if not dense:
-                ax.annotate(f"{gv:+.3f}", (gv, i + off), xytext=(3, 0),
+                ax.annotate(("≥ " if lb else "") + f"{gv:+.3f}", (gv, i + off), xytext=(3, 0),
                             textcoords="offset points", fontsize=6, va="center")
     ax.set_yticks(range(len(rows)))
     ax.set_yticklabels([r[0] + (" (limit-cycling)" if r[3] else "") for r in rows],

@@ -7,7 +7,7 @@ import os
 
 from scwexp.claims import CRITERIA
 from scwexp.report import page_data as D
-from scwexp.report.common import col_title, from_column
+from scwexp.report.common import ACT_SHORT, col_title, from_column
 from scwexp.results import column_of
 
 PAGE_LINES = 60
@@ -20,7 +20,7 @@ SHORT = {"a": "slip control: higher GG, faster, gradual slip",
          "f": "best lap below the limit with SC only"}
 UNIT = {"a": "GG", "b": "GG", "c": "GG", "d": "s", "e": "GG", "f": "GG"}
 NUMBER = {"a": "max stable GG, SC on − off", "b": "first abort, min(ESC, CS, ESC + CS) − none",
-          "c": "ESC + CS, max stable − best-lap GG", "d": "Δ lap, ESC − none [s]",
+          "c": "ESC + CS, max stable − best-lap GG", "d": "Δ lap, ESC − none [s] at GG 1.3 or the highest GG all four complete",
           "e": "max stable GG, with SC − without", "f": "with SC, max stable − best-lap GG"}
 
 
@@ -84,6 +84,30 @@ def claim_sentence(key, ctrl, rs, cols, maps):
                  "ones aside)"
                  + (f" ({_names(ok, 2)})" if ok else ""))
     return text + "."
+
+
+def gain_line(cols):
+    """One line: the first-abort gain of ESC and of ESC + CS over `none` (study 2, main
+    perturbation) per actuator model, as a range over the sets."""
+    by = {}
+    for c in cols:
+        s = c[2].get("study2_lateral")
+        if s:
+            _, ser = D.main_series(s)
+            by.setdefault(column_of(c)["actuators"], []).append(
+                [(D.gain(ser, k), D.open_ended(ser, k)) for k in ("esc", "esc+cs")])
+
+    def rng(xs):
+        xs = [x for x in xs if x[0] is not None]
+        if not xs:
+            return "–"
+        lo, hi = min(xs), max(xs)
+        t = [("≥ " if o else "") + f"{v:+.2f}" for v, o in (lo, hi)]
+        return t[0] if t[0] == t[1] else f"{t[0]} to {t[1]}"
+    parts = [f"{ACT_SHORT.get(a, a)}: ESC {rng(x[0] for x in v)}, ESC + CS {rng(x[1] for x in v)}"
+             for a, v in by.items()]
+    return ["- **The gain** over `none` in first-abort GG (study 2, main perturbation, over the "
+            "sets; ≥: never lost in its range): " + "; ".join(parts) + "."] if parts else []
 
 
 def figures(cols, maps, esc_margin, root):
@@ -151,6 +175,7 @@ def page(cols, maps, esc_margin, root, appendix_links, laps):
            + "; (e)/(f) as (b)/(c) per controller.", "", "## Where each claim holds", ""]
     for (k, ctrl), rs in res.items():
         out.append(claim_sentence(k, ctrl, rs, cols, maps))
+    out += gain_line(cols)
     out += ["", "## Figures", ""] + figures(cols, maps, esc_margin, root)
     out += ["## Appendices", ""] + appendix_links
     return out

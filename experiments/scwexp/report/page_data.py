@@ -178,7 +178,15 @@ def figure_b_data(cols, esc_margin):
     return out
 
 
-def _gain(ser, name):
+def open_ended(ser, name):
+    """True when `name`'s series never aborted in its range: its gain is then a lower bound
+    (claims.abort_gg counts it one step above its last run)."""
+    return bool(ser.get(name)) and ser[name].get("first_abort") is None
+
+
+def gain(ser, name):
+    """First-abort GG of `name` minus `none`'s in one perturbation's series (None without
+    them); a lower bound where open_ended(ser, name)."""
     try:
         return abort_gg(ser[name]) - abort_gg(ser["none"])
     except (KeyError, TypeError):
@@ -186,7 +194,8 @@ def _gain(ser, name):
 
 
 def figure_c_data(maps, cols):
-    """Rows [(label, gain ESC, gain ESC + CS, limit-cycling, is a scored column)]: the scored
+    """Rows [(label, gain ESC, gain ESC + CS, limit-cycling, is a scored column, ESC's gain a
+    lower bound, ESC + CS's a lower bound)]: the scored
     columns' study 2 (main perturbation) first, then every variant of every claims map; the
     gain is the first-abort GG over `none`'s. Also what is missing: the default families
     absent from each map."""
@@ -197,14 +206,16 @@ def figure_c_data(maps, cols):
             _, ser = main_series(s)
             info = column_of(c)
             rows.append((f"scored: {info['set_label']}, {info['actuators']}",
-                         _gain(ser, "esc"), _gain(ser, "esc+cs"), False, True))
+                         gain(ser, "esc"), gain(ser, "esc+cs"), False, True,
+                         open_ended(ser, "esc"), open_ended(ser, "esc+cs")))
     missing = []
     fams = {f[1] for f in DEFAULT_FAMILIES}
     for cm in maps:
         vs = cm.get("variants", [])
         for v in vs:
-            rows.append((f"{cm['set_label']}: {v['label']}", _gain(v["series"], "esc"),
-                         _gain(v["series"], "esc+cs"), limit_cycling(v), False))
+            rows.append((f"{cm['set_label']}: {v['label']}", gain(v["series"], "esc"),
+                         gain(v["series"], "esc+cs"), limit_cycling(v), False,
+                         open_ended(v["series"], "esc"), open_ended(v["series"], "esc+cs")))
         have = {v.get("family") for v in vs}
         gone = sorted(fams - have)
         if gone:
