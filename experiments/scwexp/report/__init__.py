@@ -20,7 +20,7 @@ from scwexp.report.claims_map import claims_map_lines, claims_maps
 from scwexp.report.columns import column_sections
 from scwexp.report.common import col_title, figs
 from scwexp.report.figures import overlay_figures
-from scwexp.report.findings import findings_all
+from scwexp.report.findings import findings
 from scwexp.report.goal import goal_section
 from scwexp.report.knife_edge import knife_edge_section
 from scwexp.report.margins import cliff_mechanism, margin_table
@@ -29,7 +29,7 @@ from scwexp.report.method import CHANGES, method_section
 from scwexp.report.page import page
 from scwexp.report.publish import publish
 from scwexp.report.verdicts import verdict_by_claim, verdict_table
-from scwexp.results import find_columns, read_summary, read_summary_in
+from scwexp.results import STUDIES, find_columns, read_summary, read_summary_in
 
 
 def _head(cols):
@@ -91,7 +91,7 @@ def _column(c, root):
     prefix = os.path.relpath(c[1], root)
     prefix = "" if prefix == "." else prefix
     out = [f"# {col_title(c)}", ""]
-    out += findings_all([c])
+    out += findings(*(c[2].get(st) for st in STUDIES))
     mt, zero, total = margin_table([c])
     out += ["## The margin of every series (claim (c) as a quantity)", "",
             "Margin = GG from the best lap to the last GG completed before the first abort "
