@@ -1,5 +1,5 @@
-"""Findings computed from all scored runs of a column (its appendix), the diagnosis of each first abort, and the
-mechanism behind a failing claim."""
+"""Findings computed from all scored runs of a column (its appendix), the diagnosis of each
+first abort, and the mechanism behind a failing claim."""
 
 from scwexp.claims import CORNERS, active_count, done_runs, g
 from scwexp.track import place
