@@ -20,7 +20,8 @@ SHORT = {"a": "slip control: higher GG, faster, gradual slip",
          "f": "best lap below the limit with SC only"}
 UNIT = {"a": "GG", "b": "GG", "c": "GG", "d": "s", "e": "GG", "f": "GG"}
 NUMBER = {"a": "max stable GG, SC on − off", "b": "first abort, min(ESC, CS, ESC + CS) − none",
-          "c": "ESC + CS, max stable − best-lap GG", "d": "Δ lap, ESC − none [s] at GG 1.3 or the highest GG all four complete",
+          "c": "ESC + CS, max stable − best-lap GG",
+          "d": "Δ lap, ESC − none [s] at GG 1.3 or the highest GG all four complete",
           "e": "max stable GG, with SC − without", "f": "with SC, max stable − best-lap GG"}
 
 
