@@ -128,13 +128,12 @@ def figures(cols, maps, esc_margin, root):
                 ""]
     else:
         paper_sim = column_of(col)["actuators"] == "paper_sim"
-        out += [f"**A.** Study 2 in the column most like the paper's setup ({col_title(col)}: "
-                + ("the paper's simulator's actuators" if paper_sim
+        out += [f"**A.** Study 2 of {col_title(col)} ("
+                + ("most like the paper: its simulator's actuators" if paper_sim
                    else "no column has the paper's simulator's actuators") + f"), "
-                f"{a['perturbation']}; top: {a['caption']}; × where a series was lost; bottom: "
-                "mean lap time; the paper's points (★ at GG 1.3, grey band at GG 1.4); top axis: "
-                f"% of the plant's combined limits (GG 1.0 = {D.LIMIT_FRACTION * 100:.0f} %).",
-                ""]
+                f"{a['perturbation']}; top: {a['caption']}; ×: lost; bottom: mean lap time; ★ "
+                "the paper's Δ at GG 1.3, grey band: its `none` lost before 1.4; top axis: % of "
+                f"the plant's combined limits.", ""]
     b = D.figure_b_data(cols, esc_margin)
     path = P.figure_b(b, {c[0]: col_title(c) for c in cols}, D.LIMIT_FRACTION,
                       os.path.join(root, "page", "b.png"), "B. `none`'s ESC margin against GG")
