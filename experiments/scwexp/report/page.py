@@ -133,7 +133,7 @@ def figures(cols, maps, esc_margin, root):
                    else "no column has the paper's simulator's actuators") + f"), "
                 f"{a['perturbation']}; top: {a['caption']}; ×: lost; bottom: mean lap time; ★ "
                 "the paper's Δ at GG 1.3, grey band: its `none` lost before 1.4; top axis: % of "
-                f"the plant's combined limits.", ""]
+                "the plant's limits.", ""]
     b = D.figure_b_data(cols, esc_margin)
     path = P.figure_b(b, {c[0]: col_title(c) for c in cols}, D.LIMIT_FRACTION,
                       os.path.join(root, "page", "b.png"), "B. `none`'s ESC margin against GG")

@@ -18,7 +18,7 @@ from scwexp.results import column_of, read_sweep, to_float
 # plain max |β| of an older table.
 SIDESLIP_KEYS = (
     ("max_esc_beta_error_ratio", "max sideslip error |e_β,f| / Eβ_a [-]",
-     "the largest sideslip error |e_β,f| (β against ESC's reference) over ESC's threshold "
+     "the largest sideslip error |e_β,f| (β against ESC's reference) over its threshold "
      "Eβ_a, while ESC's oversteer signs hold, not at the low-speed hairpin"),
     ("max_abs_sideslip_deg", "max |β| [deg]",
      "max |β| over the run, which the low-speed hairpin sets (the sweep tables with the "
