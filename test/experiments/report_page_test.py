@@ -132,6 +132,7 @@ class Report(unittest.TestCase):
         text = build(os.path.join(root), "--publish", os.path.join(WORK, "published"))
         head = text.splitlines()[:PAGE]
         self.assertIn("## Verdict", head)
+        self.assertIn("## Appendices", head)   # the whole answer within the page
         table = [x for x in head if x.startswith("| (")]
         self.assertGreaterEqual(len(table), 4)
         for row in table:

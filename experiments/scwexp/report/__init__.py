@@ -13,6 +13,7 @@ publish. Its entry point is experiments/report.py; nothing else imports the repo
 import argparse
 import os
 import re
+import sys
 
 from scwexp import paths
 from scwexp.claims import CORNERS, CRITERIA
@@ -26,7 +27,7 @@ from scwexp.report.knife_edge import knife_edge_section
 from scwexp.report.margins import cliff_mechanism, margin_table
 from scwexp.report.markdown import MAX_LINE, fit, relink
 from scwexp.report.method import CHANGES, method_section
-from scwexp.report.page import page
+from scwexp.report.page import PAGE_LINES, page
 from scwexp.report.publish import publish
 from scwexp.report.verdicts import verdict_by_claim, verdict_table
 from scwexp.results import STUDIES, find_columns, read_summary, read_summary_in
@@ -204,7 +205,11 @@ def main(argv=None):
         "# Does stability control do what the paper says?", "", "No study results yet.", "",
         "## Appendices", ""] + _links(apps)
     path = os.path.join(root, "report.md")
-    _write(path, fit(out, MAX_LINE))
+    out = fit(out, MAX_LINE)
+    if "## Appendices" in out and out.index("## Appendices") > PAGE_LINES:
+        print(f"warning: the first page has {out.index('## Appendices')} lines before its "
+              f"appendices (at most {PAGE_LINES})", file=sys.stderr)
+    _write(path, out)
     print(f"wrote {path} and {len(apps)} appendices in {APPENDIX}/")
     if args.publish:
         publish(path, args.publish)
