@@ -111,7 +111,7 @@ RUN_FIELDS = ("gg_scale", "refined", "status", "progress", "laps_completed", "me
               "max_abs_sideslip_deg", "max_slip_front_pct", "max_slip_rear_pct",
               "max_abs_lateral_error_m", "max_speed_mps", "esc_count", "cs_count", "abs_count",
               "tc_count", "esc_time_s", "cs_time_s", "abs_time_s", "tc_time_s", "end_lap",
-              "end_s_m", "max_esc_margin", "steer_hf_rms_deg")
+              "end_s_m", "max_esc_margin", "max_esc_beta_error_ratio", "steer_hf_rms_deg")
 ACTIVATION_KEYS = ("esc_count", "cs_count", "abs_count", "tc_count")
 # The terms of ESC's activation condition (sweep columns): |β|/B_a, |e_β,f|/Eβ_a, |e_ψ,f|/Eψ_a,
 # each at its largest while the oversteer signs held, and their short names.

@@ -221,8 +221,8 @@ class ClaimsMaps(unittest.TestCase):
         maps = report_maps.claims_maps(root)
         self.assertEqual([m["set_label"] for m in maps], ["shipped", "tuned"])
         section = "\n".join(report_maps.claims_map_section(root))
-        self.assertIn("## Claims map: what decides each claim", section)
-        self.assertIn("## Claims map with the tuned set", section)
+        self.assertIn("# Claims map: what decides each claim", section)
+        self.assertIn("# Claims map with the tuned set", section)
         self.assertIn("(claims_map_tuned/claims_map.png)", section)
         old = scwexp.paths.ROOT_RESULTS
         scwexp.paths.ROOT_RESULTS = root

@@ -23,15 +23,20 @@ def claims_maps(root):
 def claims_map_section(root):
     out = []
     for cm in claims_maps(root):
-        title = "## Claims map: what decides each claim (issue 25 part 2)" \
-            if cm["dir"] == "claims_map" else \
-            f"## Claims map with the {cm['set_label']} set"
-        out += [title, "", cm.get("text", ""), "", f"Wall time {cm['wall_time_s'] / 60:.1f} min, "
-                f"CPU {cm.get('cpu_time_s', 0) / 60:.1f} min; sweeps: "
-                f"{len(cm.get('commands', []))}"
-                + (f", of which {len(cm['reused'])} read from an earlier run of the same commands "
-                   "(`--reuse`; their cost is not in these times: experiments/README.md)"
-                   if cm.get("reused") else "") + ".", ""]
-        out += figs([os.path.join(cm["dir"], x) for x in cm.get("figures", [])]) + [""]
-        out += cm.get("table", []) + [""]
+        out += claims_map_lines(cm)
+    return out
+
+
+def claims_map_lines(cm):
+    """One claims map: what it found, its time, figures and table."""
+    title = "# Claims map: what decides each claim (issue 25 part 2)" \
+        if cm["dir"] == "claims_map" else f"# Claims map with the {cm['set_label']} set"
+    out = [title, "", cm.get("text", ""), "", f"Wall time {cm['wall_time_s'] / 60:.1f} min, "
+           f"CPU {cm.get('cpu_time_s', 0) / 60:.1f} min; sweeps: "
+           f"{len(cm.get('commands', []))}"
+           + (f", of which {len(cm['reused'])} read from an earlier run of the same commands "
+              "(`--reuse`; their cost is not in these times: experiments/README.md)"
+              if cm.get("reused") else "") + ".", ""]
+    out += figs([os.path.join(cm["dir"], x) for x in cm.get("figures", [])]) + [""]
+    out += cm.get("table", []) + [""]
     return out

@@ -1,10 +1,9 @@
-"""Findings computed from all scored runs of a column, the diagnosis of each first abort, and the
-mechanism behind a failing claim."""
+"""Findings computed from all scored runs of a column (its appendix), the diagnosis of each
+first abort, and the mechanism behind a failing claim."""
 
 from scwexp.claims import CORNERS, active_count, done_runs, g
 from scwexp.track import place
-from scwexp.report.common import col_title
-from scwexp.results import ACTIVATION_KEYS, STUDIES
+from scwexp.results import ACTIVATION_KEYS
 
 
 def diagnosis(s, labels, pert_label):
@@ -114,11 +113,3 @@ def findings(s1, s2, s3):
         out.append(txt + ".")
     return out + [""]
 
-
-def findings_all(cols):
-    out = []
-    for c in cols:
-        f = findings(*(c[2].get(st) for st in STUDIES))
-        if f:
-            out += [f"### Findings, {col_title(c)}", ""] + f[2:]
-    return ["## Findings per column (computed from all scored runs)", ""] + out if out else []

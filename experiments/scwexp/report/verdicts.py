@@ -155,3 +155,22 @@ def verdict_table(cols):
                              + "; ".join(t for _, _, t in items))
             out.append(f"| ({key}) {ctrl}, unscored | " + " | ".join(cells) + " |")
     return out, results
+
+
+def verdict_by_claim(cols):
+    """The side-by-side verdicts as one table per claim, a row per column (verdict, n of m,
+    the deciding numbers): narrow enough for any number of columns."""
+    out = []
+    for key, st in (("a", "study1_longitudinal"), ("b", "study2_lateral"),
+                    ("c", "study2_lateral"), ("d", "study2_lateral")):
+        out += [f"**({key})**", "", "| column | verdict | the deciding numbers |",
+                "|---|---|---|"]
+        for c in cols:
+            s = c[2].get(st)
+            if not s:
+                out.append(f"| {col_title(c)} | – | not run |")
+                continue
+            ok, n, m, txt = claim_cell(key, s)
+            out.append(f"| {col_title(c)} | {verdict(ok)} ({n} of {m}) | {txt} |")
+        out.append("")
+    return out
