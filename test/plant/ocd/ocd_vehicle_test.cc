@@ -155,7 +155,9 @@ TEST(OcdMapping, EveryValueTakenFromAVehicleKeyIsThatKeysValueInOcd) {
   int direct = 0;
   for (const OcdParameter& q : car.ocd_parameters()) {
     // What reaches OCD is what the mapping lists (scalars; arrays are OCD-only tables).
-    if (q.value.size() == 1) EXPECT_EQ(car.OcdValue(s, q.name), q.value[0]) << q.name;
+    if (q.value.size() == 1) {
+      EXPECT_EQ(car.OcdValue(s, q.name), q.value[0]) << q.name;
+    }
     if (q.ocd_only) {
       EXPECT_FALSE(q.why.empty()) << q.name << ": an OCD-only value needs its reason";
       continue;
