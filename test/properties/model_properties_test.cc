@@ -28,12 +28,13 @@
 #include "controller/stability/slip_estimation.h"
 #include "controller/stability/stability_controller.h"
 #include "params/schema/vehicle_params.h"
+#include "plant/vehicle/plant_model.h"
 #include "plant/vehicle/vehicle.h"
 #include "test/common/alloc_counter.h"
+#include "test/controller/stability/scenario_inputs.h"
 #if SCW_WITH_OCD
 #include "plant/ocd/ocd_vehicle.h"
 #endif
-#include "test/controller/stability/scenario_inputs.h"
 
 namespace scw {
 namespace {
