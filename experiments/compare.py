@@ -10,6 +10,8 @@ and plots of the mean lap time and max |β| per scenario and set.
 Without PARAMS the car's set params/stability/default.yaml is evaluated alone. Writes to
 experiments/results/compare/ (or --out): comparison.md, comparison.csv, compare_lap_time.png,
 compare_sideslip.png, extra_tracks_set.yaml, summary.json.
+
+Time: ~20 s per params file on 2 cores.
 """
 
 import argparse
@@ -19,9 +21,10 @@ import math
 import os
 import sys
 
-import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
-import report  # noqa: E402  (regenerates report.md after the study)
+import debpython  # noqa: F401  (first: Debian's numpy/matplotlib, else a re-run with them)
+import scwexp  # noqa: E402
 
+from scwexp import plots  # noqa: E402,F401  (the Agg backend, before pyplot)
 import matplotlib.pyplot as plt  # noqa: E402
 
 MONZA = os.path.join(scwexp.ROOT, "..", "shared", "data", "tracks", "racetrack-database",
@@ -243,7 +246,8 @@ def sideslip_plot(rows, labels, path):
     return finish(fig, ax, path, info, len(keys))
 
 
-def main(argv=None):
+def parse_args(argv=None):
+    """The command line (see the module's docstring)."""
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("params", nargs="*", help="stability params files (car's ROS 2 layout)")
@@ -255,7 +259,11 @@ def main(argv=None):
     p.add_argument("--out", default=None, help="output folder (default results/compare)")
     p.add_argument("--threads", type=int, default=0)
     p.add_argument("--no-report", action="store_true")
-    args = p.parse_args(argv)
+    return p.parse_args(argv)
+
+
+def main(argv=None):
+    args = parse_args(argv)
     scw = scwexp.find_scw()
     is_default_out = args.out is None
     # Absolute: scw runs in the repository (scwexp.run), and its output paths must name the
@@ -326,7 +334,7 @@ def main(argv=None):
     print(markdown(rows, labels))
     print(f"compare: {timer.seconds():.0f} s wall; outputs in {out}")
     if is_default_out:
-        report.update(args)
+        scwexp.update_report(args)
     return 0
 
 

@@ -1,6 +1,7 @@
 """Makes the experiment scripts run with Debian's numpy and matplotlib (python3-numpy,
 python3-matplotlib) even when another python3 (pyenv, a venv) comes first on PATH: if the
-imports fail, the script re-executes itself once with /usr/bin/python3."""
+imports fail, the script re-executes itself once with /usr/bin/python3. Without a script to re-run
+(python3 -c, a notebook) it raises ImportError instead."""
 
 import os
 import sys
@@ -16,6 +17,10 @@ def ensure_numpy_matplotlib():
     except ImportError:
         pass
     same = os.path.realpath(sys.executable) == os.path.realpath(DEBIAN_PYTHON)
+    if not os.path.isfile(sys.argv[0] if sys.argv else ""):
+        # python3 -c, an interactive session, a notebook: no script to re-run
+        raise ImportError("numpy and matplotlib are needed for the figures (Debian 12: apt-get "
+                          "install python3-numpy python3-matplotlib; or use " + DEBIAN_PYTHON + ")")
     if not same and os.access(DEBIAN_PYTHON, os.X_OK) and not os.environ.get("SCW_PY_REEXEC"):
         os.environ["SCW_PY_REEXEC"] = "1"
         os.execv(DEBIAN_PYTHON, [DEBIAN_PYTHON] + sys.argv)

@@ -33,53 +33,32 @@ Reads results/columns/*/study2_lateral/summary.json (run experiments/run_all.sh 
     python3 experiments/esc_margin.py [--processes 2] [--reuse] [--resolution 0.001]
                                       [--scan-step 0.0025] [--threshold-probe 0.5,0.3]
                                       [--falloff-probe 0,1.5]
+
+Why the grid: `none` with tuned_paper_sim_seed1 on the real car was lost at GG 1.040625 and
+completed at 1.0414 and 1.042187; a bisection finds an edge, the grid shows the band. Per column
+where `none` completes the report says whether a GG is lost below a completed one, and Δ(ESC) in
+every lap `none` completes while ESC acts. The threshold probe's sets are
+results/esc_margin/stability_<column>_eb<factor>.yaml. One `scw sweep` per column, plus one per
+bisection round and one per column and factor; run_all.sh runs it after the columns; its tables
+and sentences are in the report's "Where each claim reproduces".
+
+Time on 2 cores: 6 min for the six reference columns without the probes (2026-11-28), about
+8 min with them (2026-11-29, beside a test run; 2-vCPU Intel Xeon @ 2.5 GHz).
 """
 
 import argparse
-import math
 import os
-import re
 import sys
 
-import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
-import report  # noqa: E402
-import study2_lateral  # noqa: E402
+import debpython  # noqa: F401  (first: Debian's numpy/matplotlib, else a re-run with them)
+import scwexp  # noqa: E402
+from scwexp.esc_margin import (  # noqa: E402
+    CONFIG_OVERRIDES, DEFAULT_SET, FALLOFF_PROBE, PROBE, RESOLUTION, S2, SCAN_STEP,
+    bisection_levels, factors, falloff_configs, falloffs, judged_gg, none_bounds, row_of,
+    scaled_beta_error_set, scan_grid, stability_path, text_of)
+from scwexp.results import find_columns  # noqa: E402
 
 STUDY = "esc_margin"
-S2 = ["plan_with_nominal_grip=true", "abort.lock_slip_pct=100"]
-CONFIGS = ("none", "esc", "cs", "esc+cs")
-TERMS = scwexp.ESC_TERMS
-RESOLUTION = 0.001  # GG: how finely `none`'s first abort is bisected (--resolution)
-SCAN_STEP = 0.0025  # GG: the grid across `none`'s first abort (--scan-step)
-PROBE = "0.5,0.3"  # factors on ESC's sideslip-error thresholds (--threshold-probe)
-FALLOFF_PROBE = "0,1.5"  # the rear tyre's loss beyond its peak, beside 1 (--falloff-probe)
-BETA_ERROR_KEYS = ("beta_error_threshold_activate", "beta_error_threshold_deactivate")
-DEFAULT_SET = os.path.join(scwexp.ROOT, "params", "stability", "default.yaml")
-CONFIG_OVERRIDES = {n: o for n, o, *_ in study2_lateral.CONFIGS}  # the study's own switches
-
-
-def none_bounds(series):
-    """(`none`'s last completed GG, its first abort) in the study's runs, or None."""
-    return scwexp.series_bounds(
-        [dict(r, gg_scale=float(r["gg_scale"])) for r in series["none"].get("runs") or []])
-
-
-def scan_grid(series, step):
-    """GGs strictly between `none`'s last completed GG and its first abort (the study's runs),
-    `step` apart (rounded to 1e-6), or [] without such a pair or with step 0."""
-    bounds = none_bounds(series)
-    if not bounds or not step:
-        return []
-    lo, hi = bounds
-    n = int(math.floor((hi - lo) / step + 1e-9))
-    return [round(lo + k * step, 6) for k in range(1, n + 1) if lo + k * step < hi - 1e-9]
-
-
-def bisection_levels(lo, hi, resolution):
-    """Rounds of bisection that bring the interval [lo, hi] down to `resolution` or below."""
-    if not resolution or hi - lo <= resolution:
-        return 0
-    return math.ceil(math.log2((hi - lo) / resolution) - 1e-9)
 
 
 def finest_band(scw, args, name, series, sets, stab, out):
@@ -106,90 +85,52 @@ def finest_band(scw, args, name, series, sets, stab, out):
     return {"last_completed": lo, "first_abort": hi, "levels": levels, "commands": commands}
 
 
-def row_of(name, col, cfg, tag, gg, first_abort_fine, r):
-    """One row of the summary from one row of a sweep's table."""
-    return {"column": name, "set_label": col["set_label"], "actuators": col["actuators"],
-            "config": cfg, "at": tag, "gg": gg, "status": r["status"],
-            "first_abort_fine": first_abort_fine, "max_esc_margin": r.get("max_esc_margin"),
-            **{k: r.get(k) for k in TERMS},
-            **{k: r.get(k) for k in scwexp.ACTIVATION_KEYS},
-            "max_abs_sideslip_deg": r.get("max_abs_sideslip_deg"),
-            "mean_lap_time_s": r.get("mean_lap_time_s")}
+def threshold_probe(scw, args, out, name, col, sets, stab, gg_d, fa, factor, rows_out,
+                    commands):
+    """All four configurations at the judged GG with ESC's sideslip-error thresholds scaled by
+    `factor` in a copy of the column's set (a diagnostic): rows into rows_out."""
+    tag = f"eb{round(factor * 100)}"
+    probe_set = os.path.join(out, f"stability_{name}_{tag}.yaml")
+    scaled_beta_error_set(stab or DEFAULT_SET, factor, probe_set)
+    probe_csv = os.path.join(out, f"probe_{name}_{tag}.csv")
+    cmd = [scw, "sweep", "-o", probe_csv, "--processes", str(args.processes or 2),
+           "--set"] + sets + ["--stability", probe_set]
+    for c, ov in CONFIG_OVERRIDES.items():
+        cmd += ["--config", f"{c}.{tag}:{ov},gg_scale={gg_d}"]
+    scwexp.reuse_or_run(cmd, probe_csv, os.path.join(out, f"scw_probe_{name}_{tag}.log"),
+                        args.reuse)
+    commands.append(" ".join(cmd))
+    for r in scwexp.read_csv(probe_csv):
+        cfg = r["config"].split(".", 1)[0]
+        rows_out.append(dict(row_of(name, col, cfg, tag, gg_d, fa, r), factor=factor))
 
 
-def scaled_beta_error_set(src, factor, dst):
-    """Writes the stability file `src` to `dst` with ESC's sideslip-error thresholds (activate,
-    per speed, and deactivate) multiplied by `factor`: the threshold probe's set. A diagnostic,
-    never a set for the car; exits naming the file and key when a key is not there once."""
-    with open(src) as f:
-        text = f.read()
-
-    def scale(m):
-        nums = re.sub(r"[-+]?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?",
-                      lambda x: f"{float(x.group(0)) * factor:.6g}", m.group(2))
-        return m.group(1) + nums
-    for key in BETA_ERROR_KEYS:
-        text, n = re.subn(rf"^(\s*{key}:\s*)(\S.*)$", scale, text, flags=re.M)
-        if n != 1:
-            sys.exit(f"error: {src}: ESC.{key}: expected once, found {n} times")
-    with open(dst, "w") as f:
-        f.write(f"# {os.path.basename(src)} with ESC's sideslip-error thresholds x{factor:g} "
-                "(experiments/esc_margin.py threshold probe; not a set for the car)\n" + text)
-
-
-def numbers(text, ok, error):
-    """Comma-separated numbers each satisfying `ok`, or [] for an empty text; an
-    argparse.ArgumentTypeError `error.format(x)` names the first that does not."""
-    out = []
-    for x in (t.strip() for t in text.split(",") if t.strip()):
-        try:
-            v = float(x)
-        except ValueError:
-            v = float("nan")
-        if not ok(v):
-            raise argparse.ArgumentTypeError(error.format(repr(x)))
-        out.append(v)
-    return out
+def falloff_probe(scw, args, out, name, col, sets, stab, series, fa, rows_out, commands):
+    """`none` at its last completed GG and its first abort with the rear tyre's loss beyond its
+    peak scaled (--falloff-probe): rows into rows_out."""
+    bounds = none_bounds(series)
+    if not (args.falloff_probe and bounds):
+        return
+    fo_csv = os.path.join(out, f"falloff_{name}.csv")
+    cmd = [scw, "sweep", "-o", fo_csv, "--processes", str(args.processes or 2),
+           "--set"] + sets
+    for c in falloff_configs(bounds[0], bounds[1], args.falloff_probe):
+        cmd += ["--config", c]
+    if stab:
+        cmd += ["--stability", stab]
+    scwexp.reuse_or_run(cmd, fo_csv, os.path.join(out, f"scw_falloff_{name}.log"),
+                        args.reuse)
+    commands.append(" ".join(cmd))
+    for r in scwexp.read_csv(fo_csv):
+        cfg, tag = r["config"].split(".", 1)
+        scale, at = tag.split("_", 1)
+        rows_out.append(dict(row_of(name, col, cfg, f"falloff_{at}",
+                                    bounds[0] if at == "last" else bounds[1], fa, r),
+                             falloff=int(scale[2:]) / 100.0))
 
 
-def falloffs(text):
-    """--falloff-probe: comma-separated scales of the rear tyre's loss beyond its peak (>= 0,
-    not 1: the vehicle file's is always run), or [] for an empty text."""
-    return numbers(text, lambda v: v >= 0 and v != 1,
-                   "--falloff-probe: {} is not a number >= 0 other than 1 (1 is always run)")
-
-
-def falloff_configs(lo, hi, values):
-    """The falloff probe's named configurations: `none` at its last completed GG (lo) and at its
-    first abort (hi), with the vehicle file's loss beyond the peak (1) and each of `values`;
-    the names carry the scale in hundredths (none.fo150_last)."""
-    out = []
-    for f in [1.0] + list(values):
-        for at, g in (("last", lo), ("abort", hi)):
-            out.append(f"none.fo{round(f * 100)}_{at}:{CONFIG_OVERRIDES['none']},gg_scale={g},"
-                       f"plant.rear_tire_falloff={f:g}")
-    return out
-
-
-def factors(text):
-    """--threshold-probe: comma-separated positive factors, or [] for an empty text."""
-    return numbers(text, lambda v: v > 0, "--threshold-probe: {} is not a positive number")
-
-
-def judged_gg(series):
-    """The GG claim (d) is judged at (report.claim_d_gg), None without all four configurations."""
-    if any(k not in series for k in CONFIGS):
-        return None
-    return report.claim_d_gg(series)
-
-
-def stability_path(column):
-    """The stability file of a column (its `stability` text starts with the path)."""
-    text = (column.get("stability") or "").split(" ")[0]
-    return text if text and text != "params/stability/default.yaml" else None
-
-
-def main(argv=None):
+def parse_args(argv=None):
+    """The command line (see the module's docstring)."""
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     scwexp.add_common_args(p, laps=3)
@@ -210,13 +151,17 @@ def main(argv=None):
     p.add_argument("--scan-step", type=float, default=SCAN_STEP,
                    help=f"run `none` and ESC on a grid of this GG step between `none`'s last "
                         f"completed GG and its first abort (default {SCAN_STEP}; 0: off)")
-    args = p.parse_args(argv)
+    return p.parse_args(argv)
+
+
+def main(argv=None):
+    args = parse_args(argv)
     scwexp.apply_common_args(args)
     scw = scwexp.find_scw()
     out = scwexp.results_dir(STUDY)
     timer = scwexp.Timer()
     rows_out, commands = [], []
-    cols = [(n, ss["study2_lateral"]) for n, _, ss in report.find_columns(scwexp.RESULTS)
+    cols = [(n, ss["study2_lateral"]) for n, _, ss in find_columns(scwexp.RESULTS)
             if ss.get("study2_lateral")]
     if not cols:
         sys.exit("error: no study-2 columns in results/columns (run experiments/run_all.sh)")
@@ -265,90 +210,18 @@ def main(argv=None):
             cfg, tag = r["config"].split(".", 1)
             rows_out.append(row_of(name, col, cfg, tag, gg_of[tag], fa, r))
         for factor in (args.threshold_probe if gg_d is not None else []):
-            tag = f"eb{round(factor * 100)}"
-            probe_set = os.path.join(out, f"stability_{name}_{tag}.yaml")
-            scaled_beta_error_set(stab or DEFAULT_SET, factor, probe_set)
-            probe_csv = os.path.join(out, f"probe_{name}_{tag}.csv")
-            cmd = [scw, "sweep", "-o", probe_csv, "--processes", str(args.processes or 2),
-                   "--set"] + sets + ["--stability", probe_set]
-            for c, ov in CONFIG_OVERRIDES.items():
-                cmd += ["--config", f"{c}.{tag}:{ov},gg_scale={gg_d}"]
-            scwexp.reuse_or_run(cmd, probe_csv, os.path.join(out, f"scw_probe_{name}_{tag}.log"),
-                                args.reuse)
-            commands.append(" ".join(cmd))
-            for r in scwexp.read_csv(probe_csv):
-                cfg = r["config"].split(".", 1)[0]
-                rows_out.append(dict(row_of(name, col, cfg, tag, gg_d, fa, r), factor=factor))
-        bounds = none_bounds(series)
-        if args.falloff_probe and bounds:
-            fo_csv = os.path.join(out, f"falloff_{name}.csv")
-            cmd = [scw, "sweep", "-o", fo_csv, "--processes", str(args.processes or 2),
-                   "--set"] + sets
-            for c in falloff_configs(bounds[0], bounds[1], args.falloff_probe):
-                cmd += ["--config", c]
-            if stab:
-                cmd += ["--stability", stab]
-            scwexp.reuse_or_run(cmd, fo_csv, os.path.join(out, f"scw_falloff_{name}.log"),
-                                args.reuse)
-            commands.append(" ".join(cmd))
-            for r in scwexp.read_csv(fo_csv):
-                cfg, tag = r["config"].split(".", 1)
-                scale, at = tag.split("_", 1)
-                rows_out.append(dict(row_of(name, col, cfg, f"falloff_{at}",
-                                            bounds[0] if at == "last" else bounds[1], fa, r),
-                                     falloff=int(scale[2:]) / 100.0))
+            threshold_probe(scw, args, out, name, col, sets, stab, gg_d, fa, factor,
+                            rows_out, commands)
+        falloff_probe(scw, args, out, name, col, sets, stab, series, fa, rows_out,
+                      commands)
     summary = {"study": STUDY, "rows": rows_out, "commands": commands,
                "text": text_of(rows_out), "wall_time_s": timer.seconds(),
                "cpu_time_s": timer.cpu_seconds(),
                "reused": [os.path.basename(x) for x in scwexp.REUSED]}
     scwexp.write_summary(STUDY, summary)
     print("\n".join(summary["text"]))
-    report.update(args)
+    scwexp.update_report(args)
     return 0
-
-
-def text_of(rows):
-    """The report's table: per column, `none` and ESC at the judged GG, at `none`'s abort and at
-    the last GG `none` completes with its abort bisected finer (when run)."""
-    def cell(r):
-        if r is None:
-            return "–"
-        m = scwexp.to_float(r["max_esc_margin"])
-        if m != m:
-            return f"{r['status']}"
-        terms = scwexp.esc_terms_text(r)
-        return (f"{r['status']} · margin {m:.2f}" + (f" ({terms})" if terms else "")
-                + f" · ESC {int(scwexp.to_float(r['esc_count']))}×")
-    cols = []
-    for r in rows:
-        if r["column"] not in cols:
-            cols.append(r["column"])
-    fine = any(r["at"] == "finest" for r in rows)
-    head = ("| column | (d) judged at GG | `none` there | ESC only there | `none`'s first abort "
-            "GG | `none` there | ESC only there |")
-    rule = "|---|---|---|---|---|---|---|"
-    if fine:
-        head += " last GG `none` completes (finer) | `none` there | ESC only there |"
-        rule += "---|---|---|"
-    lines = [head, rule]
-    for c in cols:
-        rs = {(r["config"], r["at"]): r for r in rows if r["column"] == c}
-        any_r = next(r for r in rows if r["column"] == c)
-
-        def gg(at):
-            return next((r["gg"] for r in rows if r["column"] == c and r["at"] == at), None)
-        line = (f"| {any_r['set_label']}, {any_r['actuators']} | {scwexp.fmt(gg('judged'), 3)} | "
-                f"{cell(rs.get(('none', 'judged')))} | {cell(rs.get(('esc', 'judged')))} | "
-                f"{scwexp.fmt(gg('none_abort'), 3)} | {cell(rs.get(('none', 'none_abort')))} | "
-                f"{cell(rs.get(('esc', 'none_abort')))} |")
-        if fine:
-            fa = any_r.get("first_abort_fine")
-            g = gg("finest")
-            line += (f" {scwexp.fmt(g, 4)}" + (f" (lost at {fa:.4f})" if fa is not None else "")
-                     + f" | {cell(rs.get(('none', 'finest')))} | "
-                     f"{cell(rs.get(('esc', 'finest')))} |")
-        lines.append(line)
-    return lines
 
 
 if __name__ == "__main__":

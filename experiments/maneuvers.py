@@ -17,6 +17,9 @@ Writes experiments/results/maneuvers/ (or --out): maneuvers.md, maneuvers.csv, t
 swd_*.png, summary.json and every run's JSON (runs/); report.py links the figures. --publish DIR
 writes DIR/maneuvers.md with its figures in DIR/maneuvers/ (the reference: --publish
 experiments/reference-results).
+
+The suite: every standard maneuver of `scw maneuver`, the sine with dwell at 80 km/h and at
+40 m/s (RACE_SPEED), each with SC off (`--subsystems none`) and on. Time: ~20 s.
 """
 
 import argparse
@@ -29,9 +32,10 @@ import subprocess
 import sys
 import time
 
-import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
-import report  # noqa: E402  (regenerates report.md after the suite)
+import debpython  # noqa: F401  (first: Debian's numpy/matplotlib, else a re-run with them)
+import scwexp  # noqa: E402
 
+from scwexp import plots  # noqa: E402,F401  (the Agg backend, before pyplot)
 import matplotlib.pyplot as plt  # noqa: E402
 
 RACE_SPEED = 40.0  # [m/s] the second speed of the sine with dwell
@@ -196,7 +200,56 @@ def swd_figures(results, out_dir, models, sets):
     return figs
 
 
-def main(argv=None):
+def maneuver_tables(results, walls, models, sets):
+    """The markdown table per maneuver (a row per plant model, set and SC off/on) and the same
+    rows for maneuvers.csv."""
+    md, csv_rows = [], []
+    for label, name, overrides in SUITE:
+        first = results[(models[0][0], sets[0][0], SC[0][0], label)]
+        md += [f"## {label}", "", f"{first['standard']}" +
+               (f" (`{' '.join(overrides)}`)" if overrides else "") + ". Setup: " +
+               ", ".join(f"{k} {fmt(v, 3)}" for k, v in first["setup"].items()) + ".", ""]
+        header = None
+        for model in models:
+            for set_label, _ in sets:
+                for sc_label, _ in SC:
+                    res = results[(model[0], set_label, sc_label, label)]
+                    cols = (swd_summary(res) if name == "sine_with_dwell"
+                            else generic_summary(res, COLUMNS[name]))
+                    cols["criteria failed"] = f"{res['criteria_failed']} of {res['criteria_checked']}"
+                    cols["ESC/CS/ABS/TC"] = interventions(res)
+                    cols["wall [s]"] = fmt(walls[(model[0], set_label, sc_label, label)])
+                    if header is None:
+                        header = ["model", "set", "SC"] + list(cols)
+                        md += ["| " + " | ".join(header) + " |",
+                               "|" + "---|" * len(header)]
+                    md.append("| " + " | ".join([model[0], set_label, sc_label] +
+                                                [str(v) for v in cols.values()]) + " |")
+                    csv_rows.append({"maneuver": label, "model": model[0], "set": set_label,
+                                     "sc": sc_label, **cols})
+        if len(results[(models[0][0], sets[0][0], SC[0][0], label)]["runs"]) > 1 and \
+                name != "sine_with_dwell":
+            levels = [r["label"] for r in first["runs"]]
+            md += ["", f"Several runs: values per run in the order {', '.join(levels)}."]
+        md.append("")
+    return md, csv_rows
+
+
+def write_csv(path, csv_rows):
+    """maneuvers.csv: every row's fields, in the order they first appear."""
+    fields = []
+    for r in csv_rows:
+        for k in r:
+            if k not in fields:
+                fields.append(k)
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields)
+        w.writeheader()
+        w.writerows(csv_rows)
+
+
+def parse_args(argv=None):
+    """The command line (see the module's docstring)."""
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("params", nargs="*", help="stability params files to compare")
     ap.add_argument("--labels", help="comma-separated labels of the params files")
@@ -208,7 +261,11 @@ def main(argv=None):
     ap.add_argument("--publish", metavar="DIR", help="copy maneuvers.md and its figures to DIR")
     ap.add_argument("--no-report", action="store_true",
                     help="do not regenerate results/report.md afterwards")
-    args = ap.parse_args(argv)
+    return ap.parse_args(argv)
+
+
+def main(argv=None):
+    args = parse_args(argv)
 
     scw = scwexp.find_scw()
     out_dir = args.out or scwexp.results_dir("maneuvers")
@@ -250,35 +307,8 @@ def main(argv=None):
           "header.", "",
           f"Wall time: {total_wall:.1f} s for {len(rows)} maneuver runs "
           f"(longest {max(walls.values()):.2f} s, including the start of `scw`).", ""]
-    csv_rows = []
-    for label, name, overrides in SUITE:
-        first = results[(models[0][0], sets[0][0], SC[0][0], label)]
-        md += [f"## {label}", "", f"{first['standard']}" +
-               (f" (`{' '.join(overrides)}`)" if overrides else "") + ". Setup: " +
-               ", ".join(f"{k} {fmt(v, 3)}" for k, v in first["setup"].items()) + ".", ""]
-        header = None
-        for model in models:
-            for set_label, _ in sets:
-                for sc_label, _ in SC:
-                    res = results[(model[0], set_label, sc_label, label)]
-                    cols = (swd_summary(res) if name == "sine_with_dwell"
-                            else generic_summary(res, COLUMNS[name]))
-                    cols["criteria failed"] = f"{res['criteria_failed']} of {res['criteria_checked']}"
-                    cols["ESC/CS/ABS/TC"] = interventions(res)
-                    cols["wall [s]"] = fmt(walls[(model[0], set_label, sc_label, label)])
-                    if header is None:
-                        header = ["model", "set", "SC"] + list(cols)
-                        md += ["| " + " | ".join(header) + " |",
-                               "|" + "---|" * len(header)]
-                    md.append("| " + " | ".join([model[0], set_label, sc_label] +
-                                                [str(v) for v in cols.values()]) + " |")
-                    csv_rows.append({"maneuver": label, "model": model[0], "set": set_label,
-                                     "sc": sc_label, **cols})
-        if len(results[(models[0][0], sets[0][0], SC[0][0], label)]["runs"]) > 1 and \
-                name != "sine_with_dwell":
-            levels = [r["label"] for r in first["runs"]]
-            md += ["", f"Several runs: values per run in the order {', '.join(levels)}."]
-        md.append("")
+    tables, csv_rows = maneuver_tables(results, walls, models, sets)
+    md += tables
 
     figs = swd_figures(results, out_dir, [m[0] for m in models], [s for s, _ in sets])
     md += ["## Sine with dwell: figures", ""]
@@ -293,15 +323,7 @@ def main(argv=None):
     md += ["...", "```", ""]
     with open(os.path.join(out_dir, "maneuvers.md"), "w") as f:
         f.write("\n".join(md))
-    fields = []
-    for r in csv_rows:
-        for k in r:
-            if k not in fields:
-                fields.append(k)
-    with open(os.path.join(out_dir, "maneuvers.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=fields)
-        w.writeheader()
-        w.writerows(csv_rows)
+    write_csv(os.path.join(out_dir, "maneuvers.csv"), csv_rows)
     summary = {"wall_s": total_wall, "runs": len(rows), "figures": [f for _, _, f in figs],
                "markdown": os.path.join(out_dir, "maneuvers.md"),
                "max_wall_s": max(walls.values()),
@@ -318,7 +340,7 @@ def main(argv=None):
         for _, _, f in figs:
             shutil.copy(os.path.join(out_dir, f), os.path.join(args.publish, "maneuvers", f))
     if not args.out:
-        report.update(args)
+        scwexp.update_report(args)
     return 0
 
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The claims of studies 1 and 2 on Open-Car-Dynamics beside scw's plant (issue 49 item 5,
 docs/ocd-plant.md): reads study columns run with `--set plant.model=ocd` and judges them with the
-report's unchanged criteria (experiments/report.py), next to the same column on scw's plant.
+report's unchanged criteria (scwexp.claims), next to the same column on scw's plant.
 
     python3 experiments/study2_lateral.py --set plant.model=ocd --set plant.actuators=paper_sim \\
         --results experiments/results/ocd_columns/shipped__paper_sim --label shipped \\
@@ -25,10 +25,7 @@ import os
 
 import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
 
-try:  # the claims' criteria, unchanged: the scwexp package's module, or the flat report.py's
-    from scwexp import claims as C  # noqa: E402
-except ImportError:
-    import report as C  # noqa: E402
+from scwexp import claims as C  # noqa: E402  (the claims' criteria, unchanged)
 
 CLAIMS = (("study1_longitudinal", "a", C.claim_a),
           ("study2_lateral", "b", C.claim_b),

@@ -165,76 +165,62 @@ def overlay_figures(results, out):
     return figs
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", default=os.path.join(scwexp.RESULTS, "ocd_crossval"))
-    ap.add_argument("--gg", default="1.0:0.05:1.8",
-                    help="GG axis of the laps (each plant stops at its first abort)")
-    ap.add_argument("--no-laps", action="store_true")
-    args = ap.parse_args(argv)
-    scw = scwexp.find_scw()
-    os.makedirs(os.path.join(args.out, "runs"), exist_ok=True)
+LAP_KEYS = ("lap_time_s", "max_abs_sideslip_deg", "max_abs_lateral_error_m",
+            "max_slip_rear_pct", "cs_count", "cs_time_s")
 
-    rows = []  # (group, metric, scw, ocd)
-    results = {}
+
+def maneuver_rows(scw, out, results):
+    """Every maneuver on both plants: rows (test, metric, scw, ocd); results[(label, plant)]."""
+    rows = []
     for label, name, extra, keys in MANEUVERS:
         vals = {}
         for plant in PLANTS:
-            res = run_maneuver(scw, args.out, plant, name, extra)
+            res = run_maneuver(scw, out, plant, name, extra)
             results[(label, plant)] = res
             vals[plant] = values_of(res, keys)
         for k in vals["scw"]:
             rows.append((label, k, vals["scw"].get(k), vals["ocd"].get(k)))
         print(f"{label}: done", flush=True)
+    return rows
 
-    if not args.no_laps:
-        first_abort = {}
-        for plant in PLANTS:
-            for gg in gg_axis(args.gg):
-                s = run_lap(scw, args.out, plant, gg)
-                if gg == gg_axis(args.gg)[0]:
-                    laps = s.get("lap_times_s") or [math.nan]
-                    label = f"Yas North lap, GG {gg:g}, pure pursuit, SC on"
-                    for key, val in (("lap_time_s", laps[0]),
-                                     ("max_abs_sideslip_deg", s.get("max_abs_sideslip_deg")),
-                                     ("max_abs_lateral_error_m",
-                                      s.get("max_abs_lateral_error_m")),
-                                     ("max_slip_rear_pct", s.get("max_slip_rear_pct")),
-                                     ("cs_count", s.get("cs_count")),
-                                     ("cs_time_s", s.get("cs_time_s"))):
-                        results.setdefault(("lap", key), {})[plant] = val
-                if s.get("status") != "completed":
-                    first_abort[plant] = (gg, s.get("status"), s.get("end_s_m"))
-                    break
-                results.setdefault(("last_completed", None), {})[plant] = (
-                    gg, (s.get("lap_times_s") or [math.nan])[0])
-            print(f"laps on {plant}: done", flush=True)
-        label = f"Yas North lap, GG {gg_axis(args.gg)[0]:g}, pure pursuit, SC on"
-        for key in ("lap_time_s", "max_abs_sideslip_deg", "max_abs_lateral_error_m",
-                    "max_slip_rear_pct", "cs_count", "cs_time_s"):
-            d = results.get(("lap", key), {})
-            rows.append((label, key, d.get("scw"), d.get("ocd")))
-        fa = {p: first_abort.get(p, (None, "none", None)) for p in PLANTS}
-        rows.append(("Yas North laps, GG " + args.gg + " (first abort)", "first_abort_gg",
-                     fa["scw"][0], fa["ocd"][0]))
-        lc = results.get(("last_completed", None), {})
-        rows.append(("Yas North laps, GG " + args.gg + " (first abort)",
-                     "lap_time_s at the last completed GG (scw/ocd: "
-                     + "/".join(f"{lc.get(p, (math.nan,))[0]:g}" for p in PLANTS) + ")",
-                     lc.get("scw", (None, None))[1], lc.get("ocd", (None, None))[1]))
-        abort_note = "; ".join(f"{p}: {fa[p][1]} at s = {fa[p][2]}" for p in PLANTS)
-    else:
-        abort_note = ""
 
-    with open(os.path.join(args.out, "crossval.csv"), "w", newline="") as f:
+def lap_rows(scw, out, axis_text):
+    """Laps up the GG axis on both plants, each to its first abort: rows for the first GG's lap,
+    the first abort and the last completed lap, and a sentence on where each plant aborted."""
+    axis = gg_axis(axis_text)
+    first, aborted, last = {}, {}, {}
+    for plant in PLANTS:
+        for gg in axis:
+            s = run_lap(scw, out, plant, gg)
+            lap = (s.get("lap_times_s") or [math.nan])[0]
+            if gg == axis[0]:
+                first[plant] = dict(s, lap_time_s=lap)
+            if s.get("status") != "completed":
+                aborted[plant] = (gg, s.get("status"), s.get("end_s_m"))
+                break
+            last[plant] = (gg, lap)
+        print(f"laps on {plant}: done", flush=True)
+    label = f"Yas North lap, GG {axis[0]:g}, pure pursuit, SC on"
+    rows = [(label, k, first["scw"].get(k), first["ocd"].get(k)) for k in LAP_KEYS]
+    fa = {p: aborted.get(p, (None, "none", None)) for p in PLANTS}
+    group = f"Yas North laps, GG {axis_text} (first abort)"
+    rows.append((group, "first_abort_gg", fa["scw"][0], fa["ocd"][0]))
+    rows.append((group, "lap_time_s at the last completed GG (scw/ocd: "
+                 + "/".join(f"{last.get(p, (math.nan,))[0]:g}" for p in PLANTS) + ")",
+                 last.get("scw", (None, None))[1], last.get("ocd", (None, None))[1]))
+    note = "; ".join(f"{p}: {fa[p][1]} at s = {fa[p][2]}" for p in PLANTS)
+    return rows, note
+
+
+def write_tables(out, rows, abort_note, figs):
+    with open(os.path.join(out, "crossval.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["test", "metric", "scw", "ocd", "diff_pct"])
         for g, k, a, b in rows:
             d = pct(a, b)
             w.writerow([g, k, "" if a is None else f"{a:.6g}", "" if b is None else f"{b:.6g}",
                         "" if d is None else f"{d:.2f}"])
-    figs = overlay_figures(results, args.out)
-    with open(os.path.join(args.out, "crossval.md"), "w") as f:
+    with open(os.path.join(out, "crossval.md"), "w") as f:
         f.write("| test | metric | scw | ocd | ocd - scw |\n| --- | --- | --- | --- | --- |\n")
         last = None
         for g, k, a, b in rows:
@@ -247,7 +233,27 @@ def main(argv=None):
             f.write(f"\nFirst aborts: {abort_note}.\n")
         for fig in figs:
             f.write(f"\n![{fig}]({fig})\n")
-    print(open(os.path.join(args.out, "crossval.md")).read())
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", default=os.path.join(scwexp.RESULTS, "ocd_crossval"))
+    ap.add_argument("--gg", default="1.0:0.05:1.8",
+                    help="GG axis of the laps (each plant stops at its first abort)")
+    ap.add_argument("--no-laps", action="store_true")
+    args = ap.parse_args(argv)
+    scw = scwexp.find_scw()
+    os.makedirs(os.path.join(args.out, "runs"), exist_ok=True)
+    results = {}
+    rows = maneuver_rows(scw, args.out, results)
+    abort_note = ""
+    if not args.no_laps:
+        more, abort_note = lap_rows(scw, args.out, args.gg)
+        rows += more
+    figs = overlay_figures(results, args.out)
+    write_tables(args.out, rows, abort_note, figs)
+    with open(os.path.join(args.out, "crossval.md")) as f:
+        print(f.read())
 
 
 if __name__ == "__main__":

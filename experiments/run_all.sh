@@ -23,7 +23,12 @@
 # feedbacks with both actuator models, the body's roll/pitch modes and the paper's setup as a whole
 # (paper_setup), about 25-30 min each),
 # STUDY_ARGS (extra options of every study, e.g. "--gg 1.0,1.05 --laps 1" for a quick check).
-# Shipped + one tuned set, both actuator models: see experiments/README.md for the measured time.
+# Time on 2 cores: shipped + one tuned set, both actuator models (the reference run, run_all.sh
+# experiments/reference-results/tuned_seed1.yaml): 15.7 min wall on the idle 2-core machine (user
+# 21.9 + system 5.4 CPU-min; per column 2.9 / 4.3 / 3.8 / 4.5 min), 2026-11-27 at main 8bbc49b
+# with the probe runs; on a machine shared with two other jobs (load 4-8) 75.4 min wall, 29.1
+# CPU-min. A third set adds two columns: tuned_paper_sim_seed1 took 4.8 (real car) + 6.8 (paper's
+# sim) min wall (2026-11-28), so the three reference sets take about 27.5 min.
 # To refresh the committed reference copy afterwards:
 #   python3 experiments/report.py --publish experiments/reference-results
 set -euo pipefail

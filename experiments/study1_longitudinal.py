@@ -18,32 +18,29 @@ Writes experiments/results/study1_longitudinal/: sweep.csv, sweep_brake40ms.csv,
 study1_longitudinal.png, study1_brake40ms.png, summary.json, scw*.log.
 
     python3 experiments/study1_longitudinal.py [--gg 1.0:0.05:1.8] [--refine 1] [--results DIR] [--laps 3] [--processes 2]
+
+Diagnostic (unscored): the same with ESC and CS off in both configurations. The first abort of
+each configuration is re-run with `scw simulate --trace` and described (diagnosis/).
+
+Time: ~6 min on 2 cores (3 laps, the default axis).
 """
 
 import argparse
 import os
 import sys
 
-import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
-import report  # noqa: E402  (regenerates report.md after the study)
-import studyplot  # noqa: E402
-
-STUDY = "study1_longitudinal"
-CONTROLLER = "pmpc"
-BASE_SETS = ["abort.lock_slip_pct=50", "abort.spin_slip_pct=30", "abort.slip_time=0.1",
-             "abort.max_lateral_error=100", "sensor_noise=true"]
-PERT = ("seed", [1, 2, 3])
-CONFIGS = [
-    ("sc_on", "subsystems.abs=true,subsystems.tc=true", "slip control on", "tab:blue"),
-    ("sc_off", "subsystems.abs=false,subsystems.tc=false", "slip control off", "tab:red"),
-]
-TOP = [("max_slip_front_pct", "-", ", front"), ("max_slip_rear_pct", "--", ", rear")]
+import debpython  # noqa: F401  (first: Debian's numpy/matplotlib, else a re-run with them)
+import scwexp  # noqa: E402
+from scwexp import plots  # noqa: E402
+from scwexp.studies import (  # noqa: E402
+    STUDY1 as STUDY, STUDY1_CONTROLLER as CONTROLLER, STUDY1_BASE_SETS as BASE_SETS,
+    STUDY1_PERT as PERT, STUDY1_CONFIGS as CONFIGS, STUDY1_TOP as TOP)
 
 
 def figure(per_pert, path, title):
     panels = [(f"sensor-noise seed {v}", per_pert[v]) for v in per_pert]
     lines = [(n, label, color, "-") for n, _, label, color in CONFIGS]
-    return studyplot.plot_grid(panels, lines, TOP, "max |slip| [%] (front solid, rear dashed)",
+    return plots.plot_grid(panels, lines, TOP, "max |slip| [%] (front solid, rear dashed)",
                                path, title)
 
 
@@ -114,7 +111,7 @@ def main(argv=None):
         out)
     summary["diagnosis_perturbation"] = first
     scwexp.finish_study(STUDY, scw, args, sets, summary, timer, per_pert, "seed", out, main_wall)
-    report.update(args)
+    scwexp.update_report(args)
     return 0
 
 

@@ -15,25 +15,21 @@ Writes experiments/results/study3_motion/: sweep_<controller>.csv, study3_motion
 study3_brake40ms.png, summary.json, scw_<controller>.log.
 
     python3 experiments/study3_motion.py [--gg 1.0:0.05:1.8] [--refine 1] [--results DIR] [--laps 3] [--controllers a,b]
+
+Time: ~6.5 min on 2 cores with pure pursuit and pmpc; nmpc adds ~5.4 min.
 """
 
 import argparse
 import os
 import sys
 
-import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
-import report  # noqa: E402  (regenerates report.md after the study)
-import studyplot  # noqa: E402
-
-STUDY = "study3_motion"
-BASE_SETS = ["plan_with_nominal_grip=true", "abort.lock_slip_pct=100"]
-PERT = ("grip.rear_mu_y", ["0.78", "0.8", "0.82"])
-MAIN_PERT = "0.8"
-CONTROLLERS = ["pure_pursuit", "pmpc", "nmpc"]
-VARIANTS = [("off", "subsystems.esc=false,subsystems.cs=false", "without SC", "-"),
-            ("sc", "subsystems.esc=true,subsystems.cs=true", "with ESC + CS", "--")]
-COLORS = {"pure_pursuit": "tab:blue", "pmpc": "tab:orange", "nmpc": "tab:green"}
-SENSITIVITY_CONTROLLERS = ["pure_pursuit", "pmpc"]
+import debpython  # noqa: F401  (first: Debian's numpy/matplotlib, else a re-run with them)
+import scwexp  # noqa: E402
+from scwexp import plots  # noqa: E402
+from scwexp.studies import (  # noqa: E402
+    STUDY3 as STUDY, STUDY3_BASE_SETS as BASE_SETS, STUDY3_PERT as PERT,
+    STUDY3_MAIN_PERT as MAIN_PERT, STUDY3_CONTROLLERS as CONTROLLERS, STUDY3_VARIANTS as VARIANTS,
+    STUDY3_COLORS as COLORS, STUDY3_SENSITIVITY_CONTROLLERS as SENSITIVITY_CONTROLLERS)
 
 
 def run_controllers(scw, args, out, controllers, pert, extra_sets, tag):
@@ -79,7 +75,7 @@ def figure(per_pert, controllers, path, title):
     panels = [(f"rear μy {v}", per_pert[v]) for v in per_pert]
     lines = [(f"{c}_{v}", f"{c} {label}", COLORS.get(c, "k"), ls)
              for c in controllers for v, _, label, ls in VARIANTS]
-    return studyplot.plot_grid(panels, lines, [("max_abs_sideslip_deg", None, "")],
+    return plots.plot_grid(panels, lines, [("max_abs_sideslip_deg", None, "")],
                                "max |β| [deg]", path, title, hline=20.0)
 
 
@@ -137,7 +133,7 @@ def main(argv=None):
                      + ", ".join(sens), "command": " | ".join(scmds), "wall_time_s": t.seconds(),
             "controllers": sens, "runs": sp, "figures": [os.path.relpath(spng, scwexp.RESULTS)]}
     scwexp.finish_study(STUDY, scw, args, args.set, summary, timer, per_pert, "rear μy", out)
-    report.update(args)
+    scwexp.update_report(args)
     return 0
 
 

@@ -30,6 +30,14 @@ the same for any thread count). Besides the wall time the script records each tu
 Deterministic methods (no random numbers: Subplex from the shipped set, DIRECT-L) give the same
 run for every seed; they run on the first two seeds only, and the table says whether the two agree
 bit for bit.
+
+Defaults: Subplex alone; CRS2, ESCH, ISRES and DIRECT-L each followed by Subplex; MLSL-LDS;
+`lhs+sbplx --batch 4`; a Subplex restart; seeds 1-5, 180 evaluations. Finished runs are reused.
+experiments/robust_quarter.yaml is the robust scenario set at a quarter of its size, for
+reduced-budget runs.
+
+Time on 2 cores: the default set ~160 s CPU per tune, 34 tunes and two at 900 evaluations about
+2 h; the robust quarter at 90 evaluations 320-360 s CPU per tune.
 """
 
 import argparse
@@ -43,7 +51,8 @@ import subprocess
 import sys
 import time
 
-import scwexp
+import debpython  # noqa: F401  (first: Debian's numpy/matplotlib, else a re-run with them)
+import scwexp  # noqa: E402
 
 DEFAULT_METHODS = [
     "sbplx",  # Subplex alone, from the shipped set
@@ -142,6 +151,7 @@ def spread(values):
 
 
 def plot(results, methods, path):
+    from scwexp import plots  # noqa: F401  (the Agg backend, before pyplot)
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(9, 5.5))
     for m in methods:

@@ -239,7 +239,8 @@ PointMassMpc::PointMassMpc(const PmpcOptions& options, GgTable limits, Corridor 
       options_(options),
       esc_target_(options.esc_target == "commanded"  ? EscTarget::kCommanded
                   : options.esc_target == "steering" ? EscTarget::kSteering
-                                                     : EscTarget::kPlan) {
+                                                     : EscTarget::kPlan),
+      provided_limits_(options.limits == "provided") {
   Problems pr = ValidateInputs();
   const auto& o = options_;
   pr.Append(params::Validate(static_cast<const params::PmpcParams&>(o)));  // bounds, cross-checks
@@ -516,8 +517,14 @@ MotionOutput PointMassMpc::Step(const MotionInput& in, MotionState* base) const 
   if (!std::isfinite(delta)) delta = 0.0;
   out.steering_request = std::clamp(delta, -o.max_steering, o.max_steering);
   double ax = at_nom + o.speed_gain * (v_nom - v);
-  ax = std::clamp(ax, -o.headroom * limits().AxBrakeMax(v),
-                  std::max(o.headroom * limits().AxDriveMax(v), 0.5));
+  double drive_cap = o.headroom * limits().AxDriveMax(v),
+         brake_cap = o.headroom * limits().AxBrakeMax(v);
+  if (provided_limits_) {
+    const double ay_abs = std::abs(an_cmd), ay_lim = limits().AyMax(v);
+    drive_cap *= limits().DriveFactor(ay_abs, ay_lim, v);
+    brake_cap *= limits().BrakeFactor(ay_abs, ay_lim, v);
+  }
+  ax = std::clamp(ax, -brake_cap, std::max(drive_cap, 0.5));
   out.ax_request = std::isfinite(ax) ? ax : 0.0;
   if (esc_target_ == EscTarget::kSteering) {
     out.ay_request = std::numeric_limits<double>::quiet_NaN();  // not published

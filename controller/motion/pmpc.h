@@ -27,6 +27,9 @@
 //   L = max(L_min, t_la·v), a_n,cmd = ā_n(τ) − 2v²(e_n + L e_ξ)/L²  (clamped to headroom·ay_max),
 //   δ = atan(l·a_n,cmd/v²) + K_us·a_n,cmd,  a_x,req = ā_t(τ) + k_v (v̄(τ) − v),
 //   ESC target a_y,req = ā_n(τ) (the plan's lateral acceleration).
+// limits = provided (the factory sets nominal_fraction = headroom = 1 and plans the reference at
+// target_fraction of the limits): a_x,req is clamped into the g-g law at |a_n,cmd| as well
+// (drive ≤ ax_drive·C(|a_n|/ay_max), brake ≥ −ax_brake·C(·)), so no request leaves the limits.
 // A failed solve uses the previous plan shifted in time; once it runs out (horizon) a
 // pure-pursuit-like law on the reference takes over until a solve succeeds. Both are counted
 // (the shared MPC wrapper, mpc_common.h).
@@ -119,6 +122,8 @@ class PointMassMpc final : public MpcController {
   /// options_.esc_target, read once (not per step): which a_y request the ESC gets.
   enum class EscTarget { kPlan, kCommanded, kSteering };
   EscTarget esc_target_ = EscTarget::kPlan;
+  /// options_.limits == "provided": the feedback's a_x is held inside the g-g law at its a_n.
+  bool provided_limits_ = false;
   std::vector<double> slope_, offset_;
 };
 

@@ -95,6 +95,8 @@ struct PmpcParams {
   int max_iter = 60;
   double tol = 1e-6;
   std::string esc_target = "plan";  ///< plan | commanded | steering
+  std::string limits = "scaled";    ///< scaled | provided
+  double target_fraction = 0.85;    ///< [-] provided: the plan's speed profile × the limits
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
@@ -216,6 +218,23 @@ struct PmpcParams {
                     "study 3).",
              .optional = true,
              .choices = "plan|commanded|steering"});
+    v.Field(s.limits,
+            {.key = "limits",
+             .doc = "scaled = the plan within nominal_fraction and the feedback within headroom "
+                    "times the planner's limits, on the planner's speed profile; provided = "
+                    "nothing above the planner's limits (plan and feedback at 1.0, the "
+                    "feedback's a_x inside the g-g law at its a_n; nominal_fraction and headroom "
+                    "unused) on a speed profile planned at target_fraction of them.",
+             .optional = true,
+             .choices = "scaled|provided"});
+    v.Field(s.target_fraction,
+            {.key = "target_fraction",
+             .lo = 0.3,
+             .hi = 1.0,
+             .doc = "limits=provided: the share of the planner's limits the speed profile the "
+                    "plan follows is planned with (fixed by "
+                    "experiments/pmpc_provided_criterion.md).",
+             .optional = true});
     detail::VisitMpcCommon(s, v);
   }
   static void CrossCheck(const PmpcParams& p, Problems& pr) {

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Checks the prose documentation (CONTRIBUTING.md, "Documentation"):
 
-* no table cell over 300 characters in README.md, CONTRIBUTING.md, docs/**/*.md and
-  examples/**/*.md (the generated
+* no table cell over 300 characters in README.md, CONTRIBUTING.md, experiments/README.md,
+  docs/**/*.md and examples/**/*.md (the generated
   parameter tables included: `scw params docs` puts a longer description under its table);
 * every relative link and #anchor in those files resolves (a file or folder of the repository, a
   heading of the linked page as GitHub makes its anchor);
@@ -30,7 +30,8 @@ CODE_SPAN = re.compile(r'`[^`]*`')
 
 
 def pages(root):
-    out = [p for p in ('README.md', 'CONTRIBUTING.md') if os.path.exists(os.path.join(root, p))]
+    out = [p for p in ('README.md', 'CONTRIBUTING.md', os.path.join('experiments', 'README.md'))
+           if os.path.exists(os.path.join(root, p))]
     for top in ('docs', 'examples'):
         for d, _, files in os.walk(os.path.join(root, top)):
             out += [os.path.relpath(os.path.join(d, f), root) for f in sorted(files)

@@ -1,12 +1,12 @@
-"""experiments/loss_stats.py on synthetic data: Wilson's interval against values computed by
-hand, the loss curve, the crossings and their interval."""
+"""scwexp.analysis (the former experiments/loss_stats.py) on synthetic data: Wilson's interval
+against values computed by hand, the loss curve, the crossings and their interval."""
 
 import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
                                 "experiments"))
-import loss_stats  # noqa: E402
+from scwexp import analysis as loss_stats  # noqa: E402
 
 
 def close(a, b, tol=1e-4):
@@ -22,6 +22,9 @@ def main():
     lo, hi = loss_stats.wilson(10, 10)
     assert close(lo, 0.72247) and close(hi, 1.0), (lo, hi)
     assert loss_stats.wilson(0, 0) == (0.0, 1.0)
+    # none or all lost: the bounds are exactly 0 and 1 for any n
+    assert all(loss_stats.wilson(0, n)[0] == 0.0 and loss_stats.wilson(n, n)[1] == 1.0
+               for n in range(1, 40)), [loss_stats.wilson(0, n) for n in range(1, 4)]
     # A limit between GG 1.1 (2 of 10 lost) and 1.15 (8 of 10).
     runs = [(1.05, False)] * 10 + [(1.1, i < 2) for i in range(10)] + \
         [(1.15, i < 8) for i in range(10)] + [(1.2, True)] * 10

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Fast checks of the experiment scripts' logic on synthetic data (no scw runs): the bisection of
 first aborts (scwexp.refine_first_aborts, with a stand-in for the sweep), the margin of a series
-and claim (c) (report.py), the side-by-side verdict table, the rear tyre's peak slip angle and the
-knife-edge analysis of a trace (knife_edge.py), the claims maps of several sets in the report and
+and claim (c) (scwexp.analysis, scwexp.claims), the side-by-side verdict table, the rear tyre's peak slip angle and the
+knife-edge analysis of a trace (scwexp.knife_edge), the claims maps of several sets in the report and
 the studies' common end (scwexp.finish_study). Exit 77 (skipped) without numpy/matplotlib.
 
     python3 test/experiments/studies_test.py EXPERIMENTS_DIR WORK_DIR
@@ -25,9 +25,13 @@ except ImportError:
     print("skipped: no numpy/matplotlib")
     sys.exit(77)
 import scwexp  # noqa: E402
-import report  # noqa: E402
-import knife_edge  # noqa: E402
-import esc_margin  # noqa: E402
+from scwexp import analysis, claims, knife_edge  # noqa: E402
+from scwexp.report import claims_map as report_maps  # noqa: E402
+from scwexp.report import esc_margin as report_esc  # noqa: E402
+from scwexp.report import goal as report_goal  # noqa: E402
+from scwexp.report import verdicts as report_verdicts  # noqa: E402
+import esc_margin  # noqa: E402  (the driver: finest_band runs sweeps)
+from scwexp import esc_margin as esc_lib  # noqa: E402
 
 FIELDS = ["config", "gg_scale", "grip.rear_mu_y", "status", "mean_lap_time_s", "esc_count",
           "cs_count", "abs_count", "tc_count"]
@@ -41,7 +45,7 @@ def run_row(gg, status="completed", lap=70.0, esc=0, **kw):
 
 
 def fake_sweep(limit, key, calls, verify=None):
-    """A stand-in for scwexp.run of a bisection sweep: each --config's run completes below
+    """A stand-in for scwexp.runner.run of a bisection sweep: each --config's run completes below
     limit[its value of `key`] and aborts (sideslip) at or above it; `calls` collects the
     commands, `verify` sees every configuration's overrides."""
     def fake_run(cmd, log=None, check=True):
@@ -77,15 +81,15 @@ class Refine(unittest.TestCase):
                 rows.append({"config": s, "gg_scale": gg, "grip.rear_mu_y": 0.8, "status": st})
                 if st != "completed":
                     break
-        saved = scwexp.run
-        scwexp.run = fake_run
+        saved = scwexp.runner.run
+        scwexp.runner.run = fake_run
         try:
             out, cmds = scwexp.refine_first_aborts(
                 "scw", type("A", (), {"threads": 1, "processes": 2})(), ["laps=3", "seed=1"],
                 ["a:subsystems.esc=a", "b:subsystems.esc=b"], rows, ("grip.rear_mu_y", ["0.8"]),
                 os.path.join(WORK, "sweep.csv"), os.path.join(WORK, "scw.log"), levels=2)
         finally:
-            scwexp.run = saved
+            scwexp.runner.run = saved
         self.assertEqual(len(cmds), 2)
         self.assertIn("laps=3", calls[0])               # laps as the varied key
         self.assertNotIn("--set laps=3", " ".join(calls[0]))
@@ -114,8 +118,8 @@ class Probe(unittest.TestCase):
                     break
 
         def refine(name):
-            saved = scwexp.run
-            scwexp.run = fake_sweep(limit, "series", calls)
+            saved = scwexp.runner.run
+            scwexp.runner.run = fake_sweep(limit, "series", calls)
             try:
                 return scwexp.refine_first_aborts(
                     "scw", type("A", (), {"threads": 1, "processes": 2})(), ["laps=3"],
@@ -124,7 +128,7 @@ class Probe(unittest.TestCase):
                     os.path.join(WORK, f"{name}.log"), levels=1,
                     probe=lambda n: "none" if n != "none" else None)
             finally:
-                scwexp.run = saved
+                scwexp.runner.run = saved
         # none: 1.05 ok, 1.1 aborts -> 1.075 ok; first abort stays 1.1 (on the grid): esc has a
         # run there, cs aborted below it: nothing to probe
         out, cmds = refine("probe")
@@ -148,12 +152,12 @@ class Margin(unittest.TestCase):
     def test_cliff_and_margin(self):
         cliff = self.series([run_row(1.0, lap=72), run_row(1.05, lap=71),
                              run_row(1.1, "sideslip")])
-        m = report.margin_of(cliff)
+        m = analysis.margin_of(cliff)
         self.assertEqual(m["margin_gg"], 0.0)
         wide = self.series([run_row(1.0, lap=72), run_row(1.05, lap=71, esc=3),
                             run_row(1.1, lap=71.2, esc=9), run_row(1.15, lap=71.4, esc=20),
                             run_row(1.2, "sideslip")])
-        m = report.margin_of(wide)
+        m = analysis.margin_of(wide)
         self.assertAlmostEqual(m["margin_gg"], 0.10)
         self.assertAlmostEqual(m["margin_steps"], 2.0)
         self.assertAlmostEqual(m["cost_s"], 0.4)
@@ -169,8 +173,8 @@ class Margin(unittest.TestCase):
                                            run_row(1.15, "sideslip")]),
                     "none": self.series([run_row(1.0, lap=72), run_row(1.05, "sideslip")]),
                     "cs": self.series([run_row(1.0, lap=72), run_row(1.05, "sideslip")])}
-        self.assertTrue(report.claim_c(ser(5))[0])
-        self.assertFalse(report.claim_c(ser(0))[0])
+        self.assertTrue(claims.claim_c(ser(5))[0])
+        self.assertFalse(claims.claim_c(ser(0))[0])
 
 
 class VerdictTable(unittest.TestCase):
@@ -186,7 +190,7 @@ class VerdictTable(unittest.TestCase):
                     "column": {"set_label": label, "actuators": act}}
         cols = [("shipped__vehicle", "", {"study2_lateral": s2("shipped", "vehicle", 1.05)}),
                 ("tuned__paper_sim", "", {"study2_lateral": s2("tuned", "paper_sim", 1.15)})]
-        lines, results = report.verdict_table(cols)
+        lines, results = report_verdicts.verdict_table(cols)
         self.assertIn("shipped set, real car", lines[0])
         self.assertIn("tuned set, paper's sim", lines[0])
         self.assertEqual(len(lines), 2 + 4)   # header, rule, claims (a)-(d)
@@ -214,18 +218,18 @@ class ClaimsMaps(unittest.TestCase):
                            "wall_time_s": 60, "commands": []}, f)
         write("claims_map_tuned", "tuned", True)
         write("claims_map", "shipped", False)
-        maps = report.claims_maps(root)
+        maps = report_maps.claims_maps(root)
         self.assertEqual([m["set_label"] for m in maps], ["shipped", "tuned"])
-        section = "\n".join(report.claims_map_section(root))
-        self.assertIn("## Claims map: what decides each claim", section)
-        self.assertIn("## Claims map with the tuned set", section)
+        section = "\n".join(report_maps.claims_map_section(root))
+        self.assertIn("# Claims map: what decides each claim", section)
+        self.assertIn("# Claims map with the tuned set", section)
         self.assertIn("(claims_map_tuned/claims_map.png)", section)
-        old = scwexp.ROOT_RESULTS
-        scwexp.ROOT_RESULTS = root
+        old = scwexp.paths.ROOT_RESULTS
+        scwexp.paths.ROOT_RESULTS = root
         try:
-            goal = report.goal_section({}, [])
+            goal = report_goal.goal_section({}, [])
         finally:
-            scwexp.ROOT_RESULTS = old
+            scwexp.paths.ROOT_RESULTS = old
         b = [x for x in goal if x.startswith("- **(b)**")][0]
         self.assertIn("holding with: brake dead time 0 ms (tuned set)", b)
         c = [x for x in goal if x.startswith("- **(c)**")][0]
@@ -234,7 +238,7 @@ class ClaimsMaps(unittest.TestCase):
         self.assertNotIn("single modelling choice", b)
 
     def test_a_vehicle_file_value_is_edited_in_place_and_named_as_one_choice(self):
-        import claims_map
+        from scwexp import claims_map
         lines = ["name: \"eav24\"", "chassis:", "  mass: 720.0",
                  "  roll_stiffness_share_front: 0.5", "tires:", "  front:", "    lky: 0.8",
                  "  rear:", "    fnomin: 4000.0", "    lky: 1.0", "brakes:", "  delay: 0.116"]
@@ -265,28 +269,28 @@ class ClaimsMaps(unittest.TestCase):
                     {"gg_scale": 1.025, "status": "completed", "max_esc_margin": last_m},
                     {"gg_scale": gg_lost, "status": "sideslip", "max_esc_margin": lost_m}]
             return {"runs": runs, "first_abort": gg_lost}
-        self.assertEqual(report.none_edge_margins(series(0.4, 3.0)), (0.4, 3.0))
+        self.assertEqual(analysis.none_edge_margins(series(0.4, 3.0)), (0.4, 3.0))
         # a summary written before the margin was kept: nothing is claimed
         old = series(0.4, 3.0)
         for r in old["runs"]:
             del r["max_esc_margin"]
-        self.assertEqual(report.none_edge_margins(old), (None, None))
-        self.assertEqual(report.none_margin_band([{"label": "a", "series": {"none": old}}]), "")
+        self.assertEqual(analysis.none_edge_margins(old), (None, None))
+        self.assertEqual(report_goal.none_margin_band([{"label": "a", "series": {"none": old}}]), "")
         vs = [{"label": "a", "series": {"none": series(0.4, 3.0)}},
               {"label": "b", "series": {"none": series(0.6, 1.2)}}]
-        text = report.none_margin_band(vs)
+        text = report_goal.none_margin_band(vs)
         self.assertIn("at its last completed GG is 0.40–0.60, ≥ 1 in 0 of 2 variants", text)
         self.assertIn("in its first abort 1.20–3.00, ≥ 1 in 2 of 2", text)
         self.assertIn("never in a lap it completes", text)
         # one variant meets ESC's condition in a completed lap: it is named, no general claim
         vs.append({"label": "c", "series": {"none": series(1.1, 2.0)}})
-        text = report.none_margin_band(vs)
+        text = report_goal.none_margin_band(vs)
         self.assertIn("≥ 1 in 1 of 3 variants (c)", text)
         self.assertNotIn("never in a lap it completes", text)
 
     def test_the_single_choice_is_named_against_the_sets_real_car_column(self):
         import json
-        import claims_map
+        from scwexp import claims_map
         # what a variant changes from the vehicle file, one entry per modelling choice
         self.assertEqual(claims_map.changes_of(
             "brake_steer", ["plant.brake_dead_time", "plant.steering_delay"], ["0.116", "0.03"]),
@@ -312,12 +316,12 @@ class ClaimsMaps(unittest.TestCase):
             json.dump({"set_label": "tuned", "variants": vs, "commands": []}, f)
         col = ("tuned__vehicle", "", {"study2_lateral": {
             "column": {"set_label": "tuned", "actuators": "vehicle"}}})
-        old = scwexp.ROOT_RESULTS
-        scwexp.ROOT_RESULTS = root
+        old = scwexp.paths.ROOT_RESULTS
+        scwexp.paths.ROOT_RESULTS = root
         try:
-            goal = report.goal_section({("c", "tuned__vehicle"): False}, [col])
+            goal = report_goal.goal_section({("c", "tuned__vehicle"): False}, [col])
         finally:
-            scwexp.ROOT_RESULTS = old
+            scwexp.paths.ROOT_RESULTS = old
         c = [x for x in goal if x.startswith("- **(c)**")][0]
         # the variant with the fewest changes is the one shown, against the real-car column
         self.assertIn("**The single modelling choice that flips it: x**", c)
@@ -327,7 +331,7 @@ class ClaimsMaps(unittest.TestCase):
 
 
     def test_every_vehicle_edit_family_finds_its_key_in_the_vehicle_file(self):
-        import claims_map
+        from scwexp import claims_map
         # the edited copies start from `scw vehicle init`, the same text as the repository's
         # eav24.yaml; a key the file does not write (an omitted default) could not be edited
         path = os.path.join(os.path.dirname(os.path.abspath(EXP)), "params", "vehicles",
@@ -343,7 +347,7 @@ class ClaimsMaps(unittest.TestCase):
             self.assertEqual(len(out), len(lines), tag)
 
     def test_the_paper_setup_family_counts_each_of_its_choices(self):
-        import claims_map
+        from scwexp import claims_map
         fam = [f for f in claims_map.FAMILIES if f[0] == "paper_setup"]
         self.assertEqual(len(fam), 1)
         edits = [x for x in fam[0][2] if x.startswith("@")]
@@ -375,7 +379,7 @@ class ClaimsMaps(unittest.TestCase):
 
     def test_a_paper_sim_variant_is_one_change_from_the_paper_sim_column(self):
         import json
-        import claims_map
+        from scwexp import claims_map
         # the pair (paper's simulator, yaw-rate feedback) is two changes from the vehicle file
         # and one from the set's paper's-sim column; a dead time varied beside the simulator's
         # actuators replaces the model's own, so it is a change even at the vehicle file's value
@@ -408,12 +412,12 @@ class ClaimsMaps(unittest.TestCase):
             json.dump({"set_label": "tuned", "variants": [v], "commands": []}, f)
         cols = [(f"tuned__{a}", "", {"study2_lateral": {
             "column": {"set_label": "tuned", "actuators": a}}}) for a in ("vehicle", "paper_sim")]
-        old = scwexp.ROOT_RESULTS
-        scwexp.ROOT_RESULTS = root
+        old = scwexp.paths.ROOT_RESULTS
+        scwexp.paths.ROOT_RESULTS = root
         try:
-            goal = report.goal_section({}, cols)
+            goal = report_goal.goal_section({}, cols)
         finally:
-            scwexp.ROOT_RESULTS = old
+            scwexp.paths.ROOT_RESULTS = old
         d = [x for x in goal if x.startswith("- **(d)**")][0]
         self.assertIn("**The single modelling choice that flips it: PMPC yaw-rate feedback gain "
                       "0.3 s**, one change from the scored column tuned set, paper's sim (the "
@@ -434,33 +438,33 @@ class ClaimsMaps(unittest.TestCase):
                        run(1.1, "completed", 67.9, 2), run(1.15, "completed", 67.5, 9)),
             "esc+cs": ser(run(1.0, "completed", 70.0), run(1.05, "completed", 69.05, 3),
                           run(1.1, "lateral_error", 0.0, 1))}}
-        prem = report.d_premise_runs([v, {"label": "no esc+cs", "series": {"none": ser()}}])
+        prem = analysis.d_premise_runs([v, {"label": "no esc+cs", "series": {"none": ser()}}])
         self.assertEqual([(x[0], x[1], x[4], x[5]) for x in prem],
                          [("k", 1.05, 5, 3), ("k", 1.1, 2, 0)])
         self.assertAlmostEqual(prem[0][2], 0.15)
         self.assertAlmostEqual(prem[0][3], 0.05)
         self.assertIsNone(prem[1][3])
-        text = report.d_premise_text(prem)
+        text = report_goal.d_premise_text(prem)
         self.assertIn("(2 runs in 1 variant, any GG of the axis), Δ(ESC) is -0.100 to +0.150 s", text)
         self.assertIn("in 0.05–0.40 s in 1, below 0 in 1", text)
         self.assertIn("appears at 1 of them (k at GG 1.05: +0.150/+0.050 s, ESC 5×/3×)", text)
         self.assertNotIn("limit-cycles", text)
-        self.assertEqual(report.d_premise_text([]), "")
+        self.assertEqual(report_goal.d_premise_text([]), "")
         # the same runs with a motion controller that limit-cycles (none's steering above
         # 1.6 Hz at or over the threshold in a completed run): counted apart
         for r in v["series"]["none"]["runs"]:
             r["steer_hf_rms_deg"] = 0.2
-        self.assertFalse(report.limit_cycling(v))
-        self.assertEqual(report.steer_hf(v), 0.2)
-        v["series"]["none"]["runs"][1]["steer_hf_rms_deg"] = report.STEER_LIMIT_CYCLE_DEG
+        self.assertFalse(claims.limit_cycling(v))
+        self.assertEqual(claims.steer_hf(v), 0.2)
+        v["series"]["none"]["runs"][1]["steer_hf_rms_deg"] = claims.STEER_LIMIT_CYCLE_DEG
         v["series"]["none"]["runs"][3]["steer_hf_rms_deg"] = 9.0  # a lost run does not count
-        self.assertTrue(report.limit_cycling(v))
-        self.assertEqual(report.steer_hf(v), report.STEER_LIMIT_CYCLE_DEG)
-        text = report.d_premise_text(report.d_premise_runs([v]))
+        self.assertTrue(claims.limit_cycling(v))
+        self.assertEqual(claims.steer_hf(v), claims.STEER_LIMIT_CYCLE_DEG)
+        text = report_goal.d_premise_text(analysis.d_premise_runs([v]))
         self.assertIn("2 of the 2 runs (1 of the pattern's) are of variants whose motion "
                       "controller limit-cycles", text)
         # a summary without the column: not judged
-        self.assertIsNone(report.steer_hf({"series": {"none": {"runs": [
+        self.assertIsNone(claims.steer_hf({"series": {"none": {"runs": [
             {"status": "completed", "steer_hf_rms_deg": None}]}}}))
 
     def test_a_flip_by_a_limit_cycling_motion_controller_is_set_aside(self):
@@ -479,16 +483,16 @@ class ClaimsMaps(unittest.TestCase):
                        "variants": [variant("k 0.3", 2.0), variant("k 0.1", 0.1)]}, f)
         col = ("shipped__vehicle", "", {"study2_lateral": {
             "column": {"set_label": "shipped", "actuators": "vehicle"}}})
-        old = scwexp.ROOT_RESULTS
-        scwexp.ROOT_RESULTS = root
+        old = scwexp.paths.ROOT_RESULTS
+        scwexp.paths.ROOT_RESULTS = root
         try:
-            b = [x for x in report.goal_section({}, [col]) if x.startswith("- **(b)**")][0]
+            b = [x for x in report_goal.goal_section({}, [col]) if x.startswith("- **(b)**")][0]
             with open(os.path.join(root, "claims_map", "summary.json"), "w") as f:
                 json.dump({"set_label": "shipped", "commands": [],
                            "variants": [variant("k 0.3", 2.0)]}, f)
-            only = [x for x in report.goal_section({}, [col]) if x.startswith("- **(b)**")][0]
+            only = [x for x in report_goal.goal_section({}, [col]) if x.startswith("- **(b)**")][0]
         finally:
-            scwexp.ROOT_RESULTS = old
+            scwexp.paths.ROOT_RESULTS = old
         self.assertIn("with a limit-cycling motion controller only in: k 0.3 (shipped set; "
                       "steering above 1.6 Hz 2.00° RMS)", b)
         self.assertIn("**The single modelling choice that flips it: k 0.1**", b)
@@ -497,7 +501,7 @@ class ClaimsMaps(unittest.TestCase):
 
 
 class EscMargin(unittest.TestCase):
-    """The GG claim (d) is judged at, as report.claim_d picks it."""
+    """The GG claim (d) is judged at, as claims.claim_d picks it."""
 
     def series(self, aborts):
         return {c: {"runs": [run_row(g, status="completed" if g < a else "sideslip")
@@ -506,19 +510,19 @@ class EscMargin(unittest.TestCase):
 
     def test_highest_common_completed_gg(self):
         s = self.series({"none": 1.05, "esc": 1.2, "cs": 1.025, "esc+cs": 1.4})
-        self.assertEqual(esc_margin.judged_gg(s), 1.0)
+        self.assertEqual(esc_lib.judged_gg(s), 1.0)
         s = self.series({"none": 1.1, "esc": 1.2, "cs": 1.2, "esc+cs": 1.4})
-        self.assertEqual(esc_margin.judged_gg(s), 1.05)
+        self.assertEqual(esc_lib.judged_gg(s), 1.05)
 
     def test_the_papers_gg_when_all_complete_it(self):
         s = self.series({"none": 1.4, "esc": 1.4, "cs": 1.4, "esc+cs": 1.4})
-        self.assertEqual(esc_margin.judged_gg(s), report.GG_D)
+        self.assertEqual(esc_lib.judged_gg(s), claims.GG_D)
 
     def test_none_without_a_common_run_or_a_configuration(self):
         s = self.series({"none": 1.0, "esc": 1.2, "cs": 1.2, "esc+cs": 1.4})
-        self.assertIsNone(esc_margin.judged_gg(s))
+        self.assertIsNone(esc_lib.judged_gg(s))
         del s["cs"]
-        self.assertIsNone(esc_margin.judged_gg(s))
+        self.assertIsNone(esc_lib.judged_gg(s))
 
 
 class EscMarginTerms(unittest.TestCase):
@@ -533,10 +537,10 @@ class EscMarginTerms(unittest.TestCase):
         return r
 
     def test_levels_reach_the_resolution(self):
-        self.assertEqual(esc_margin.bisection_levels(1.025, 1.05, 0.001), 5)  # 0.025/32 < 0.001
-        self.assertEqual(esc_margin.bisection_levels(1.0, 1.05, 0.025), 1)
-        self.assertEqual(esc_margin.bisection_levels(1.0, 1.001, 0.001), 0)
-        self.assertEqual(esc_margin.bisection_levels(1.0, 1.05, 0), 0)
+        self.assertEqual(esc_lib.bisection_levels(1.025, 1.05, 0.001), 5)  # 0.025/32 < 0.001
+        self.assertEqual(esc_lib.bisection_levels(1.0, 1.05, 0.025), 1)
+        self.assertEqual(esc_lib.bisection_levels(1.0, 1.001, 0.001), 0)
+        self.assertEqual(esc_lib.bisection_levels(1.0, 1.05, 0), 0)
 
     def test_finest_band_bisects_a_summary_series(self):
         # a summary's runs have no `config` key (the regression of the first full run)
@@ -544,16 +548,16 @@ class EscMarginTerms(unittest.TestCase):
                 {"gg_scale": 1.025, "status": "completed"},
                 {"gg_scale": 1.05, "status": "off_track"}]
         calls = []
-        saved = scwexp.run
+        saved = scwexp.runner.run
         ran = set()
-        scwexp.run = fake_sweep({"false": 1.036}, "subsystems.esc", calls,
+        scwexp.runner.run = fake_sweep({"false": 1.036}, "subsystems.esc", calls,
                                 lambda kv: ran.add(float(kv["gg_scale"])))
         try:
             args = argparse.Namespace(processes=2, threads=1, resolution=0.001, reuse=False)
             fine = esc_margin.finest_band("scw", args, "col", {"none": {"runs": runs}},
                                           ["laps=3"], None, WORK)
         finally:
-            scwexp.run = saved
+            scwexp.runner.run = saved
         self.assertEqual(len(calls), 5)
         self.assertAlmostEqual(fine["last_completed"], 1.035938, places=6)
         self.assertAlmostEqual(fine["first_abort"], 1.036719, places=6)
@@ -566,10 +570,10 @@ class EscMarginTerms(unittest.TestCase):
     def test_scan_grid_lies_strictly_inside_the_edge(self):
         runs = {"none": {"runs": [{"gg_scale": 1.025, "status": "completed"},
                                   {"gg_scale": 1.05, "status": "sideslip"}]}}
-        self.assertEqual(esc_margin.scan_grid(runs, 0.0025),
+        self.assertEqual(esc_lib.scan_grid(runs, 0.0025),
                          [1.0275, 1.03, 1.0325, 1.035, 1.0375, 1.04, 1.0425, 1.045, 1.0475])
-        self.assertEqual(esc_margin.scan_grid(runs, 0), [])
-        self.assertEqual(esc_margin.scan_grid({"none": {"runs": runs["none"]["runs"][:1]}},
+        self.assertEqual(esc_lib.scan_grid(runs, 0), [])
+        self.assertEqual(esc_lib.scan_grid({"none": {"runs": runs["none"]["runs"][:1]}},
                                               0.0025), [])
 
     def test_scan_text_finds_non_monotone_loss_and_prices_esc(self):
@@ -581,25 +585,25 @@ class EscMarginTerms(unittest.TestCase):
                 r("none", 1.0325, "off_track"), r("esc", 1.0325, "completed", 71.5, esc=2),
                 r("none", 1.035, "completed", 71.20), r("esc", 1.035, "completed", 71.30, esc=1),
                 r("none", 1.0375, "sideslip"), r("esc", 1.0375, "sideslip", esc=4)]
-        text = "\n".join(report.esc_margin_scan_text(rows))
+        text = "\n".join(report_esc.esc_margin_scan_text(rows))
         self.assertIn("| shipped, vehicle | 1.0300–1.0375 (4) | 2 of 4 | no: lost at 1.0325 "
                       "below completed 1.0350 | 2 | -0.070 (1.0300), +0.100 (1.0350) | 1 |", text)
         self.assertIn("On a grid of 0.0025 GG", text)
         self.assertIn("not monotone in GG in 1 of 1 columns", text)
         self.assertIn("ESC acts in 2 laps that `none` completes at the same GG, where it changes "
                       "the lap by -0.070 to +0.100 s; 1 of them in (d)'s 0.05–0.4 s.", text)
-        self.assertEqual(report.esc_margin_scan_text(rows[:0]), [])
+        self.assertEqual(report_esc.esc_margin_scan_text(rows[:0]), [])
         mono = [x for x in rows if x["gg"] != 1.0325]
         self.assertIn("on this grid its loss is monotone in GG in every column",
-                      "\n".join(report.esc_margin_scan_text(mono)))
+                      "\n".join(report_esc.esc_margin_scan_text(mono)))
 
     def test_falloff_probe_runs_none_at_both_edges_and_names_the_cliff(self):
-        self.assertEqual(esc_margin.falloffs("0, 1.5"), [0.0, 1.5])
-        self.assertEqual(esc_margin.falloffs(""), [])
+        self.assertEqual(esc_lib.falloffs("0, 1.5"), [0.0, 1.5])
+        self.assertEqual(esc_lib.falloffs(""), [])
         for bad in ("1", "-0.5", "x", "nan"):
             with self.assertRaises(argparse.ArgumentTypeError):
-                esc_margin.falloffs(bad)
-        cfgs = esc_margin.falloff_configs(1.025, 1.05, [0.0, 1.5])
+                esc_lib.falloffs(bad)
+        cfgs = esc_lib.falloff_configs(1.025, 1.05, [0.0, 1.5])
         self.assertEqual(len(cfgs), 6)
         self.assertEqual(cfgs[0], "none.fo100_last:subsystems.esc=false,subsystems.cs=false,"
                                   "gg_scale=1.025,plant.rear_tire_falloff=1")
@@ -618,7 +622,7 @@ class EscMarginTerms(unittest.TestCase):
                 lap = lap0 if col == "vehicle" or f == 1.0 else lap0 + "1"
                 rows += [r(col, "falloff_last", f, "completed", lap),
                          r(col, "falloff_abort", f, "off_track" if f == 0 else "sideslip")]
-        text = "\n".join(report.esc_margin_falloff_text(rows))
+        text = "\n".join(report_esc.esc_margin_falloff_text(rows))
         self.assertIn("| shipped, vehicle | 1.025 | 71.495 s | identical | identical | 1.05 | "
                       "off_track | sideslip | sideslip | 0/0/0/0 · 0/0/0/0 · 0/0/0/0 | "
                       "0/0/0/1 · 0/0/0/1 · 0/0/0/1 |", text)
@@ -632,17 +636,17 @@ class EscMarginTerms(unittest.TestCase):
         # holding the peak saves the car one step higher in one column: no such sentence
         saved = [dict(x, status="completed") if x["column"] == "vehicle" and x["falloff"] == 0.0
                  and x["at"] == "falloff_abort" else x for x in rows]
-        text = "\n".join(report.esc_margin_falloff_text(saved))
+        text = "\n".join(report_esc.esc_margin_falloff_text(saved))
         self.assertIn("lost at its first abort for every value in 1 of 2", text)
         self.assertIn("the force beyond the peak takes part in the limit", text)
         # a lap 2 ms slower with the peak held is not "the same"
         slow = [dict(x, mean_lap_time_s="71.4969") if x["column"] == "vehicle"
                 and x["falloff"] == 0.0 and x["at"] == "falloff_last" else x for x in rows]
-        text = "\n".join(report.esc_margin_falloff_text(slow))
+        text = "\n".join(report_esc.esc_margin_falloff_text(slow))
         self.assertIn("| shipped, vehicle | 1.025 | 71.495 s | +2.00 ms | identical |", text)
         self.assertIn("the same for every value in 1 of 2 columns", text)
         self.assertIn("the force beyond the peak takes part in the limit", text)
-        self.assertEqual(report.esc_margin_falloff_text(
+        self.assertEqual(report_esc.esc_margin_falloff_text(
             [x for x in rows if x.get("falloff") is None]), [])
 
     def test_threshold_probe_set_scales_only_the_sideslip_error_thresholds(self):
@@ -653,7 +657,7 @@ class EscMarginTerms(unittest.TestCase):
                     "      beta_error_threshold_deactivate: 0.018\n"
                     "      beta_threshold_activate: [0.1, 0.2]\n")
         dst = os.path.join(WORK, "set_eb50.yaml")
-        esc_margin.scaled_beta_error_set(src, 0.5, dst)
+        esc_lib.scaled_beta_error_set(src, 0.5, dst)
         with open(dst) as f:
             out = f.read()
         self.assertIn("beta_error_threshold_activate: [0.0305, 0.0175]", out)
@@ -663,18 +667,18 @@ class EscMarginTerms(unittest.TestCase):
         with open(src, "w") as f:
             f.write("stability: {}\n")
         with self.assertRaises(SystemExit) as e:
-            esc_margin.scaled_beta_error_set(src, 0.5, dst)
+            esc_lib.scaled_beta_error_set(src, 0.5, dst)
         self.assertIn("ESC.beta_error_threshold_activate: expected once, found 0",
                       str(e.exception))
-        self.assertEqual(esc_margin.factors("0.5, 0.3"), [0.5, 0.3])
-        self.assertEqual(esc_margin.factors(""), [])
+        self.assertEqual(esc_lib.factors("0.5, 0.3"), [0.5, 0.3])
+        self.assertEqual(esc_lib.factors(""), [])
         for bad in ("0", "-1", "x", "nan"):
             with self.assertRaises(argparse.ArgumentTypeError):
-                esc_margin.factors(bad)
+                esc_lib.factors(bad)
         # the real file, when the checkout has it: both keys found once
-        real = esc_margin.DEFAULT_SET
+        real = esc_lib.DEFAULT_SET
         if os.path.exists(real):
-            esc_margin.scaled_beta_error_set(real, 0.3, dst)
+            esc_lib.scaled_beta_error_set(real, 0.3, dst)
 
     def test_probe_text_judges_claim_d_per_column_and_factor(self):
         def r(cfg, lap, esc=0, status="completed", f=0.3):
@@ -684,17 +688,17 @@ class EscMarginTerms(unittest.TestCase):
             return x
         rows = [r("none", 71.495), r("esc", 71.496, esc=1), r("cs", 71.508),
                 r("esc+cs", 71.509, esc=3)]
-        text = "\n".join(report.esc_margin_probe_text(rows))
+        text = "\n".join(report_esc.esc_margin_probe_text(rows))
         self.assertIn("| shipped, vehicle | 0.3 | 1.025 | 1×, +0.001 s | 3×, +0.014 s | fails on: "
                       "Δ(ESC) in 0.05–0.40 s; 0 ≤ Δ(ESC + CS) < Δ(ESC) |", text)
         self.assertIn("In 1 of 1 probes (column × factor) ESC only then acts in a lap `none` "
                       "completes, changing it by +0.001 to +0.001 s; (d)'s criterion holds in 0 "
                       "of 1. Acting is not enough", text)
         rows = [r("none", 71.4), r("esc", 71.6, esc=4), r("cs", 71.45), r("esc+cs", 71.5, esc=2)]
-        text = "\n".join(report.esc_margin_probe_text(rows))
+        text = "\n".join(report_esc.esc_margin_probe_text(rows))
         self.assertIn("| **holds** |", text)
         self.assertIn("holds in 1 of 1: shipped × vehicle ×0.3.", text)
-        self.assertEqual(report.esc_margin_probe_text([]), [])
+        self.assertEqual(report_esc.esc_margin_probe_text([]), [])
 
     def test_terms_text_and_the_binding_term(self):
         r = self.row("vehicle", "none", "judged", "completed", 0.37, (2.41, 0.37, 3.51))
@@ -702,7 +706,7 @@ class EscMarginTerms(unittest.TestCase):
         self.assertEqual(scwexp.esc_binding_terms(r), ["e_β"])
         self.assertEqual(scwexp.esc_terms_text({"max_esc_margin": "0.3"}), "")
         self.assertIn("margin 0.37 (β 2.41 · e_β 0.37 · e_ψ 3.51) · ESC 0×",
-                      "\n".join(esc_margin.text_of([r])))
+                      "\n".join(esc_lib.text_of([r])))
 
     def test_report_sentences(self):
         rows = [self.row("vehicle", "none", "judged", "completed", 0.37, (2.41, 0.37, 3.51)),
@@ -711,20 +715,20 @@ class EscMarginTerms(unittest.TestCase):
                          gg=1.035, fa=1.036),
                 self.row("vehicle", "esc", "finest", "completed", 0.65, (2.4, 0.65, 3.6),
                          gg=1.035, fa=1.036)]
-        terms = " ".join(report.esc_margin_terms_text(rows))
+        terms = " ".join(report_esc.esc_margin_terms_text(rows))
         self.assertIn("β below 1 in 1 of 2", terms)
         self.assertIn("e_β below 1 in 2 of 2, peaks 0.37–0.90", terms)
         self.assertIn("e_ψ below 1 in 0 of 2", terms)
-        fine = " ".join(report.esc_margin_finest_text(rows))
+        fine = " ".join(report_esc.esc_margin_finest_text(rows))
         self.assertIn("bisected to 0.001 GG", fine)
         self.assertIn("margin peaks at 0.65–0.65 (below 1 in 1 of 1 columns)", fine)
         self.assertIn("nowhere does ESC act there", fine)
         # ESC acting there at a cost inside (d)'s range is named, not hidden
         rows[-1] = self.row("vehicle", "esc", "finest", "completed", 1.2, (2.4, 1.2, 3.6),
                             esc=3, lap=70.1, gg=1.035, fa=1.036)
-        fine = " ".join(report.esc_margin_finest_text(rows))
+        fine = " ".join(report_esc.esc_margin_finest_text(rows))
         self.assertIn("ESC acts and costs 0.05–0.4 s in: vehicle", fine)
-        self.assertEqual(report.esc_margin_finest_text(rows[:2]), [])
+        self.assertEqual(report_esc.esc_margin_finest_text(rows[:2]), [])
 
 
 class FinishStudy(unittest.TestCase):

@@ -63,15 +63,22 @@ std::size_t Cells(const std::string& line) {
   return static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1;
 }
 
-TEST(TuneInterruptTest, CtrlCKeepsLogAndBestAndResumeContinues) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("scw_tune_interrupt_" + std::to_string(::getpid()));
+/// A fresh folder `name`_<pid> under the temporary directory holding set.yaml, a one-lap scenario
+/// set; returns the folder.
+fs::path TinySetFolder(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
+  std::ofstream(dir / "set.yaml")
+      << "name: tiny\n"
+         "training:\n"
+         "  - {name: one_lap, weight: 1.0, set: [laps=1, gg_scale=1.1]}\n";
+  return dir;
+}
+
+TEST(TuneInterruptTest, CtrlCKeepsLogAndBestAndResumeContinues) {
+  const fs::path dir = TinySetFolder("scw_tune_interrupt");
   const std::string set = (dir / "set.yaml").string();
-  std::ofstream(set) << "name: tiny\n"
-                        "training:\n"
-                        "  - {name: one_lap, weight: 1.0, set: [laps=1, gg_scale=1.1]}\n";
   const std::vector<std::string> common = {
       "tune",  "--scenarios", set, "--max-evals", "40", "--threads",       "1", "--progress",
       "never", "--seed",      "3", "--max-time",  "0",  "--no-sensitivity"};
@@ -137,14 +144,8 @@ TEST(TuneInterruptTest, CtrlCKeepsLogAndBestAndResumeContinues) {
 // Issue 50 finding 14: Ctrl-C during the screen (before the search) ended the program with 130,
 // no message and an empty run folder left behind.
 TEST(TuneInterruptTest, CtrlCBeforeTheSearchSaysSoAndLeavesNoEmptyFolder) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("scw_tune_interrupt_screen_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = TinySetFolder("scw_tune_interrupt_screen");
   const std::string set = (dir / "set.yaml").string();
-  std::ofstream(set) << "name: tiny\n"
-                        "training:\n"
-                        "  - {name: one_lap, weight: 1.0, set: [laps=1, gg_scale=1.1]}\n";
   const fs::path run = dir / "run";
   ::setenv("SCW_TEST_FAULT", "tune-screen:1:INT", 1);
   const pid_t pid = Start({"tune", "--scenarios", set, "--threads", "1", "--progress", "never",

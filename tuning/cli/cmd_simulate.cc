@@ -186,13 +186,18 @@ int RunSimulate(const SimulateOptions& o) {
   // What "ideal lap" means here (scw track line prints another one: a table's full limits).
   std::snprintf(line, sizeof line,
                 "reference: ideal lap %.2f s, the speed profile the car is asked to drive (the "
-                "vehicle's own g-g-v\n  envelope x GG %s x limit_fraction %s; at the envelope's "
+                "vehicle's own g-g-v\n  envelope x GG %s x limit_fraction %s%s; at the envelope's "
                 "full limits %.2f s; scw track line's\n  \"ideal lap time\" uses a representative "
                 "table at its full limits); prepared in %.2f s\nrun: %.2f s simulated in %.2f s "
                 "(%s real time)\n",
                 sc.ideal_lap_time, params::FormatNumber(spec.gg_scale).c_str(),
-                params::FormatNumber(spec.limit_fraction).c_str(), sc.limit_lap_time,
-                std::chrono::duration<double>(t1 - t0).count(), m.time, sim_s,
+                params::FormatNumber(spec.limit_fraction).c_str(),
+                tuning::PmpcWithinProvidedLimits(spec)
+                    ? (" x the PMPC's target_fraction " +
+                       params::FormatNumber(spec.motion.pmpc.target_fraction))
+                          .c_str()
+                    : "",
+                sc.limit_lap_time, std::chrono::duration<double>(t1 - t0).count(), m.time, sim_s,
                 RealTimeFactor(m.time, sim_s).c_str());
   std::cerr << line;
   return m.aborted() ? kExitFailed : kExitOk;

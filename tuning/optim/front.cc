@@ -186,6 +186,10 @@ std::string Join(const std::vector<std::string>& v) {
 
 }  // namespace
 
+double FrontSpan(double unbudgeted_loss) {
+  return std::max(std::isfinite(unbudgeted_loss) ? unbudgeted_loss : 0.0, kFrontMinSpan);
+}
+
 CleanLapBudget FrontBudget(int k, int n, double loss_span) {
   CleanLapBudget b;
   if (k <= 0) {
@@ -342,7 +346,8 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
   front_observer.OnStage(1, 2, o.max_evals);
   stage(1, {0, n - 1}, {u0, u0});
   const ArchiveEntry* survive = BestWithin(archive, points.back().budget);
-  result.loss_span = survive ? std::max(0.0, survive->lap_loss) : 0.0;
+  result.loss_found = survive ? std::max(0.0, survive->lap_loss) : 0.0;
+  result.loss_span = FrontSpan(result.loss_found);
   std::vector<int> inner;
   std::vector<std::vector<double>> inner_starts;
   for (int k = 1; k < n - 1; ++k) {
@@ -422,7 +427,9 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
       " held-out aborts. Hypervolume of the training front " + FormatFixed(result.hypervolume, 3) +
       " (reference point: loss " + FormatFixed(result.reference.first, 3) + " s/lap, stability " +
       FormatFixed(result.reference.second, 3) + "); " + std::to_string(result.evaluations) +
-      " evaluations.\n\n";
+      " evaluations. Inner budgets L·(k/(N−1))² with L = " + FormatFixed(result.loss_span, 3) +
+      " s/lap (the unbudgeted search's best set lost " + FormatFixed(result.loss_found, 3) +
+      " s/lap; L is at least " + FormatFixed(kFrontMinSpan, 1) + ").\n\n";
   md +=
       "| point | budget | clean-lap loss train / held-out [s/lap] | stability train / held-out "
       "| aborts train / held-out | buys (vs the point before) | knife edges | file |\n"

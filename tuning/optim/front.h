@@ -5,8 +5,11 @@
 //   k = 0        b = 0 and no activation the base set does not have: the base set's lap time
 //   0 < k < N-1  b_k = L · (k / (N-1))², activations free (they cost lap time, which b prices)
 //   k = N-1      no budget: whatever it takes to survive (the stability cost alone)
-// L is the largest clean-lap loss of point N-1's best set: the budgets span the range the
-// trade-off has, densest near "no loss", where an engineer decides.
+// L = FrontSpan(the largest clean-lap loss of point N-1's best set after its search): the budgets
+// span the range the trade-off has, densest near "no loss", where an engineer decides. L is at
+// least kFrontMinSpan: an unbudgeted search that bought nothing with lap time (its best set as
+// fast as the base) does not collapse the inner points onto "no loss"; they still search the
+// budgets an engineer weighs (0.025, 0.1, 0.225 s a lap for N = 5).
 //
 // The searches (each Subplex, `max_evals` evaluations, from the study's options):
 //   stage 1   the two ends, from the base point, in lockstep: each round every running search
@@ -58,10 +61,17 @@ class FrontObserver {
   virtual void OnPoint(const FrontPoint& /*point*/) {}
 };
 
+/// The smallest span L of the inner budgets [s/lap].
+inline constexpr double kFrontMinSpan = 0.4;
+
+/// L from the unbudgeted end's clean-lap loss [s/lap] (see the header comment).
+double FrontSpan(double unbudgeted_loss);
+
 struct FrontResult {
   std::vector<FrontPoint> points;
-  double loss_span = 0.0;  ///< L [s/lap]
-  int evaluations = 0;     ///< of all searches
+  double loss_span = 0.0;   ///< L [s/lap]
+  double loss_found = 0.0;  ///< the unbudgeted end's clean-lap loss after its search [s/lap]
+  int evaluations = 0;      ///< of all searches
   /// The hypervolume of the training front and its reference point (loss [s/lap], stability).
   double hypervolume = 0.0;
   std::pair<double, double> reference{0.0, 0.0};

@@ -53,6 +53,12 @@ std::unique_ptr<controller::motion::MotionController> MakeMotionController(
     if (name == "pmpc") {
       cm::PmpcOptions o;
       static_cast<params::PmpcParams&>(o) = sc.spec.motion.pmpc;  // motion.pmpc.*
+      if (o.limits == "provided") {
+        // Nothing above the planner's limits; the reference was planned at target_fraction of
+        // them (ResolveReference), so the plan can follow it.
+        o.nominal_fraction = 1.0;
+        o.headroom = 1.0;
+      }
       o.sample_time = sc.tracking.tS;
       o.solve_period = std::max(o.solve_period, o.sample_time);
       o.wheelbase = sc.vehicle.chassis.wheelbase;

@@ -171,6 +171,14 @@ void ApplyPlantStep(const params::ScenarioParams& spec, const std::string& where
   }
 }
 
+}  // namespace
+
+bool PmpcWithinProvidedLimits(const params::ScenarioParams& spec) {
+  return spec.motion.controller == "pmpc" && spec.motion.pmpc.limits == "provided";
+}
+
+namespace {
+
 /// The scenario's track and the reference planned on it (controller/planning/reference.h), for
 /// the planned car: the vehicle file's own grip with plan_with_nominal_grip, else the scenario's.
 void ResolveReference(const params::ScenarioParams& spec, const std::string& base_dir,
@@ -191,6 +199,8 @@ void ResolveReference(const params::ScenarioParams& spec, const std::string& bas
   o.given_source = files.line_file;
   o.line_margin = spec.motion.raceline_margin;
   o.limit_scale = spec.gg_scale * spec.limit_fraction;
+  // The PMPC within the provided limits follows a profile it can keep to (mpc_params.h, limits).
+  if (PmpcWithinProvidedLimits(spec)) o.limit_scale *= spec.motion.pmpc.target_fraction;
   o.brake_bias_front = spec.motion.longitudinal.brake_bias_front;
   o.late_braking = spec.events.late_braking;
   o.source = where;

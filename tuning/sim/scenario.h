@@ -41,6 +41,11 @@
 
 namespace scw::tuning {
 
+/// Whether the scenario drives the PMPC within the provided limits (motion.controller=pmpc,
+/// motion.pmpc.limits=provided): its reference is then planned at motion.pmpc.target_fraction of
+/// GG × limit_fraction (the limits the PMPC may use).
+bool PmpcWithinProvidedLimits(const params::ScenarioParams& spec);
+
 struct ResolvedScenario {
   params::ScenarioParams spec;
   std::string source;  ///< scenario file or "built-in"

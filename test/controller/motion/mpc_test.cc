@@ -383,10 +383,16 @@ TEST(MpcTest, SolveTimesArePrinted) {
 // ---------------------------------------------------------------------------------------------
 // One lap of the default track at GG 1.0 without stability control.
 
-void Lap(const std::string& name) {
-  const ResolvedScenario sc = Resolve(DefaultScenario(
-      {"motion.controller=" + name, "laps=1", "gg_scale=1.0", "subsystems.esc=false",
-       "subsystems.cs=false", "subsystems.abs=false", "subsystems.tc=false"}));
+void Lap(const std::string& name, const std::vector<std::string>& extra = {}) {
+  std::vector<std::string> sets = {"motion.controller=" + name,
+                                   "laps=1",
+                                   "gg_scale=1.0",
+                                   "subsystems.esc=false",
+                                   "subsystems.cs=false",
+                                   "subsystems.abs=false",
+                                   "subsystems.tc=false"};
+  sets.insert(sets.end(), extra.begin(), extra.end());
+  const ResolvedScenario sc = Resolve(DefaultScenario(sets));
   const RunMetrics m = RunClosedLoop(sc, sc.stability);
   ASSERT_EQ(m.status, RunStatus::kCompleted)
       << name << ": " << RunStatusName(m.status) << " at s = " << m.end_s;
@@ -402,6 +408,64 @@ void Lap(const std::string& name) {
 
 TEST(MpcLapTest, PmpcLapsTheDefaultTrackWithoutStabilityControl) { Lap("pmpc"); }
 TEST(MpcLapTest, NmpcLapsTheDefaultTrackWithoutStabilityControl) { Lap("nmpc"); }
+// Within the provided limits (issue 48): the same lap on the profile planned at target_fraction.
+TEST(MpcLapTest, PmpcWithinTheProvidedLimitsLapsTheDefaultTrack) {
+  Lap("pmpc", {"motion.pmpc.limits=provided"});
+}
+
+// motion.pmpc.limits=provided: the reference is planned at target_fraction of the planner's
+// limits (never faster than the scaled mode's, slower in total), the plan and the feedback use
+// the limits themselves (1.0), and every request stays inside the g-g law: |a_n,cmd| ≤ ay_max and
+// a_x inside the law at that a_n. The same states in the scaled mode (plan 1.15, feedback 1.3)
+// ask for more, so the check can fail.
+TEST(PmpcTest, WithinTheProvidedLimitsNoRequestLeavesTheLimits) {
+  const std::vector<std::string> base = {"motion.controller=pmpc",
+                                         "motion.pmpc.esc_target=commanded"};
+  std::vector<std::string> with = base;
+  with.push_back("motion.pmpc.limits=provided");
+  const ResolvedScenario scaled = Resolve(DefaultScenario(base));
+  const ResolvedScenario provided = Resolve(DefaultScenario(with));
+  EXPECT_TRUE(PmpcWithinProvidedLimits(provided.spec));
+  EXPECT_FALSE(PmpcWithinProvidedLimits(scaled.spec));
+  EXPECT_GT(provided.ideal_lap_time, scaled.ideal_lap_time + 1.0);
+  for (double s = 0.0; s < scaled.path->length(); s += 25.0)
+    EXPECT_LE(provided.path->Sample(s).v, scaled.path->Sample(s).v + 1e-9) << "s = " << s;
+  const auto a = MakeMotionController(scaled);
+  const auto b = MakeMotionController(provided);
+  const auto& pa = dynamic_cast<const cm::PointMassMpc&>(*a);
+  const auto& pb = dynamic_cast<const cm::PointMassMpc&>(*b);
+  EXPECT_EQ(pb.options().nominal_fraction, 1.0);
+  EXPECT_EQ(pb.options().headroom, 1.0);
+  const cm::GgTable& g = pb.limits();
+  int scaled_over = 0, checked = 0;
+  // The car 2 m off the line at 1.15 × the scaled reference speed, at stations all round the lap.
+  for (double s = 0.0; s < provided.path->length(); s += 300.0)
+    for (double off : {-2.0, 2.0}) {
+      auto sa = pa.MakeState();
+      auto sb = pb.MakeState();
+      for (const cm::PointMassMpc* c : {&pa, &pb}) {
+        const bool is_b = c == &pb;
+        const cm::MotionInput in = OnPath(*scaled.path, 0.0, s, off, 0.0, 1.15);
+        const double v = in.v_x;
+        const cm::MotionOutput o = c->Step(in, is_b ? sb.get() : sa.get());
+        const double an = std::abs(o.ay_request), ay_max = g.AyMax(v);
+        const double drive = g.AxDriveMax(v) * g.DriveFactor(an, ay_max, v);
+        const double brake = g.AxBrakeMax(v) * g.BrakeFactor(an, ay_max, v);
+        const bool inside = an <= ay_max * (1 + 1e-9) && o.ax_request >= -brake * (1 + 1e-9) &&
+                            o.ax_request <= std::max(drive, 0.5) * (1 + 1e-9);
+        if (is_b) {
+          ++checked;
+          EXPECT_TRUE(inside) << "s = " << s << ", offset " << off << ": a_x " << o.ax_request
+                              << ", |a_n| " << an << " (ay_max " << ay_max << ", brake " << brake
+                              << ", drive " << drive << ")";
+        } else if (!inside) {
+          ++scaled_over;
+        }
+      }
+    }
+  EXPECT_GE(checked, 20);
+  EXPECT_GT(scaled_over, 0) << "the scaled mode never left the limits: the check cannot fail";
+}
 
 // The ESC's yaw reference from the PMPC (motion.pmpc.esc_target): `plan` publishes the nominal
 // plan's normal acceleration, `commanded` the one the steering follows (the plan plus the
@@ -572,6 +636,10 @@ TEST(MpcScenarioKeysTest, SettingsComeFromTheScenarioAndAreChecked) {
             std::string::npos);
   EXPECT_NE(message({"motion.pmpc.headroom=1.0"}).find("motion.pmpc.headroom"), std::string::npos);
   EXPECT_NE(message({"motion.nmpc.tol=0"}).find("motion.nmpc.tol"), std::string::npos);
+  EXPECT_NE(message({"motion.pmpc.limits=hard"}).find("motion.pmpc.limits"), std::string::npos);
+  EXPECT_NE(message({"motion.pmpc.limits=hard"}).find("scaled|provided"), std::string::npos);
+  EXPECT_NE(message({"motion.pmpc.target_fraction=1.2"}).find("motion.pmpc.target_fraction"),
+            std::string::npos);
 }
 
 }  // namespace

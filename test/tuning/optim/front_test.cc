@@ -26,6 +26,18 @@ TEST(FrontTest, BudgetsRunFromNoLossToNoBudgetDensestNearNoLoss) {
   EXPECT_FALSE(std::isfinite(FrontBudget(1, 2, span).lap_s));
 }
 
+// The span L of the inner budgets: the unbudgeted end's loss, at least kFrontMinSpan, so an
+// unbudgeted search that found nothing to buy with lap time (loss 0, as the built-in front's
+// 120-evaluation search did) leaves the inner points budgets to search, not four copies of "no
+// loss".
+TEST(FrontTest, SpanIsTheUnbudgetedLossButNeverBelowTheMinimum) {
+  EXPECT_EQ(FrontSpan(0.0), kFrontMinSpan);
+  EXPECT_EQ(FrontSpan(-0.001), kFrontMinSpan);
+  EXPECT_EQ(FrontSpan(std::nan("")), kFrontMinSpan);
+  EXPECT_EQ(FrontSpan(0.9), 0.9);
+  EXPECT_GT(FrontBudget(1, 5, FrontSpan(0.0)).lap_s, 0.0);
+}
+
 TEST(FrontTest, HypervolumeIsTheAreaTheFrontDominatesUpToTheReference) {
   // Two non-dominated points and one dominated one; reference (1, 10).
   const double hv = Hypervolume2D({{0.0, 8.0}, {0.5, 4.0}, {0.6, 5.0}}, {1.0, 10.0});

@@ -111,6 +111,7 @@ TEST_F(TuneEngineerTest, AFrontWritesOneExportedSetPerPointAndTheTable) {
   const std::string md = Slurp(run + "/front.md");
   EXPECT_NE(md.find("| point | budget | clean-lap loss train / held-out"), std::string::npos) << md;
   EXPECT_NE(md.find("Hypervolume of the training front"), std::string::npos) << md;
+  EXPECT_NE(md.find("L is at least 0.4"), std::string::npos) << md;
   // Point 0 keeps the base set's clean laps exactly within its zero budget.
   EXPECT_NE(Slurp(run + "/point_0/manifest.yaml").find("tuned_within_budget: true"),
             std::string::npos);

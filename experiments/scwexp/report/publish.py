@@ -1,0 +1,40 @@
+"""The reference copy: report.md, its appendices (appendix/*.md) and the figures they link,
+copied with their relative paths."""
+
+import glob
+import os
+import re
+import shutil
+
+_IMAGE = re.compile(r"!\[[^\]]*\]\(([^)]+\.png)\)")
+
+
+def publish(report_path, dest, appendix="appendix"):
+    """Copies the report, its appendices and the figures they link into dest, keeping their
+    paths relative to the report (so the links work unchanged); figures and appendices no
+    longer linked are removed."""
+    src_root = os.path.dirname(report_path)
+    os.makedirs(os.path.join(dest, appendix), exist_ok=True)
+    pages = ["report.md"] + sorted(
+        os.path.relpath(p, src_root) for p in glob.glob(os.path.join(src_root, appendix, "*.md")))
+    linked = set()
+    for page in pages:
+        with open(os.path.join(src_root, page)) as f:
+            text = f.read()
+        for target in _IMAGE.findall(text):
+            rel_path = os.path.normpath(os.path.join(os.path.dirname(page), target))
+            dst = os.path.join(dest, rel_path)
+            os.makedirs(os.path.dirname(dst), exist_ok=True)
+            shutil.copyfile(os.path.join(src_root, rel_path), dst)
+            linked.add(rel_path)
+    for root, _, files in os.walk(dest):
+        for name in files:
+            rel_path = os.path.relpath(os.path.join(root, name), dest)
+            if name.endswith(".png") and rel_path not in linked:
+                os.remove(os.path.join(root, name))
+            elif name.endswith(".md") and os.path.dirname(rel_path) == appendix \
+                    and rel_path not in pages:
+                os.remove(os.path.join(root, name))
+    for page in pages:
+        shutil.copyfile(os.path.join(src_root, page), os.path.join(dest, page))
+    print(f"published {dest}/report.md and {len(pages) - 1} appendices")
