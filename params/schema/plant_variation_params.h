@@ -1,6 +1,7 @@
-// A scenario's variation of the simulated car (scenario key `plant`): which actuator model the
-// plant runs (the real car's, from the vehicle file, or the paper's simulator's), and the plant
-// quantities that the paper's claims and a robust scenario set vary: the split of the brake's
+// A scenario's variation of the simulated car (scenario key `plant`): which plant model simulates
+// it (scw's reduced double track or Open-Car-Dynamics, the paper's simulator), which actuator
+// model the plant runs (the real car's, from the vehicle file, or the paper's simulator's), and the
+// plant quantities that the paper's claims and a robust scenario set vary: the split of the brake's
 // response into dead time and lag, the steering dead time, the rear tyre's force beyond its peak,
 // the yaw inertia, and how the scenario's grip factors act on the tyres.
 //
@@ -19,6 +20,7 @@
 namespace scw::params {
 
 struct PlantVariationParams {
+  std::string model = "scw";
   std::string actuators = "vehicle";
   double brake_dead_time = -1.0;
   double steering_delay = -1.0;
@@ -28,6 +30,18 @@ struct PlantVariationParams {
 
   template <class Self, class V>
   static void Visit(Self& s, V& v) {
+    v.Field(s.model,
+            {.key = "model",
+             .doc = "Plant model of the simulated car: scw = scw's reduced double track "
+                    "(plant/vehicle); ocd = Open-Car-Dynamics, the paper's simulator (sprung body "
+                    "on springs, MF5.2 tyres, RWD with LSD), driven by scw's engine, gearbox, "
+                    "brake and steering actuators and read by scw's sensors, with the vehicle "
+                    "file mapped onto its parameters (docs/ocd-plant.md). ocd needs a build with "
+                    "Open-Car-Dynamics (CMake option SCW_WITH_OCD); a vehicle value it cannot "
+                    "represent (a tyre fall-off other than 1, other slip kinematics) is an error.",
+             .optional = true,
+             .choices = "scw|ocd",
+             .omit_default = true});
     v.Field(
         s.actuators,
         {.key = "actuators",

@@ -33,23 +33,7 @@ Actuators ReferenceManeuverInput(double t, const Measurement& m, double rear_rad
 }
 
 ManeuverSummary RunReferenceManeuver(const Vehicle& v, double duration, State* s) noexcept {
-  ManeuverSummary sum;
-  const double h = v.time_step();
-  const long steps = std::lround(duration / h);
-  const double t0 = s->time;
-  const double radius = v.params().wheels.radius_rear;
-  for (long k = 0; k < steps; ++k) {
-    const Measurement m = v.Measure(*s);
-    v.Step(ReferenceManeuverInput(s->time - t0, m, radius), s);
-    const double speed = std::hypot(s->x[kVx], s->x[kVy]);
-    sum.distance += speed * h;
-    sum.max_speed = std::max(sum.max_speed, speed);
-    sum.max_abs_ay = std::max(sum.max_abs_ay, std::abs(s->out.a_y));
-  }
-  sum.steps = steps;
-  sum.sim_time = steps * h;
-  sum.status = s->status;
-  return sum;
+  return RunReferenceManeuverOn(v, duration, s);
 }
 
 }  // namespace scw::plant

@@ -8,10 +8,15 @@
 //   10-16 s  speed held near 40 m/s by throttle, 0.05 rad steer: cornering up to the limit
 //   16-20 s  slalom, 0.03 rad at 0.8 Hz, throttle 0.7
 // ReferenceManeuverInput() is the pure driver law (time and measurement -> actuators);
-// RunReferenceManeuver() steps a state for `duration` [s] and summarises the run.
-// No wall clock: the caller times it.
+// RunReferenceManeuver() steps a state for `duration` [s] and summarises the run, on scw's plant
+// or on any plant of the plant interface (plant/vehicle/plant_model.h: `scw bench --plant` times
+// both plants on it). No wall clock: the caller times it.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+
+#include "plant/vehicle/plant_model.h"
 #include "plant/vehicle/vehicle.h"
 
 namespace scw::plant {
@@ -33,7 +38,30 @@ struct ManeuverSummary {
   unsigned status = 0;      ///< plant::Status bits at the end
 };
 
-/// Runs the reference manoeuvre from rest for `duration` [s] on `s` (made by v.MakeState()).
+/// Runs the reference manoeuvre for `duration` [s] on `s` (made by v.MakeState(); from rest by
+/// default), on any plant model.
+template <PlantModel P>
+ManeuverSummary RunReferenceManeuverOn(const P& v, double duration, StateOf<P>* s) noexcept {
+  ManeuverSummary sum;
+  const double h = v.time_step();
+  const long steps = std::lround(duration / h);
+  const double t0 = s->time;
+  const double radius = v.params().wheels.radius_rear;
+  for (long k = 0; k < steps; ++k) {
+    const Measurement m = v.Measure(*s);
+    v.Step(ReferenceManeuverInput(s->time - t0, m, radius), s);
+    const double speed = std::hypot(s->x[kVx], s->x[kVy]);
+    sum.distance += speed * h;
+    sum.max_speed = std::max(sum.max_speed, speed);
+    sum.max_abs_ay = std::max(sum.max_abs_ay, std::abs(s->out.a_y));
+  }
+  sum.steps = steps;
+  sum.sim_time = steps * h;
+  sum.status = s->status;
+  return sum;
+}
+
+/// The same on scw's plant.
 ManeuverSummary RunReferenceManeuver(const Vehicle& v, double duration, State* s) noexcept;
 
 }  // namespace scw::plant

@@ -445,7 +445,8 @@ void Vehicle::StepOn(const Actuators& u, const Environment* env, State* state) c
 template void Vehicle::StepOn<false>(const Actuators&, const Environment*, State*) const noexcept;
 template void Vehicle::StepOn<true>(const Actuators&, const Environment*, State*) const noexcept;
 
-Measurement Vehicle::Measure(const State& s, SensorNoiseState* noise) const noexcept {
+Measurement MeasureState(const State& s, const params::SensorParams& sensors,
+                         SensorNoiseState* noise) noexcept {
   Measurement m;
   m.time = s.time;
   m.x = s.x[kX];
@@ -465,8 +466,12 @@ Measurement Vehicle::Measure(const State& s, SensorNoiseState* noise) const noex
   m.wheel_load = s.out.fz;
   m.throttle = s.throttle;
   m.status = s.status;
-  if (noise != nullptr) AddSensorNoise(p_.sensors, &m, noise);
+  if (noise != nullptr) AddSensorNoise(sensors, &m, noise);
   return m;
+}
+
+Measurement Vehicle::Measure(const State& s, SensorNoiseState* noise) const noexcept {
+  return MeasureState(s, p_.sensors, noise);
 }
 
 }  // namespace scw::plant

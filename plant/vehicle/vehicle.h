@@ -194,6 +194,13 @@ struct State {
   unsigned status = kStatusOk;
 };
 
+/// The sensors' reading of state `s` (plant/sensors/measurement.h): pose, body velocities, yaw
+/// rate, the last step's specific force, wheel speeds, the actuators' actual angle and pressures,
+/// gear, engine speed, loads and throttle; with `noise` the sensor noise of `sensors` is added.
+/// Every plant measures through it (plant/vehicle/plant_model.h), so they share one sensor model.
+Measurement MeasureState(const State& s, const params::SensorParams& sensors,
+                         SensorNoiseState* noise) noexcept;
+
 /// Start condition: pose, straight-line speed (wheels rolling freely, gear chosen from speed).
 struct InitialCondition {
   double x = 0.0;

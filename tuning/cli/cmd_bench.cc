@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "params/io/csv.h"
@@ -20,6 +21,7 @@
 #include "tuning/optim/evaluator.h"
 #include "tuning/optim/plant_step_check.h"
 #include "tuning/sim/closed_loop.h"
+#include "tuning/sim/plant_choice.h"
 #include "tuning/sim/prep_cache.h"
 #include "tuning/sim/scenario.h"
 
@@ -27,7 +29,6 @@ namespace scw::cli {
 namespace {
 
 struct BenchOptions {
-  bool plant = false;
   bool evaluator = false;
   bool pmpc = false;
   int evaluations = 4;
@@ -35,6 +36,7 @@ struct BenchOptions {
   std::string job_times;    ///< --evaluator: per-job wall times CSV
   double plant_step = 0.0;  ///< --evaluator: the scenarios' plant_step (0: the vehicles' own)
   std::string vehicle;
+  std::string plant;  ///< --plant[=scw|ocd|both]: the plant alone ("": not asked for)
   double duration = 600.0;
   int repeat = 3;
 };
@@ -48,37 +50,74 @@ std::string CpuModel() {
 }
 
 // The plant alone, single thread: the reference manoeuvre (plant/vehicle/maneuver.h) from rest,
-// best of `repeat` runs (the machine is shared; the best run is the least disturbed one).
+// best of `repeat` runs (the machine is shared; the best run is the least disturbed one). In a
+// build with Open-Car-Dynamics the same manoeuvre also runs on it, the runs of the two plants
+// alternating, and the ratio of their real-time factors is printed (docs/ocd-plant.md).
+struct PlantTiming {
+  double best = 1e300;  ///< [s] wall time of the fastest run
+  plant::ManeuverSummary sum;
+};
+
+template <class Plant>
+void TimeOnce(const Plant& v, double duration, PlantTiming* t) {
+  auto s = v.MakeState();
+  const auto t0 = std::chrono::steady_clock::now();
+  t->sum = plant::RunReferenceManeuverOn(v, duration, &s);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  t->best = std::min(t->best, wall);
+}
+
 int BenchPlant(const BenchOptions& o) {
   const params::VehicleParams p = o.vehicle.empty()
                                       ? params::VehicleParams{}
                                       : params::LoadPlainFile<params::VehicleParams>(o.vehicle);
   const plant::Vehicle v(p);
-  double best = 1e300;
-  plant::ManeuverSummary sum;
+#if SCW_WITH_OCD
+  std::optional<plant::ocd::OcdVehicle> ocd;
+  if (o.plant != "scw") ocd.emplace(p);
+#else
+  if (o.plant == "ocd") throw ConfigError("scw bench", "--plant=ocd", tuning::NoOcdMessage());
+#endif
+  PlantTiming scw, other;
   for (int r = 0; r < o.repeat; ++r) {
-    plant::State s = v.MakeState();
-    const auto t0 = std::chrono::steady_clock::now();
-    sum = plant::RunReferenceManeuver(v, o.duration, &s);
-    const double wall =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    best = std::min(best, wall);
+    if (o.plant != "ocd") TimeOnce(v, o.duration, &scw);
+#if SCW_WITH_OCD
+    if (ocd) TimeOnce(*ocd, o.duration, &other);
+#endif
   }
-  if (sum.status != plant::kStatusOk) {
-    std::cerr << "error: the plant run ended with status " << sum.status << '\n';
-    return kExitFailed;
+  const auto report = [&](const char* model, const PlantTiming& t) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "plant '%s' (%s), reference manoeuvre, %.0f s simulated, %ld steps of %.3g ms, "
+                  "1 thread, best of %d\n"
+                  "cpu: %s\n"
+                  "wall time: %.4f s, %.3f us/step (distance %.0f m, max |a_y| %.1f m/s^2)\n",
+                  p.name.c_str(), model, t.sum.sim_time, t.sum.steps, 1e3 * v.time_step(), o.repeat,
+                  CpuModel().c_str(), t.best, 1e6 * t.best / static_cast<double>(t.sum.steps),
+                  t.sum.distance, t.sum.max_abs_ay);
+    std::cout << buf << "real-time factor: " << static_cast<long>(t.sum.sim_time / t.best) << '\n';
+    if (t.sum.status != plant::kStatusOk) {
+      std::cerr << "error: the " << model << " plant run ended with status " << t.sum.status
+                << '\n';
+      return false;
+    }
+    return true;
+  };
+  bool ok = true;
+  if (o.plant != "ocd") ok = report("scw", scw) && ok;
+#if SCW_WITH_OCD
+  if (ocd) ok = report("ocd: Open-Car-Dynamics", other) && ok;
+  if (ocd && o.plant != "ocd") {
+    const double rtf_scw = scw.sum.sim_time / scw.best, rtf_ocd = other.sum.sim_time / other.best;
+    std::printf("real-time factor scw/ocd: %.1f (measured in this run, runs alternating)\n",
+                rtf_scw / rtf_ocd);
   }
-  char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "plant '%s', reference manoeuvre, %.0f s simulated, %ld steps of %.3g ms, "
-                "1 thread, best of %d\n"
-                "cpu: %s\n"
-                "wall time: %.4f s, %.3f us/step (distance %.0f m, max |a_y| %.1f m/s^2)\n",
-                p.name.c_str(), sum.sim_time, sum.steps, 1e3 * v.time_step(), o.repeat,
-                CpuModel().c_str(), best, 1e6 * best / static_cast<double>(sum.steps), sum.distance,
-                sum.max_abs_ay);
-  std::cout << buf << "real-time factor: " << static_cast<long>(sum.sim_time / best) << '\n';
-  return kExitOk;
+#else
+  if (o.plant == "both")
+    std::cout << "(this build has no Open-Car-Dynamics plant: scw's plant only; "
+                 "docs/ocd-plant.md)\n";
+#endif
+  return ok ? kExitOk : kExitFailed;
 }
 
 // The default closed loop (plant + stability controller + pure pursuit + longitudinal controller)
@@ -224,8 +263,13 @@ void AddBench(CLI::App& app) {
       "plant alone (--plant), the point-mass MPC's closed loop (--pmpc), or tuning evaluations "
       "per second (--evaluator)");
   auto o = std::make_shared<BenchOptions>();
-  cmd->add_flag("--plant", o->plant,
-                "The plant alone driving its reference manoeuvre; prints 'real-time factor: N'");
+  cmd->add_flag("--plant{both}", o->plant,
+                "The plant alone driving its reference manoeuvre; prints 'real-time factor: N' "
+                "per plant. --plant=scw: scw's plant; --plant=ocd: Open-Car-Dynamics "
+                "(plant.model=ocd, in a build with it); --plant or --plant=both: both, their runs "
+                "alternating, and the ratio of their real-time factors (scw's only where the "
+                "build has no OCD)")
+      ->check(CLI::IsMember({"scw", "ocd", "both"}));
   cmd->add_flag("--pmpc", o->pmpc,
                 "The point-mass MPC (motion.controller=pmpc) driving one lap of the built-in "
                 "scenario on one core; prints 'real-time factor: N'");
@@ -249,7 +293,7 @@ void AddBench(CLI::App& app) {
   NumberIn(cmd->add_option("--duration", o->duration, "Simulated time per run [s]"), 1.0, 1e6);
   WholeNumberIn(cmd->add_option("--repeat", o->repeat, "Runs; the fastest is reported"), 1, 100);
   cmd->callback([o] {
-    if (o->plant) return SetExitCode(BenchPlant(*o));
+    if (!o->plant.empty()) return SetExitCode(BenchPlant(*o));
     if (o->evaluator) return SetExitCode(BenchEvaluator(*o));
     if (o->pmpc) return SetExitCode(BenchPmpc(*o));
     SetExitCode(BenchClosedLoop(*o));

@@ -18,6 +18,7 @@
 #include "tuning/maneuver/maneuver.h"
 #include "tuning/maneuver/maneuver_report.h"
 #include "tuning/sim/closed_loop.h"
+#include "tuning/sim/plant_choice.h"
 #include "tuning/sim/scenario.h"
 
 namespace scw::cli {
@@ -78,6 +79,8 @@ int RunManeuverCommand(const ManeuverCliOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const tuning::ResolvedScenario sc =
       tuning::Resolve(spec, base, o.scenario.empty() ? "built-in" : o.scenario);
+  for (const std::string& n : tuning::PlantNotes(spec.plant.model, sc.plant_vehicle))
+    std::cerr << "note: plant.model=" << spec.plant.model << ": " << n << '\n';
   std::unique_ptr<io::CsvWriter> trace;
   if (!o.trace.empty()) trace = std::make_unique<io::CsvWriter>(o.trace, tuning::TraceHeader());
   tuning::ManeuverOptions mo;

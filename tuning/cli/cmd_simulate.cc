@@ -20,6 +20,7 @@
 #include "tuning/replay/controller_log.h"
 #include "tuning/replay/log_setup.h"
 #include "tuning/sim/closed_loop.h"
+#include "tuning/sim/plant_choice.h"
 #include "tuning/sim/run_summary.h"
 #include "tuning/sim/scenario.h"
 
@@ -120,6 +121,8 @@ int RunSimulate(const SimulateOptions& o) {
   const tuning::ResolvedScenario sc =
       tuning::Resolve(spec, base, o.scenario.empty() ? "built-in" : o.scenario);
   const auto t1 = std::chrono::steady_clock::now();
+  for (const std::string& n : tuning::PlantNotes(spec.plant.model, sc.plant_vehicle))
+    std::cerr << "note: plant.model=" << spec.plant.model << ": " << n << '\n';
   std::unique_ptr<io::CsvWriter> trace;
   if (!o.trace.empty()) trace = std::make_unique<io::CsvWriter>(o.trace, tuning::TraceHeader());
   std::unique_ptr<tuning::replay::ControllerLogWriter> log;

@@ -18,6 +18,7 @@
 #include "plant/vehicle/quasi_steady.h"
 #include "tuning/cli/command.h"
 #include "tuning/cli/options.h"
+#include "tuning/sim/plant_choice.h"
 #include "tuning/sim/plant_variation.h"
 #include "tuning/sim/scenario.h"
 
@@ -305,6 +306,29 @@ void AddVehicle(CLI::App& app) {
                   "Track: a built-in name (yas_north, monza) or a file (.yaml or .csv); default: "
                   "Yas Marina North");
   lap->callback([o] { SetExitCode(Lap(*o)); });
+
+  auto* ocd = cmd->add_subcommand(
+      "ocd",
+      "Print how the vehicle file maps onto Open-Car-Dynamics' parameters (plant.model=ocd): a "
+      "Markdown table of every OCD parameter with its value and its scw source, or for OCD-only "
+      "quantities the public source and why; then what OCD cannot represent or replaces");
+  ocd->add_option("--vehicle", o->vehicle,
+                  "Vehicle file (params/vehicles/*.yaml); default: the built-in EAV24 set");
+  ocd->callback([o] {
+    const params::VehicleParams p =
+        o->vehicle.empty() ? params::VehicleParams{} : LoadVehicle(o->vehicle);
+#if SCW_WITH_OCD
+    std::cout << plant::ocd::MappingTableMarkdown(p);
+    for (const Problem& q : plant::ocd::CheckRepresentable(p))
+      std::cout << "\ncannot represent: " << q.path << ": " << q.message;
+    for (const std::string& n : plant::ocd::Replaced(p)) std::cout << "\nreplaced: " << n;
+    std::cout << '\n';
+    SetExitCode(kExitOk);
+#else
+    (void)p;
+    throw ConfigError("scw vehicle ocd", "plant.model", tuning::NoOcdMessage());
+#endif
+  });
 
   auto* init =
       cmd->add_subcommand("init", "Write the built-in vehicle set (EAV24/25 class) as plain YAML");

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <type_traits>
 
 #include "controller/motion/longitudinal.h"
 #include "controller/stability/stability_controller.h"
@@ -14,6 +15,7 @@
 #include "tuning/maneuver/maneuver_metrics.h"
 #include "tuning/maneuver/programs.h"
 #include "tuning/sim/control_loop.h"
+#include "tuning/sim/plant_choice.h"
 #include "tuning/sim/run_observers.h"
 #include "tuning/sim/trace_schema.h"
 
@@ -59,11 +61,12 @@ class Rig {
         options_(o),
         stab_(PrepareStability(sc, stability)),
         ctl_(stab_, Options(sc)),
-        car_(sc.plant_vehicle),  // the simulated car: the scenario's plant section applied
+        // The simulated car: the scenario's plant section applied, on its plant model.
+        plant_(sc.spec.plant.model, sc.plant_vehicle),
         lon_(sc.spec.motion.longitudinal, sc.longitudinal_model, stab_.tS),
         qs_(sc.vehicle),
         ts_(stab_.tS),
-        ratio_(std::max(1L, std::lround(ts_ / car_.time_step()))),
+        ratio_(std::max(1L, std::lround(ts_ / plant_.time_step()))),
         log_every_(std::max(1L, std::lround(1.0 / (sc.spec.log_rate * ts_)))),
         brake_gain_{
             sc.plant_vehicle.brakes.torque_gain_front, sc.plant_vehicle.brakes.torque_gain_front,
@@ -84,7 +87,6 @@ class Rig {
     run.level = level;
     RunMetrics& metrics = run.metrics;
     ManeuverSignals& sig = run.signals;
-    plant::State st = car_.MakeState({0.0, 0.0, 0.0, speed});
     plant::SensorNoiseState noise(static_cast<std::uint64_t>(sc_.spec.seed));
     controller::StabilityController::State cs;
     const int index = run_index_++;
@@ -204,9 +206,13 @@ class Rig {
                   sig,
                   MetricsAccumulator(ts_, options_.sideslip_allowed_deg, brake_gain_),
                   TraceRecorder(options_.trace, log_every_)};
-    const ControlLoop loop{
-        car_, ctl_, ratio_, &st, sc_.plant_vehicle.sensors.noise ? &noise : nullptr, &cs};
-    loop.Run(driver);
+    plant_.Visit([&](const auto& car) {
+      using Car = std::remove_cvref_t<decltype(car)>;
+      plant::StateOf<Car> st = car.MakeState({0.0, 0.0, 0.0, speed});
+      const ControlLoop<Car> loop{
+          car, ctl_, ratio_, &st, sc_.plant_vehicle.sensors.noise ? &noise : nullptr, &cs};
+      loop.Run(driver);
+    });
     ToStartFrame(&sig);
     return run;
   }
@@ -281,7 +287,7 @@ class Rig {
   ManeuverOptions options_;
   params::StabilityParams stab_;
   controller::StabilityController ctl_;
-  plant::Vehicle car_;
+  PlantChoice plant_;
   controller::motion::LongitudinalController lon_;
   plant::QuasiSteadyModel qs_;
   double ts_;

@@ -10,6 +10,7 @@
 #include "tuning/sim/control_loop.h"
 #include "tuning/sim/events.h"
 #include "tuning/sim/motion_factory.h"
+#include "tuning/sim/plant_choice.h"
 #include "tuning/sim/run_observers.h"
 #include "tuning/sim/trace_schema.h"
 
@@ -93,8 +94,10 @@ class RequestPath {
 /// exact and the cheaper step is taken (At returns false).
 class RoadAndAir {
  public:
-  RoadAndAir(const plant::Vehicle& car, const plant::Track& track, const plant::RoadSurface& road)
-      : car_(car), track_(track), road_(road) {}
+  /// contact_x/_y: the plant's tyre contact points (body frame, from the CoG).
+  RoadAndAir(const PerWheel<double>& contact_x, const PerWheel<double>& contact_y,
+             const plant::Track& track, const plant::RoadSurface& road)
+      : contact_x_(contact_x), contact_y_(contact_y), track_(track), road_(road) {}
 
   /// For the control period about to be driven with the events `ev`.
   void Hold(const EventSchedule::Active& ev) noexcept {
@@ -108,7 +111,7 @@ class RoadAndAir {
     if (!road_.uniform()) {
       const auto cp = track_.Project(st.x[plant::kX], st.x[plant::kY], st.x[plant::kPsi], hint_);
       hint_ = cp.s;
-      *env = road_.UnderWheels(cp, car_.contact_x(), car_.contact_y());
+      *env = road_.UnderWheels(cp, contact_x_, contact_y_);
     }
     env->mu[2] *= ev_.rear_grip;
     env->mu[3] *= ev_.rear_grip;
@@ -118,7 +121,8 @@ class RoadAndAir {
   }
 
  private:
-  const plant::Vehicle& car_;
+  const PerWheel<double>& contact_x_;
+  const PerWheel<double>& contact_y_;
   const plant::Track& track_;
   const plant::RoadSurface& road_;
   EventSchedule::Active ev_;
@@ -135,18 +139,17 @@ std::vector<std::string> TraceHeader() {
   return h;
 }
 
-RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityParams& stability,
-                         const RunOptions& options) {
-  if (!sc.track)  // a maneuver (kind: maneuver) drives no track: tuning/maneuver/maneuver.h
-    throw ConfigError(sc.source, "kind",
-                      "'" + sc.spec.kind +
-                          "' has no track to lap: run it with scw maneuver or "
-                          "in a scenario set");
+namespace {
+
+/// The closed loop of RunClosedLoop on plant `car` (plant::Vehicle or another plant model of
+/// plant/vehicle/plant_model.h).
+template <class Car>
+RunMetrics RunOn(const Car& car, const ResolvedScenario& sc,
+                 const params::StabilityParams& stability, const RunOptions& options) {
   const params::StabilityParams stab = PrepareStability(sc, stability);
   controller::StabilityOptions sopt;
   sopt.release_compat = sc.spec.subsystems.release_compat;
   const controller::StabilityController ctl(stab, sopt);
-  const plant::Vehicle car(sc.plant_vehicle);
   const auto motion = MakeMotionController(sc);
   const controller::motion::MotionController& pp = *motion;
   const controller::motion::LongitudinalController lon(sc.spec.motion.longitudinal,
@@ -181,7 +184,7 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
 
   // Flying start on the reference line at the reference speed.
   const auto start = sc.path->Sample(0.0);
-  plant::State st = car.MakeState({start.x, start.y, start.psi, start.v});
+  plant::StateOf<Car> st = car.MakeState({start.x, start.y, start.psi, start.v});
   plant::SensorNoiseState noise(static_cast<std::uint64_t>(sc.spec.seed));
   controller::StabilityController::State ctl_state;
 
@@ -273,15 +276,29 @@ RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityPara
                 aborts,
                 trace,
                 m,
-                RoadAndAir(car, track, road),
+                RoadAndAir(car.contact_x(), car.contact_y(), track, road),
                 RequestPath(lon)};
-  const ControlLoop loop{
+  const ControlLoop<Car> loop{
       car, ctl, ratio, &st, sc.plant_vehicle.sensors.noise ? &noise : nullptr, &ctl_state};
   loop.Run(driver);
   laps.WriteTo(&m);
   // A completed run drove exactly the planned distance (its last tick lies beyond the line).
   if (!m.aborted()) m.distance = m.distance_planned;
   return m;
+}
+
+}  // namespace
+
+RunMetrics RunClosedLoop(const ResolvedScenario& sc, const params::StabilityParams& stability,
+                         const RunOptions& options) {
+  if (!sc.track)  // a maneuver (kind: maneuver) drives no track: tuning/maneuver/maneuver.h
+    throw ConfigError(sc.source, "kind",
+                      "'" + sc.spec.kind +
+                          "' has no track to lap: run it with scw maneuver or "
+                          "in a scenario set");
+  // The scenario's plant model (plant.model): the loop is compiled per plant.
+  const PlantChoice plant(sc.spec.plant.model, sc.plant_vehicle);
+  return plant.Visit([&](const auto& car) { return RunOn(car, sc, stability, options); });
 }
 
 }  // namespace scw::tuning

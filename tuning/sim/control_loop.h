@@ -2,7 +2,10 @@
 // advanced control tick by control tick. The closed loop (tuning/sim/closed_loop.h: motion
 // controller, request path, lap observers) and the standard maneuvers
 // (tuning/maneuver/maneuver.h: the driving robot's programs) are two drivers of this loop; what
-// touches the plant model is here only, so a plant added later serves both.
+// touches the plant model is here only, so every plant serves both: the loop is a template on the
+// plant (plant/vehicle/plant_model.h: scw's plant::Vehicle, or Open-Car-Dynamics behind
+// plant::ocd::OcdVehicle), chosen per run by the scenario's plant.model
+// (tuning/sim/plant_choice.h).
 //
 // One control tick k (period tS; the plant steps `ratio` = tS/h times per tick):
 //   1. d.Begin(k)                            false: the run ends before this tick
@@ -18,24 +21,27 @@
 //      environment)
 //   8. d.End(k)
 // The driver is any type with these member functions (a template parameter, so the per-step
-// calls inline). The loop allocates nothing; it is deterministic and holds no state of its own:
-// one Run per run, on any thread.
+// calls inline); Environment receives the plant's state as a const plant::State& (every plant's
+// state derives from it). The loop allocates nothing; it is deterministic and holds no state of its
+// own: one Run per run, on any thread.
 #pragma once
 
 #include "controller/stability/stability_controller.h"
 #include "plant/sensors/measurement.h"
 #include "plant/sensors/sensor_noise.h"
 #include "plant/vehicle/environment.h"
+#include "plant/vehicle/plant_model.h"
 #include "plant/vehicle/vehicle.h"
 
 namespace scw::tuning {
 
 /// The objects of one run that the loop advances (owned by the caller, outliving the run).
+template <plant::PlantModel Plant>
 struct ControlLoop {
-  const plant::Vehicle& vehicle;  ///< the plant model
+  const Plant& vehicle;  ///< the plant model
   const controller::StabilityController& stability;
   long ratio = 1;                            ///< plant steps per control tick, >= 1
-  plant::State* state = nullptr;             ///< the plant's state
+  plant::StateOf<Plant>* state = nullptr;    ///< the plant's state
   plant::SensorNoiseState* noise = nullptr;  ///< sensor noise state, nullptr: noise-free
   controller::StabilityController::State* stability_state = nullptr;
 

@@ -11,6 +11,7 @@
 #include "params/io/write.h"
 #include "params/schema/grip_scaling.h"
 #include "tuning/sim/events.h"
+#include "tuning/sim/plant_choice.h"
 #include "tuning/sim/plant_variation.h"
 #include "tuning/sim/prep_cache.h"
 #include "tuning/sim/track_csv.h"
@@ -237,6 +238,9 @@ ResolvedScenario ResolveScenario(const params::ScenarioParams& spec, const std::
   sc.spec = spec;
   sc.source = source;
   const std::string where = Where(spec, source);
+  // A plant this build lacks fails before anything is prepared.
+  if (spec.plant.model == "ocd" && !kHaveOcdPlant)
+    throw ConfigError(where, "plant.model", NoOcdMessage());
   params::VehicleParams nominal;
   ResolveVehicle(spec, base_dir, where, &sc, &nominal);
   if (with_reference) {
@@ -253,6 +257,8 @@ ResolvedScenario ResolveScenario(const params::ScenarioParams& spec, const std::
   // depend on them).
   ApplyPlantSection(spec, where, &sc);
   ApplyPlantStep(spec, where, &sc);
+  // The plant model (plant.model) can simulate the simulated car (tuning/sim/plant_choice.h).
+  CheckPlantModel(spec.plant.model, sc.plant_vehicle, where);
   return sc;
 }
 

@@ -8,6 +8,7 @@
 
 #include "params/io/csv.h"
 #include "params/io/yaml_doc.h"
+#include "tuning/sim/plant_choice.h"
 
 namespace scw::tuning {
 namespace {
@@ -41,6 +42,21 @@ TEST(ClosedLoopTest, DefaultScenarioCompletesThreeLapsWithEverySubsystemOn) {
   EXPECT_LT(m.MeanLapTime(), sc.ideal_lap_time * 1.10);
   EXPECT_LT(m.max_abs_lateral_error, 1.5);
   EXPECT_NEAR(m.Progress(), 1.0, 1e-12);
+}
+
+TEST(ClosedLoopTest, OpenCarDynamicsLapsTheTrackDeterministically) {
+  if (!kHaveOcdPlant) GTEST_SKIP() << "this build has no Open-Car-Dynamics (SCW_WITH_OCD)";
+  const ResolvedScenario sc = Resolve(DefaultScenario({"plant.model=ocd", "laps=1"}));
+  const RunMetrics a = RunClosedLoop(sc, sc.stability);
+  ASSERT_EQ(a.status, RunStatus::kCompleted) << RunStatusName(a.status) << " at s = " << a.end_s;
+  ASSERT_EQ(a.lap_times.size(), 1u);
+  // The same reference on the other plant: the lap within a few per cent of scw's plant's.
+  const RunMetrics scw = RunClosedLoop(Resolve(DefaultScenario({"laps=1"})), sc.stability);
+  EXPECT_NEAR(a.lap_times[0], scw.lap_times[0], 0.05 * scw.lap_times[0]);
+  EXPECT_LT(a.max_abs_lateral_error, 1.5);
+  const RunMetrics b = RunClosedLoop(sc, sc.stability);
+  EXPECT_EQ(a.lap_times, b.lap_times);
+  EXPECT_EQ(a.max_abs_sideslip, b.max_abs_sideslip);
 }
 
 TEST(ClosedLoopTest, RunsAreDeterministic) {

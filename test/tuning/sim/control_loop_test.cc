@@ -18,7 +18,9 @@ struct Fixture {
   controller::StabilityController ctl{params::StabilityParams{}};
   plant::State st = car.MakeState({0.0, 0.0, 0.0, 20.0});
   controller::StabilityController::State cs;
-  ControlLoop Loop(long ratio) { return ControlLoop{car, ctl, ratio, &st, nullptr, &cs}; }
+  ControlLoop<plant::Vehicle> Loop(long ratio) {
+    return ControlLoop<plant::Vehicle>{car, ctl, ratio, &st, nullptr, &cs};
+  }
 };
 
 // Records the calls; ends the run in Output at tick `last`; a non-nominal environment on odd

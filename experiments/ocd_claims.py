@@ -1,0 +1,102 @@
+#!/usr/bin/env python3
+"""The claims of studies 1 and 2 on Open-Car-Dynamics beside scw's plant (issue 49 item 5,
+docs/ocd-plant.md): reads study columns run with `--set plant.model=ocd` and judges them with the
+report's unchanged criteria (scwexp.claims), next to the same column on scw's plant.
+
+    python3 experiments/study2_lateral.py --set plant.model=ocd --set plant.actuators=paper_sim \\
+        --results experiments/results/ocd_columns/shipped__paper_sim --label shipped \\
+        --no-report --no-sensitivity
+    python3 experiments/ocd_claims.py [--ocd DIR ...] [--scw DIR ...]
+
+    python3 experiments/study2_lateral.py --set plant.actuators=paper_sim \
+        --results experiments/results/scw_columns/shipped__paper_sim --label shipped \
+        --no-report --no-sensitivity
+
+Study 1 likewise (study1_longitudinal.py with the same options). --ocd: column folders holding
+study1_longitudinal/ and study2_lateral/ summaries on OCD (default: every folder under
+experiments/results/ocd_columns/); --scw: the same columns on scw's plant, run with the same
+binary (default: experiments/results/scw_columns/<same name>). Writes
+experiments/results/ocd_columns/claims.md and prints it.
+"""
+
+import argparse
+import json
+import os
+
+import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
+
+from scwexp import claims as C  # noqa: E402  (the claims' criteria, unchanged)
+
+CLAIMS = (("study1_longitudinal", "a", C.claim_a),
+          ("study2_lateral", "b", C.claim_b),
+          ("study2_lateral", "c", C.claim_c),
+          ("study2_lateral", "d", C.claim_d))
+
+
+def read_summary(column, study):
+    path = os.path.join(column, study, "summary.json")
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        return json.load(f)
+
+
+def judge(fn, runs):
+    """(verdict, perturbations where it holds, perturbations): the report's rule, a claim holds
+    if it holds in at least two of three perturbations (all of fewer)."""
+    res = [fn(ser)[0] for ser in runs.values()]
+    known = [ok for ok in res if ok is not None]
+    n_ok = sum(1 for ok in known if ok)
+    need = 2 if len(res) >= 3 else len(res)
+    ok = None if not known else n_ok >= need
+    return ok, n_ok, len(res)
+
+
+def verdict(ok):
+    return "not evaluable" if ok is None else ("**reproduced**" if ok else "**NOT reproduced**")
+
+
+def first_aborts(summary):
+    """{configuration: first abort GG} at the study's main perturbation, and that perturbation."""
+    main = summary["perturbation"].get("main", next(iter(summary["runs"])))
+    ser = summary["runs"][main]
+    return {c: C.abort_gg(a) for c, a in ser.items()}, main
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    base = os.path.join(scwexp.RESULTS, "ocd_columns")
+    ap.add_argument("--ocd", nargs="*")
+    ap.add_argument("--scw", nargs="*")
+    args = ap.parse_args(argv)
+    ocd = args.ocd or sorted(os.path.join(base, d) for d in os.listdir(base)
+                             if os.path.isdir(os.path.join(base, d)))
+    ref = os.path.join(scwexp.RESULTS, "scw_columns")
+    scw = args.scw or [os.path.join(ref, os.path.basename(d)) for d in ocd]
+    lines = ["| column | plant | (a) | (b) | (c) | (d) | first aborts (main perturbation) |",
+             "| --- | --- | --- | --- | --- | --- | --- |"]
+    for o, s in zip(ocd, scw):
+        for plant, d in (("scw", s), ("ocd", o)):
+            cells, aborts = [], []
+            for study, key, fn in CLAIMS:
+                summ = read_summary(d, study)
+                if summ is None:
+                    cells.append("not run")
+                    continue
+                ok, n, m = judge(fn, summ["runs"])
+                cells.append(f"{verdict(ok)} ({n} of {m})")
+                if key in ("a", "b"):
+                    fa, main_p = first_aborts(summ)
+                    aborts.append(f"study {study[5]}, {summ['perturbation']['label']} {main_p}: "
+                                  + ", ".join(f"{c} {C.g(v)}" for c, v in fa.items()))
+            lines.append(f"| {os.path.basename(o)} | {plant} | " + " | ".join(cells) + " | "
+                         + "; ".join(aborts) + " |")
+    text = "\n".join(lines) + "\n"
+    os.makedirs(base, exist_ok=True)
+    with open(os.path.join(base, "claims.md"), "w") as f:
+        f.write(text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
