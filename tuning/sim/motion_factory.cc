@@ -53,7 +53,7 @@ std::unique_ptr<controller::motion::MotionController> MakeMotionController(
     if (name == "pmpc") {
       cm::PmpcOptions o;
       static_cast<params::PmpcParams&>(o) = sc.spec.motion.pmpc;  // motion.pmpc.*
-      if (o.limits == "provided") {
+      if (PmpcWithinProvidedLimits(sc.spec)) {
         // Nothing above the planner's limits; the reference was planned at target_fraction of
         // them (ResolveReference), so the plan can follow it.
         o.nominal_fraction = 1.0;
