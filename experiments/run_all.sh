@@ -10,6 +10,8 @@
 # experiments/results/report.md.
 #
 #   experiments/run_all.sh [PARAMS.yaml ...]        (SCW_BIN=/path/to/scw to choose the binary)
+#   experiments/run_all.sh --quick                  the shipped set, both actuator models, the
+#                                                   one-page answer (no seeded runs, no maps)
 #
 # Environment: ACTUATORS (default "vehicle paper_sim"), STUDY3_CONTROLLERS (default
 # pure_pursuit,pmpc; add nmpc for the nonlinear MPC, ~5 min per column), SENSITIVITY=1 (also the
@@ -22,7 +24,10 @@
 # commanded and steering-based ESC targets, and the PMPC's yaw-rate and lateral-acceleration
 # feedbacks with both actuator models, the body's roll/pitch modes and the paper's setup as a whole
 # (paper_setup), about 25-30 min each),
-# STUDY_ARGS (extra options of every study, e.g. "--gg 1.0,1.05 --laps 1" for a quick check).
+# STUDY_ARGS (extra options of every study, e.g. "--gg 1.0,1.05 --laps 1" for a quick check),
+# SEEDED (default 1, 0 with --quick: study 2 over 10 sensor-noise seeds per column,
+# experiments/seeded_limit.py, about 12 min a column). The wall and CPU time of the whole run
+# go to results/run_all.json, which the report's header names.
 # Time on 2 cores: shipped + one tuned set, both actuator models (the reference run, run_all.sh
 # experiments/reference-results/tuned_seed1.yaml): 15.7 min wall on the idle 2-core machine (user
 # 21.9 + system 5.4 CPU-min; per column 2.9 / 4.3 / 3.8 / 4.5 min), 2026-11-27 at main 8bbc49b
@@ -38,9 +43,15 @@ py=python3
 if ! python3 -c "import matplotlib, numpy" >/dev/null 2>&1 && [ -x /usr/bin/python3 ]; then
   py=/usr/bin/python3
 fi
+quick=0
+if [ "${1:-}" = --quick ]; then
+  quick=1; shift
+  [ $# -eq 0 ] || { echo "run_all: --quick runs the shipped set only: drop $*" >&2; exit 2; }
+fi
 for f in "$@"; do
   [ -f "$f" ] || { echo "run_all: no such params file: $f" >&2; exit 2; }
 done
+seeded=${SEEDED:-$((1 - quick))}
 actuators=${ACTUATORS:-vehicle paper_sim}
 ctrls=${STUDY3_CONTROLLERS:-pure_pursuit,pmpc}
 procs=${PROCESSES:-2}
@@ -66,10 +77,14 @@ for set in "${sets[@]}"; do
     "$py" "$here/study1_longitudinal.py" "${common[@]}" "${sens[@]}"
     "$py" "$here/study2_lateral.py" "${common[@]}" "${sens[@]}"
     "$py" "$here/study3_motion.py" "${common[@]}" "${sens[@]}" --controllers "$ctrls"
+    if [ "$seeded" = 1 ]; then
+      "$py" "$here/seeded_limit.py" --results "$dir" --label "$label" --processes "$procs" \
+        --set "plant.actuators=$act" "${stab[@]}"
+    fi
     echo "run_all: column ${label}__${act}: $((SECONDS - t0)) s"
   done
 done
-if [ "${CLAIMS_MAP:-0}" = 1 ]; then
+if [ "${CLAIMS_MAP:-0}" = 1 ] && [ "$quick" = 0 ]; then
   "$py" "$here/claims_map.py" --no-report --processes "$procs"
   fams=brake_steer,no_brake_dyn,paper_sim,paper_sim_steer,paper_sim_v1,grip_curve,esc_target
   fams+=,pmpc_yaw_feedback,pmpc_yaw_paper_sim,pmpc_ay_feedback,pmpc_ay_paper_sim,body_modes
@@ -79,6 +94,15 @@ if [ "${CLAIMS_MAP:-0}" = 1 ]; then
   done
 fi
 "$py" "$here/esc_margin.py" --no-report --processes "$procs"
-"$py" "$here/compare.py" --no-report "$here/../params/stability/default.yaml" "$@"
+if [ "$quick" = 0 ]; then
+  "$py" "$here/compare.py" --no-report "$here/../params/stability/default.yaml" "$@"
+fi
+# The run's wall and CPU time (children: every scw and python run above) for the report's header.
+cpu=$(times | tail -1 | awk '{ t = 0; for (i = 1; i <= 2; i++) { split($i, a, "m");
+  t += a[1] * 60 + substr(a[2], 1, length(a[2]) - 1) } print t }')
+rev=$(git -C "$here/.." rev-parse --short HEAD 2>/dev/null || echo unknown)
+printf '{"mode": "%s", "wall_s": %d, "cpu_s": %s, "commit": "%s", "sets": %d}\n' \
+  "$([ "$quick" = 1 ] && echo quick || echo full)" "$((SECONDS - start))" "$cpu" "$rev" \
+  "${#sets[@]}" > "$here/results/run_all.json"
 "$py" "$here/report.py"
 echo "run_all: $((SECONDS - start)) s; report: $here/results/report.md"

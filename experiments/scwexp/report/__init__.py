@@ -11,6 +11,7 @@ publish. Its entry point is experiments/report.py; nothing else imports the repo
 """
 
 import argparse
+import json
 import os
 import re
 import sys
@@ -29,6 +30,7 @@ from scwexp.report.markdown import MAX_LINE, fit, relink
 from scwexp.report.method import CHANGES, method_section
 from scwexp.report.page import PAGE_LINES, page
 from scwexp.report.publish import publish
+from scwexp.report import seeded as seeded_report
 from scwexp.report.verdicts import verdict_by_claim, verdict_table
 from scwexp.results import STUDIES, find_columns, read_summary, read_summary_in
 
@@ -144,6 +146,9 @@ def _appendices(cols, root, cmp_, man):
                                     "premise", _across(cols, root) + _tail(cmp_, man))
         for c in cols:
             out[f"column_{c[0]}.md"] = (col_title(c), _column(c, root))
+    if any(seeded_report.read(c) for c in cols):
+        out["seeded.md"] = ("study 2 over sensor-noise seeds: P(loss | GG)",
+                            seeded_report.appendix(cols, root))
     for cm in claims_maps(root):
         out[f"{cm['dir']}.md"] = (f"claims map, {cm['set_label']} set", claims_map_lines(cm))
     return out
@@ -200,8 +205,12 @@ def main(argv=None):
             os.remove(os.path.join(root, APPENDIX, name))
     for name, (_, lines) in apps.items():
         _write(os.path.join(root, APPENDIX, name), fit(relink(lines, "../")))
+    run = None
+    if os.path.exists(os.path.join(root, "run_all.json")):
+        with open(os.path.join(root, "run_all.json"), encoding="utf-8") as f:
+            run = json.load(f)
     out = page(cols, claims_maps(root), read_summary("esc_margin"), root, _links(apps),
-               _laps(cols)) if cols else [
+               _laps(cols), run) if cols else [
         "# Does stability control do what the paper says?", "", "No study results yet.", "",
         "## Appendices", ""] + _links(apps)
     path = os.path.join(root, "report.md")

@@ -7,6 +7,7 @@ import os
 
 from scwexp.claims import CRITERIA
 from scwexp.report import page_data as D
+from scwexp.report import seeded as S
 from scwexp.report.common import ACT_SHORT, col_title, from_column
 from scwexp.results import column_of
 
@@ -158,7 +159,16 @@ def figures(cols, maps, esc_margin, root):
     return out
 
 
-def page(cols, maps, esc_margin, root, appendix_links, laps):
+def run_line(run):
+    """The header's line on how the tree was made (results/run_all.json), or []."""
+    if not run:
+        return []
+    return [f"Made by `experiments/run_all.sh{' --quick' if run.get('mode') == 'quick' else ''}` "
+            f"at commit {run.get('commit', '?')}: {run['wall_s'] / 60:.1f} min wall, "
+            f"{run['cpu_s'] / 60:.1f} CPU-min (2 cores).", ""]
+
+
+def page(cols, maps, esc_margin, root, appendix_links, laps, run=None):
     """The first page's lines (at most PAGE_LINES once fitted)."""
     vt, res = verdict_rows(cols)
     s2 = next((c[2]["study2_lateral"] for c in cols if c[2].get("study2_lateral")), None)
@@ -168,11 +178,13 @@ def page(cols, maps, esc_margin, root, appendix_links, laps):
            f"Yas Marina North, the EAV24/25 plant, {laps} per run{pert}; GG 1.0 = 70 %, "
            "GG 1.43 = 100 % of the plant's combined limits. A claim holds "
            "in a column if its criterion (written before the numbers, "
-           "[method](appendix/method.md)) holds in 2 of 3 perturbations.", "",
-           "## Verdict", ""] + vt + [
+           "[method](appendix/method.md)) holds in 2 of 3 perturbations.", ""] + run_line(run) + [
+           "## Verdict", ""] + vt + S.verdict_row(cols) + [
            "", "✓ holds, ✗ does not, – not run; the number (main perturbation): "
            + "; ".join(f"({k}) {NUMBER[k]}" for k in "abcd")
-           + "; (e)/(f) as (b)/(c) per controller.", "", "## Where each claim holds", ""]
+           + "; (e)/(f) as (b)/(c) per controller."
+           + (" " + S.legend() if S.verdict_row(cols) else ""), "", "## Where each claim holds",
+           ""]
     for (k, ctrl), rs in res.items():
         out.append(claim_sentence(k, ctrl, rs, cols, maps))
     out += gain_line(cols)
