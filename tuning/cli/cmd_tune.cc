@@ -51,9 +51,6 @@ extern "C" void OnSigint(int) {
   [[maybe_unused]] const auto n = write(2, kMsg, sizeof kMsg - 1);
 }
 
-/// --max-evals of each point of a front when none is given.
-constexpr int kFrontEvalsPerPoint = 120;
-
 struct TuneOptions {
   std::string space, scenarios, base, algorithm = "sbplx", out, resume, node;
   std::string base_outside = "grow";
@@ -658,11 +655,6 @@ int RunTune(TuneOptions o) {
     }
   }
   NoteThreads("scw tune", o.threads);
-  if (o.front != 0 && !o.max_evals_given) {
-    // A front is N searches: 120 evaluations a point by default keeps --front 5 near a quarter
-    // of an hour on 2 cores (docs/tuned-files.md#front).
-    o.max_evals = kFrontEvalsPerPoint;
-  }
   if (o.front != 0 && !o.resume.empty())
     throw ConfigError("scw tune", "--front", "a front cannot be resumed: drop --resume");
   if (o.front != 0 && o.objective != "constrained")
@@ -909,8 +901,9 @@ void AddTune(CLI::App& app) {
   WholeNumberIn(cmd->add_option("--front", o->front,
                                 "The trade-off as N tuned sets, from the base set's lap time (no "
                                 "loss) to no clean-lap budget (whatever it takes to survive), each "
-                                "a constrained tune of --max-evals evaluations (default for a "
-                                "front: 120 a point), in lockstep; "
+                                "a constrained tune (the ends --max-evals evaluations from the "
+                                "base set, the inner points half of it from the best set so far), "
+                                "in lockstep; "
                                 "writes front.csv, front.md, front.png and point_<k>/ with each "
                                 "point's params files (docs/tuned-files.md#front)"),
                 2, 20);

@@ -186,6 +186,11 @@ std::string Join(const std::vector<std::string>& v) {
 
 }  // namespace
 
+int FrontPointEvals(int k, int n, int max_evals) {
+  if (k <= 0 || k >= n - 1) return max_evals;
+  return std::max(1, max_evals / 2);
+}
+
 double FrontSpan(double unbudgeted_loss) {
   return std::max(std::isfinite(unbudgeted_loss) ? unbudgeted_loss : 0.0, kFrontMinSpan);
 }
@@ -263,8 +268,9 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
     std::vector<TuneObjective> objectives;
     for (int j = 0; j < m; ++j) {
       FrontPoint& p = points[static_cast<std::size_t>(which[static_cast<std::size_t>(j)])];
-      studies.emplace_back(study.base(), study.given_space(), study.scenarios(),
-                           FrontPointOptions(o, p.budget, p.folder));
+      TuneStudyOptions po = FrontPointOptions(o, p.budget, p.folder);
+      po.max_evals = FrontPointEvals(p.index, n, o.max_evals);
+      studies.emplace_back(study.base(), study.given_space(), study.scenarios(), po);
       objectives.push_back(studies.back().ObjectiveOn(prep.search(), prep.search_base()));
       if (!o.evaluation_log.empty())
         fs::create_directories(fs::path(studies.back().options().evaluation_log).parent_path());
@@ -276,7 +282,8 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
     // Round bookkeeping for the archive: the points of each search in the round, in order.
     std::vector<std::vector<std::vector<double>>> asked(static_cast<std::size_t>(m));
     int evaluations = 0;
-    const int total = m * (all_frozen ? 1 : o.max_evals);
+    int total = 0;
+    for (const auto& s : studies) total += all_frozen ? 1 : s.options().max_evals;
     Gate gate(m, [&](const std::vector<params::StabilityParams>& sets, int round) {
       std::vector<SetEvaluation> res = prep.search().Evaluate(sets);
       std::size_t at = 0;
@@ -343,7 +350,7 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
     points[static_cast<std::size_t>(k)].index = k;
     points[static_cast<std::size_t>(k)].folder = "point_" + std::to_string(k);
   }
-  front_observer.OnStage(1, 2, o.max_evals);
+  front_observer.OnStage(1, 2, FrontPointEvals(0, n, o.max_evals));
   stage(1, {0, n - 1}, {u0, u0});
   const ArchiveEntry* survive = BestWithin(archive, points.back().budget);
   result.loss_found = survive ? std::max(0.0, survive->lap_loss) : 0.0;
@@ -358,7 +365,7 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
     inner_starts.push_back(warm ? warm->u : u0);
   }
   if (!inner.empty()) {
-    front_observer.OnStage(2, static_cast<int>(inner.size()), o.max_evals);
+    front_observer.OnStage(2, static_cast<int>(inner.size()), FrontPointEvals(1, n, o.max_evals));
     stage(2, inner, inner_starts);
   }
 
@@ -366,8 +373,9 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
   for (int k = 0; k < n; ++k) {
     FrontPoint& p = points[static_cast<std::size_t>(k)];
     p.label = Label(p.budget);
-    const TuneStudy point_study(study.base(), study.given_space(), study.scenarios(),
-                                FrontPointOptions(o, p.budget, p.folder));
+    TuneStudyOptions po = FrontPointOptions(o, p.budget, p.folder);
+    po.max_evals = FrontPointEvals(k, n, o.max_evals);
+    const TuneStudy point_study(study.base(), study.given_space(), study.scenarios(), po);
     front_observer.OnPointBegin(k, n);
     TuneReport r = shared;
     r.objective = point_study.ObjectiveOn(*prep.training, prep.fine_base).Describe();
@@ -387,7 +395,8 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
     }
     r.convergence = all_frozen ? std::string("nothing to tune: every parameter is frozen")
                                : ConvergenceVerdict(searches[static_cast<std::size_t>(k)],
-                                                    o.max_evals, shared.free_dimensions);
+                                                    FrontPointEvals(k, n, o.max_evals),
+                                                    shared.free_dimensions);
     if (best && best->search != k)
       r.convergence += "; the point's set comes from point " + std::to_string(best->search) +
                        "'s search (the best within this budget over the whole front)";

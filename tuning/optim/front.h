@@ -11,7 +11,8 @@
 // fast as the base) does not collapse the inner points onto "no loss"; they still search the
 // budgets an engineer weighs (0.025, 0.1, 0.225 s a lap for N = 5).
 //
-// The searches (each Subplex, `max_evals` evaluations, from the study's options):
+// The searches (each Subplex; FrontPointEvals: the ends `max_evals` evaluations from the study's
+// options, the inner points half of it):
 //   stage 1   the two ends, from the base point, in lockstep: each round every running search
 //             asks for one point and the round runs as ONE batch of (set × scenario) jobs over
 //             the execution layer (threads or MPI ranks), in point order
@@ -84,6 +85,11 @@ struct FrontResult {
 TuneStudyOptions FrontPointOptions(const TuneStudyOptions& o, const CleanLapBudget& b,
                                    const std::string& folder);
 
+/// The evaluations of point k's search: `max_evals` for the ends, which start from the base point
+/// (on the built-in set the unbudgeted search needs about 210 to find the set that trades lap time
+/// for stability), half of it (at least 1) for the inner points, which start from the best set for
+/// their budget found so far.
+int FrontPointEvals(int k, int n, int max_evals);
 /// The clean-lap budget of point k of n, given L (see the header comment).
 CleanLapBudget FrontBudget(int k, int n, double loss_span);
 

@@ -28,7 +28,7 @@ TEST(FrontTest, BudgetsRunFromNoLossToNoBudgetDensestNearNoLoss) {
 
 // The span L of the inner budgets: the unbudgeted end's loss, at least kFrontMinSpan, so an
 // unbudgeted search that found nothing to buy with lap time (loss 0, as the built-in front's
-// 120-evaluation search did) leaves the inner points budgets to search, not four copies of "no
+// 120-evaluation search once did) leaves the inner points budgets to search, not four copies of "no
 // loss".
 TEST(FrontTest, SpanIsTheUnbudgetedLossButNeverBelowTheMinimum) {
   EXPECT_EQ(FrontSpan(0.0), kFrontMinSpan);
@@ -36,6 +36,17 @@ TEST(FrontTest, SpanIsTheUnbudgetedLossButNeverBelowTheMinimum) {
   EXPECT_EQ(FrontSpan(std::nan("")), kFrontMinSpan);
   EXPECT_EQ(FrontSpan(0.9), 0.9);
   EXPECT_GT(FrontBudget(1, 5, FrontSpan(0.0)).lap_s, 0.0);
+}
+
+// The ends start from the base point and get the whole budget (the built-in set's unbudgeted
+// search found its trade only after ~210 evaluations); the warm-started inner points half.
+TEST(FrontTest, TheEndsSearchWithTheWholeBudgetTheInnerPointsWithHalf) {
+  EXPECT_EQ(FrontPointEvals(0, 5, 240), 240);
+  EXPECT_EQ(FrontPointEvals(4, 5, 240), 240);
+  for (int k = 1; k < 4; ++k) EXPECT_EQ(FrontPointEvals(k, 5, 240), 120);
+  EXPECT_EQ(FrontPointEvals(1, 3, 3), 1);
+  EXPECT_EQ(FrontPointEvals(1, 3, 1), 1);  // never a search of no evaluation
+  EXPECT_EQ(FrontPointEvals(1, 2, 7), 7);  // a front of two is its ends
 }
 
 TEST(FrontTest, HypervolumeIsTheAreaTheFrontDominatesUpToTheReference) {
