@@ -149,6 +149,16 @@ class Report(unittest.TestCase):
         self.assertTrue({"column_shipped__vehicle.md", "column_shipped__paper_sim.md",
                          "claims_map.md", "method.md"} <= names)
         self.check_tree(os.path.join(WORK, "published"))
+        # The data behind the copy: every study's summary and its sweep tables, compressed, which
+        # the loader reads back without running scw.
+        pub = os.path.join(WORK, "published", "columns", "shipped__vehicle", "study2_lateral")
+        self.assertTrue(os.path.exists(os.path.join(pub, "summary.json")))
+        self.assertTrue(glob.glob(os.path.join(pub, "sweep*.csv.gz")), os.listdir(pub))
+        self.assertFalse(glob.glob(os.path.join(pub, "sweep*.csv")))
+        from scwexp import results as R
+        study = R.load(pub)
+        self.assertTrue(study.sweeps)
+        self.assertTrue(study.sweep_loss_curve("none"))
 
     def test_missing_inputs_are_said_not_invented(self):
         root = unpack("bare", drop=("claims_map", "esc_margin"))

@@ -1,7 +1,10 @@
 """The reference copy: report.md, its appendices (appendix/*.md) and the figures they link,
-copied with their relative paths."""
+copied with their relative paths, and the data behind them (each study's summary.json, its sweep
+tables gzip-compressed, their recorded commands, the seeded study's table), so that
+scwexp.results.load can re-analyse the copy without running scw."""
 
 import glob
+import gzip
 import os
 import re
 import shutil
@@ -37,4 +40,29 @@ def publish(report_path, dest, appendix="appendix"):
                 os.remove(os.path.join(root, name))
     for page in pages:
         shutil.copyfile(os.path.join(src_root, page), os.path.join(dest, page))
-    print(f"published {dest}/report.md and {len(pages) - 1} appendices")
+    files = copy_data(src_root, dest)
+    print(f"published {dest}/report.md, {len(pages) - 1} appendices and {files} data files")
+
+
+DATA = ("summary.json", "sweep*.csv", "sweep*.csv.gz", "sweep*.csv.cmd", "seeded.md")
+
+
+def copy_data(src_root, dest):
+    """Copies every study folder's data under columns/ (DATA), a plain sweep table compressed
+    (.csv.gz, no time stamp: the same table gives the same bytes); returns the files copied."""
+    n = 0
+    for study in sorted(glob.glob(os.path.join(src_root, "columns", "*", "*", "summary.json"))):
+        d = os.path.dirname(study)
+        out = os.path.join(dest, os.path.relpath(d, src_root))
+        os.makedirs(out, exist_ok=True)
+        for pattern in DATA:
+            for path in sorted(glob.glob(os.path.join(d, pattern))):
+                name = os.path.basename(path)
+                if name.endswith(".csv"):
+                    with open(path, "rb") as src, gzip.GzipFile(
+                            os.path.join(out, name + ".gz"), "wb", mtime=0) as dst:
+                        shutil.copyfileobj(src, dst)
+                else:
+                    shutil.copyfile(path, os.path.join(out, name))
+                n += 1
+    return n
