@@ -393,10 +393,10 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
       r.optimisation.best_cost = base_merit;
       r.optimisation.best_eval = 0;
     }
-    r.convergence = all_frozen ? std::string("nothing to tune: every parameter is frozen")
-                               : ConvergenceVerdict(searches[static_cast<std::size_t>(k)],
-                                                    FrontPointEvals(k, n, o.max_evals),
-                                                    shared.free_dimensions);
+    r.convergence =
+        all_frozen ? std::string("nothing to tune: every parameter is frozen")
+                   : ConvergenceVerdict(searches[static_cast<std::size_t>(k)],
+                                        FrontPointEvals(k, n, o.max_evals), shared.free_dimensions);
     if (best && best->search != k)
       r.convergence += "; the point's set comes from point " + std::to_string(best->search) +
                        "'s search (the best within this budget over the whole front)";
