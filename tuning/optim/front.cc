@@ -1,6 +1,7 @@
 #include "tuning/optim/front.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <condition_variable>
 #include <cstdio>
@@ -176,6 +177,17 @@ std::pair<std::vector<std::string>, std::vector<std::string>> Bought(const TuneR
   scan(before.training, now.training, now.training_change.scenarios);
   scan(before.held_out, now.held_out, now.held_out_change.scenarios);
   return {buys, loses};
+}
+
+/// The activations ESC/CS/ABS/TC summed over the clean scenarios of `v` (of the base set with
+/// `base`), e.g. "2/43/15/8".
+std::string CleanActivations(const ObjectiveValue& v, bool base) {
+  std::array<int, 4> sum{};
+  for (const CleanLapCheck& c : v.clean)
+    for (std::size_t k = 0; k < sum.size(); ++k)
+      sum[k] += base ? c.base_activations[k] : c.activations[k];
+  return std::to_string(sum[0]) + "/" + std::to_string(sum[1]) + "/" + std::to_string(sum[2]) +
+         "/" + std::to_string(sum[3]);
 }
 
 std::string Join(const std::vector<std::string>& v) {
@@ -423,7 +435,8 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
   std::string csv =
       "point,label,lap_budget_s,activations_limited,changed_keys,training_lap_loss_s,"
       "training_stability,training_aborts,held_out_lap_loss_s,held_out_stability,"
-      "held_out_aborts,knife_edges,own_knife_edges,base_training_stability,file\n";
+      "held_out_aborts,knife_edges,own_knife_edges,base_training_stability,file,"
+      "training_clean_activations\n";
   std::string md =
       "# scw tune --front " + std::to_string(n) + ": clean-lap time against stability\n\n";
   md +=
@@ -433,7 +446,9 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
       FormatFixed(s_base, 3) + " on the training scenarios, " +
       std::to_string(Aborts(points.front().report.training, 0)) + " training and " +
       std::to_string(Aborts(points.front().report.held_out, 0)) +
-      " held-out aborts. Hypervolume of the training front " + FormatFixed(result.hypervolume, 3) +
+      " held-out aborts, clean-lap activations ESC/CS/ABS/TC " +
+      CleanActivations(points.front().report.tuned_value, true) +
+      " (training). Hypervolume of the training front " + FormatFixed(result.hypervolume, 3) +
       " (reference point: loss " + FormatFixed(result.reference.first, 3) + " s/lap, stability " +
       FormatFixed(result.reference.second, 3) + "); " + std::to_string(result.evaluations) +
       " evaluations. Inner budgets L·(k/(N−1))² with L = " + FormatFixed(result.loss_span, 3) +
@@ -441,8 +456,9 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
       " s/lap; L is at least " + FormatFixed(kFrontMinSpan, 1) + ").\n\n";
   md +=
       "| point | budget | clean-lap loss train / held-out [s/lap] | stability train / held-out "
-      "| aborts train / held-out | buys (vs the point before) | knife edges | file |\n"
-      "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
+      "| aborts train / held-out | clean-lap activations (train) | buys (vs the point before) "
+      "| knife edges | file |\n"
+      "| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (std::size_t k = 0; k < points.size(); ++k) {
     const FrontPoint& p = points[k];
     const TuneReport& r = p.report;
@@ -462,7 +478,7 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
            num(r.held_out_value.stability) + "," + std::to_string(Aborts(r.held_out, 1)) + "," +
            (r.neighbourhood_done ? std::to_string(r.neighbourhood.edges.size()) : "") + "," +
            (r.neighbourhood_done ? std::to_string(own) : "") + "," + num(s_base) + "," + file +
-           "\n";
+           "," + CleanActivations(r.tuned_value, false) + "\n";
     const auto [buys, loses] = k == 0 ? Bought(r, 0, r) : Bought(points[k - 1].report, 1, r);
     std::string bought = buys.empty() ? "-" : "survives " + Join(buys);
     if (!loses.empty()) bought += "; loses " + Join(loses);
@@ -470,7 +486,7 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
           loss(r.held_out_value) + " | " + FormatFixed(r.tuned_value.stability, 1) + " / " +
           FormatFixed(r.held_out_value.stability, 1) + " | " +
           std::to_string(Aborts(r.training, 1)) + " / " + std::to_string(Aborts(r.held_out, 1)) +
-          " | " + bought + " | " +
+          " | " + CleanActivations(r.tuned_value, false) + " | " + bought + " | " +
           (r.neighbourhood_done
                ? std::to_string(own) + " own of " + std::to_string(r.neighbourhood.edges.size())
                : std::string("not checked")) +

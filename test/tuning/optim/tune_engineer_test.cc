@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 
 #include "test/common/cli_run.h"
@@ -112,6 +113,14 @@ TEST_F(TuneEngineerTest, AFrontWritesOneExportedSetPerPointAndTheTable) {
   EXPECT_NE(md.find("| point | budget | clean-lap loss train / held-out"), std::string::npos) << md;
   EXPECT_NE(md.find("Hypervolume of the training front"), std::string::npos) << md;
   EXPECT_NE(md.find("L is at least 0.4"), std::string::npos) << md;
+  // The activations beside every point: clean-lap ESC/CS/ABS/TC of the base and of each point.
+  EXPECT_TRUE(std::regex_search(md, std::regex("clean-lap activations ESC/CS/ABS/TC \\d+/\\d+/"
+                                               "\\d+/\\d+ \\(training\\)")))
+      << md;
+  EXPECT_TRUE(std::regex_search(md, std::regex("\\| \\d+/\\d+/\\d+/\\d+ \\| "))) << md;
+  EXPECT_TRUE(std::regex_search(csv, std::regex(",point_0/stability_tuned.yaml,\\d+/\\d+/\\d+/"
+                                                "\\d+\\n")))
+      << csv;
   // Point 0 keeps the base set's clean laps exactly within its zero budget.
   EXPECT_NE(Slurp(run + "/point_0/manifest.yaml").find("tuned_within_budget: true"),
             std::string::npos);
