@@ -63,6 +63,17 @@ def first_aborts(summary):
     return {c: C.abort_gg(a) for c, a in ser.items()}, main
 
 
+def activations(summary):
+    """"config ESC/CS/ABS/TC" summed over each configuration's completed runs at the study's main
+    perturbation: which subsystem acted in the runs that decide the claims."""
+    main = summary["perturbation"].get("main", next(iter(summary["runs"])))
+    out = []
+    for c, a in summary["runs"][main].items():
+        tot = [sum(int(r.get(k) or 0) for r in C.done_runs(a)) for k in scwexp.ACTIVATION_KEYS]
+        out.append(f"{c} {'/'.join(str(t) for t in tot)}")
+    return ", ".join(out)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     base = os.path.join(scwexp.RESULTS, "ocd_columns")
@@ -73,11 +84,12 @@ def main(argv=None):
                              if os.path.isdir(os.path.join(base, d)))
     ref = os.path.join(scwexp.RESULTS, "scw_columns")
     scw = args.scw or [os.path.join(ref, os.path.basename(d)) for d in ocd]
-    lines = ["| column | plant | (a) | (b) | (c) | (d) | first aborts (main perturbation) |",
-             "| --- | --- | --- | --- | --- | --- | --- |"]
+    lines = ["| column | plant | (a) | (b) | (c) | (d) | first aborts (main perturbation) | "
+             "ESC/CS/ABS/TC in the completed runs |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     for o, s in zip(ocd, scw):
         for plant, d in (("scw", s), ("ocd", o)):
-            cells, aborts = [], []
+            cells, aborts, acts = [], [], []
             for study, key, fn in CLAIMS:
                 summ = read_summary(d, study)
                 if summ is None:
@@ -89,8 +101,9 @@ def main(argv=None):
                     fa, main_p = first_aborts(summ)
                     aborts.append(f"study {study[5]}, {summ['perturbation']['label']} {main_p}: "
                                   + ", ".join(f"{c} {C.g(v)}" for c, v in fa.items()))
+                    acts.append(f"study {study[5]}: " + activations(summ))
             lines.append(f"| {os.path.basename(o)} | {plant} | " + " | ".join(cells) + " | "
-                         + "; ".join(aborts) + " |")
+                         + "; ".join(aborts) + " | " + "; ".join(acts) + " |")
     text = "\n".join(lines) + "\n"
     os.makedirs(base, exist_ok=True)
     with open(os.path.join(base, "claims.md"), "w") as f:

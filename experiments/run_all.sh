@@ -25,6 +25,8 @@
 # feedbacks with both actuator models, the body's roll/pitch modes and the paper's setup as a whole
 # (paper_setup), about 25-30 min each),
 # STUDY_ARGS (extra options of every study, e.g. "--gg 1.0,1.05 --laps 1" for a quick check),
+# PLANTS (default "scw"; "scw ocd" adds each column on Open-Car-Dynamics, the paper's simulator,
+# as <set>__<actuators>__ocd: needs a build with OCD, docs/ocd-plant.md),
 # SEEDED (default 1, 0 with --quick: study 2 over 10 sensor-noise seeds per column,
 # experiments/seeded_limit.py, about 12 min a column). The wall and CPU time of the whole run
 # go to results/run_all.json, which the report's header names.
@@ -66,11 +68,14 @@ for set in "${sets[@]}"; do
   else
     label=$(basename "$set" .yaml); stab=(--stability "$set")
   fi
+  for plant in ${PLANTS:-scw}; do
   for act in $actuators; do
     dir="$cols/${label}__${act}"
+    pset=()
+    if [ "$plant" != scw ]; then dir="${dir}__${plant}"; pset=(--set "plant.model=$plant"); fi
     # shellcheck disable=SC2206  # STUDY_ARGS is split into words on purpose
     common=(--no-report --results "$dir" --label "$label" --processes "$procs"
-            --set "plant.actuators=$act" "${stab[@]}" ${STUDY_ARGS:-})
+            --set "plant.actuators=$act" "${pset[@]}" "${stab[@]}" ${STUDY_ARGS:-})
     sens=(--no-sensitivity)
     if [ "${SENSITIVITY:-0}" = 1 ] && [ "$set" = shipped ] && [ "$act" = vehicle ]; then sens=(); fi
     t0=$SECONDS
@@ -79,9 +84,10 @@ for set in "${sets[@]}"; do
     "$py" "$here/study3_motion.py" "${common[@]}" "${sens[@]}" --controllers "$ctrls"
     if [ "$seeded" = 1 ]; then
       "$py" "$here/seeded_limit.py" --results "$dir" --label "$label" --processes "$procs" \
-        --set "plant.actuators=$act" "${stab[@]}"
+        --set "plant.actuators=$act" "${pset[@]}" "${stab[@]}"
     fi
-    echo "run_all: column ${label}__${act}: $((SECONDS - t0)) s"
+    echo "run_all: column $(basename "$dir"): $((SECONDS - t0)) s"
+  done
   done
 done
 if [ "${CLAIMS_MAP:-0}" = 1 ] && [ "$quick" = 0 ]; then

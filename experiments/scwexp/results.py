@@ -183,7 +183,8 @@ def find_columns(root):
     def order(c):
         info = column_of(c)
         return (info["set_label"] != "shipped", info["set_label"],
-                info["actuators"] != "vehicle", info["actuators"])
+                info.get("plant", "scw") != "scw", info["actuators"] != "vehicle",
+                info["actuators"])
     return sorted(cols, key=order)
 
 
@@ -201,11 +202,15 @@ def read_summary_in(d, study):
 def column_of(col):
     """{set_label, actuators, stability, ...} of a column (from its summaries)."""
     name, _, ss = col
+    parts = name.split("__")
     for s in ss.values():
         if s and s.get("column"):
-            return s["column"]
-    label, _, act = name.partition("__")
-    return {"set_label": label, "actuators": act or "vehicle", "stability": "?"}
+            info = dict(s["column"])
+            # a summary written before the plant was recorded: the folder name says it
+            info.setdefault("plant", parts[2] if len(parts) > 2 else "scw")
+            return info
+    return {"set_label": parts[0], "actuators": parts[1] if len(parts) > 1 else "vehicle",
+            "plant": parts[2] if len(parts) > 2 else "scw", "stability": "?"}
 
 
 # ---------------------------------------------------------------------------------------------

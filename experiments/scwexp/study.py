@@ -44,15 +44,17 @@ def apply_common_args(args):
 
 def column_info(args):
     """What the report needs to name this run's column: the parameter set and the actuators."""
-    act = "vehicle"
+    act, plant = "vehicle", "scw"
     for x in args.set:
         if x.startswith("plant.actuators="):
             act = x.split("=", 1)[1]
+        if x.startswith("plant.model="):
+            plant = x.split("=", 1)[1]
     return {"set_label": args.label or (os.path.splitext(os.path.basename(args.stability))[0]
                                         if args.stability else "shipped"),
             "stability": os.path.relpath(os.path.abspath(args.stability), ROOT)
             if args.stability else "params/stability/default.yaml (the car's)",
-            "actuators": act, "gg_axis": args.gg, "refine_levels": sweeps.REFINE_LEVELS}
+            "actuators": act, "plant": plant, "gg_axis": args.gg, "refine_levels": sweeps.REFINE_LEVELS}
 
 
 def finish_study(study, scw, args, sets, summary, timer, per_pert, pert_label, out,

@@ -144,6 +144,24 @@ class Load(unittest.TestCase):
         self.assertEqual(sorted(cols), ["shipped__paper_sim", "shipped__vehicle"])
         self.assertEqual(list(cols["shipped__vehicle"]), ["study2_lateral"])
 
+    def test_a_column_on_open_car_dynamics(self):
+        # run_all.sh PLANTS="scw ocd": <set>__<actuators>__ocd, after scw's columns of its set,
+        # named in the report's titles; a summary that records no plant is read as scw's.
+        root = os.path.join(WORK, "plants")
+        for col in ("shipped__paper_sim__ocd", "shipped__paper_sim", "shipped__vehicle"):
+            s = summary()
+            del s["column"]  # the folder's name says which column it is
+            write_study(os.path.join(root, "columns", col, "study2_lateral"), s)
+        names = [c[0] for c in results.find_columns(root)]
+        self.assertEqual(names, ["shipped__vehicle", "shipped__paper_sim",
+                                 "shipped__paper_sim__ocd"])
+        from scwexp.report.common import col_title
+        titles = {c[0]: col_title(c) for c in results.find_columns(root)}
+        self.assertTrue(titles["shipped__paper_sim__ocd"].endswith(", OCD"), titles)
+        self.assertFalse(titles["shipped__paper_sim"].endswith("OCD"), titles)
+        self.assertEqual(results.column_of(("x__paper_sim__ocd", "", {}))["plant"], "ocd")
+        self.assertEqual(results.column_of(("x__vehicle", "", {}))["plant"], "scw")
+
 
 class Refuses(unittest.TestCase):
     def fails(self, name, expect, **kw):

@@ -50,9 +50,14 @@ ACT_NAMES = {"vehicle": "real car (vehicle file's actuators)",
 ACT_SHORT = {"vehicle": "real car", "paper_sim": "paper's sim", "paper_sim_v1": "paper's sim v1"}
 
 
+PLANT_SHORT = {"ocd": "OCD"}  # a plant other than scw's is named in the column's title
+
+
 def col_title(col):
     info = column_of(col)
-    return f"{info['set_label']} set, {ACT_SHORT.get(info['actuators'], info['actuators'])}"
+    plant = PLANT_SHORT.get(info.get("plant", "scw"), "")
+    return (f"{info['set_label']} set, {ACT_SHORT.get(info['actuators'], info['actuators'])}"
+            + (f", {plant}" if plant else ""))
 
 
 def prefixed(paths, prefix):

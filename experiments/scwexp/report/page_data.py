@@ -96,16 +96,17 @@ def study3_controllers(cols):
 
 def paper_like(cols):
     """The column most like the paper's setup among those with study 2: the paper's simulator's
-    actuators first, then a set trained with them (its label names paper_sim), then the shipped
-    set; None without study 2."""
+    actuators first, on the paper's own simulator (Open-Car-Dynamics) before scw's plant, then a
+    set trained with them (its label names paper_sim), then the shipped set; None without
+    study 2."""
     have = [c for c in cols if c[2].get("study2_lateral")]
     if not have:
         return None
 
     def score(c):
         info = column_of(c)
-        return (info["actuators"] == "paper_sim", "paper_sim" in info["set_label"],
-                info["set_label"] == "shipped")
+        return (info["actuators"] == "paper_sim", info.get("plant", "scw") == "ocd",
+                "paper_sim" in info["set_label"], info["set_label"] == "shipped")
     return max(have, key=score)
 
 
