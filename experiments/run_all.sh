@@ -27,8 +27,8 @@
 # STUDY_ARGS (extra options of every study, e.g. "--gg 1.0,1.05 --laps 1" for a quick check),
 # PLANTS (default "scw"; "scw ocd" adds each column on Open-Car-Dynamics, the paper's simulator,
 # as <set>__<actuators>__ocd: needs a build with OCD, docs/ocd-plant.md),
-# SEEDED (default 1, 0 with --quick: study 2 over 10 sensor-noise seeds per column,
-# experiments/seeded_limit.py, about 12 min a column). The wall and CPU time of the whole run
+# SEEDED (default 1, 0 with --quick: studies 2 and 3 over 10 sensor-noise seeds per column,
+# experiments/seeded_limit.py, about 20 min a column). The wall and CPU time of the whole run
 # go to results/run_all.json, which the report's header names.
 # Time on 2 cores: shipped + one tuned set, both actuator models (the reference run, run_all.sh
 # experiments/reference-results/tuned_seed1.yaml): 15.7 min wall on the idle 2-core machine (user
@@ -83,8 +83,11 @@ for set in "${sets[@]}"; do
     "$py" "$here/study2_lateral.py" "${common[@]}" "${sens[@]}"
     "$py" "$here/study3_motion.py" "${common[@]}" "${sens[@]}" --controllers "$ctrls"
     if [ "$seeded" = 1 ]; then
-      "$py" "$here/seeded_limit.py" --results "$dir" --label "$label" --processes "$procs" \
-        --set "plant.actuators=$act" "${pset[@]}" "${stab[@]}"
+      for st in 2 3; do
+        "$py" "$here/seeded_limit.py" --study "$st" --controllers "$ctrls" --results "$dir" \
+          --label "$label" --processes "$procs" --set "plant.actuators=$act" "${pset[@]}" \
+          "${stab[@]}"
+      done
     fi
     echo "run_all: column $(basename "$dir"): $((SECONDS - t0)) s"
   done

@@ -1,7 +1,7 @@
 """The limit as a probability (issue 48 item 2, experiments/statistical_criteria.md): study 2's
-four configurations over n sensor-noise seeds per GG, summarised as P(loss | GG) with Wilson 95 %
+four configurations (and study 3's controllers without and with SC) over n sensor-noise seeds per GG, summarised as P(loss | GG) with Wilson 95 %
 intervals, the GG where it crosses 10 % and 50 % (with intervals), the activations beside every
-number, and claim (b)'s statistical form. Pure functions over sweep rows (dicts with config,
+number, and claims (b) and (e) in their statistical form. Pure functions over sweep rows (dicts with config,
 gg_scale, seed, status, esc_count, cs_count, ...); no scw runs, no files."""
 
 import math
@@ -29,10 +29,12 @@ def curve(rows, config):
 
 
 def activations(rows, config, gg, key):
-    """(runs where `key` > 0, completed runs) at one GG, over the completed runs."""
+    """(completed runs in which `key` > 0, completed runs) at one GG; `key` may be a tuple of
+    activation columns (acted: any of them > 0)."""
+    keys = (key,) if isinstance(key, str) else tuple(key)
     done = [r for r in rows if r["config"] == config and abs(_f(r["gg_scale"]) - gg) < 1e-9
             and r["status"] == "completed"]
-    return sum(1 for r in done if _f(r.get(key)) > 0), len(done)
+    return sum(1 for r in done if any(_f(r.get(k)) > 0 for k in keys)), len(done)
 
 
 def statuses(rows, config):
@@ -67,31 +69,51 @@ def _at_or_above(cv, gg):
     return next((p[0] for p in cv if p[0] >= gg - 1e-9), None)
 
 
-def claim_b(rows, summary, subsystem_of):
-    """Claim (b) in its statistical form: for each configuration c but `none`,
-    GG_50(c) >= GG_50(none) + 0.05 (point estimates), with confidence when the intervals are
-    separated by the gap; >= 50 % of none's losses are `sideslip`; P5: at the grid GG at or above
-    GG_50(none) the subsystem acted in >= 50 % of c's completed runs. subsystem_of: {config:
-    activation column, e.g. "esc_count"}. Returns {config: {...}, "premise": ...}."""
-    none = summary["none"]
-    est_n, lo_n, hi_n = none["limits"]["0.5"]
-    lost = sum(none["statuses"].values())
-    premise = lost > 0 and none["statuses"].get("sideslip", 0) >= 0.5 * lost
-    out = {"premise_sideslip": premise,
-           "evaluable": all(s["seeds"] >= MIN_SEEDS for s in summary.values())}
+def gain_claim(rows, summary, base, subsystem_of, gap=GAP_B, premise=True):
+    """A claim of the form "c raises the limit over `base`" (statistical_criteria.md (b), (e)):
+    for each configuration c of subsystem_of ({config: activation column or tuple of them}),
+    GG_50(c) >= GG_50(base) + gap at the point estimates, with confidence when the intervals are
+    separated by the gap; P5: at the grid GG at or above GG_50(base) the subsystem acted in >= 50 %
+    of c's completed runs; `premise` (e.g. the base's losses mostly sideslip) and >= MIN_SEEDS
+    seeds everywhere are required too. Returns {config: {...}, "evaluable": ...}."""
+    ref = summary[base]
+    est_n, lo_n, hi_n = ref["limits"]["0.5"]
+    out = {"evaluable": all(summary[c]["seeds"] >= MIN_SEEDS for c in [base, *subsystem_of])}
     for c, key in subsystem_of.items():
         s = summary[c]
         est, lo, hi = s["limits"]["0.5"]
-        at = _at_or_above(none["curve"], est_n) if est_n is not None else None
+        at = _at_or_above(ref["curve"], est_n) if est_n is not None else None
         acted, done = activations(rows, c, at, key) if at is not None else (0, 0)
         p5 = done > 0 and acted >= 0.5 * done
-        point = est_n is not None and (est is None or est >= est_n + GAP_B - 1e-9)
+        point = est_n is not None and (est is None or est >= est_n + gap - 1e-9)
         # A crossing of c's Wilson upper bound beyond the grid (lo None) lies above any hi_n.
-        conf = hi_n is not None and (lo is None or hi_n + GAP_B <= lo + 1e-9)
-        out[c] = {"gg50": (est, lo, hi), "p5_gg": at, "acted": acted, "completed": done,
-                  "holds": bool(point and p5 and premise and out["evaluable"]),
-                  "with_confidence": bool(point and conf and p5 and premise and out["evaluable"])}
+        conf = hi_n is not None and (lo is None or hi_n + gap <= lo + 1e-9)
+        ok = point and p5 and premise and out["evaluable"]
+        out[c] = {"gg50": (est, lo, hi), "base_gg50": (est_n, lo_n, hi_n), "p5_gg": at,
+                  "acted": acted, "completed": done, "holds": bool(ok),
+                  "with_confidence": bool(ok and conf)}
     return out
+
+
+def claim_b(rows, summary, subsystem_of):
+    """Claim (b) over seeds: ESC, CS and ESC + CS each raise GG_50 over `none` by 0.05, `none`'s
+    losses mostly `sideslip` (>= 50 %)."""
+    none = summary["none"]
+    lost = sum(none["statuses"].values())
+    premise = lost > 0 and none["statuses"].get("sideslip", 0) >= 0.5 * lost
+    out = gain_claim(rows, summary, "none", subsystem_of, GAP_B, premise)
+    out["premise_sideslip"] = premise
+    return out
+
+
+GAP_E = 0.05  # claim (e): GG_50(with SC) >= GG_50(without) + 0.05, per controller
+
+
+def claim_e(rows, summary, controller):
+    """Claim (e) over seeds for one motion controller: with ESC + CS (config <ctrl>_sc) GG_50 at
+    least 0.05 above without (<ctrl>_off), ESC or CS acting at GG_50(without)."""
+    return gain_claim(rows, summary, f"{controller}_off",
+                      {f"{controller}_sc": ("esc_count", "cs_count")}, GAP_E)
 
 
 def fmt_limit(lim):

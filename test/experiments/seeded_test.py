@@ -1,7 +1,7 @@
 """scwexp.seeded on synthetic sweep rows: the loss curve per configuration, the activation counts
 at a GG, and claim (b)'s statistical form (experiments/statistical_criteria.md) holding, holding
 only at the point estimates, failing when the subsystem never acted, and not evaluable on too few
-seeds."""
+seeds; claim (e) for one controller."""
 
 import os
 import sys
@@ -69,6 +69,15 @@ def main():
     assert seeded.fmt_limit(summary["esc"]["limits"]["0.5"]) == "> grid"
     assert seeded.fmt_limit((1.075, 1.05, None)) == "1.07 [1.05, > grid]" or \
         seeded.fmt_limit((1.075, 1.05, None)) == "1.08 [1.05, > grid]"
+    # Claim (e) for one controller: with SC lost two steps later, ESC or CS acting.
+    rows = rows_for("pmpc_off", {1.0: 0, 1.1: 10, 1.2: 10}, acted=False)
+    rows += rows_for("pmpc_sc", {1.0: 0, 1.1: 0, 1.2: 10})
+    for r in rows:   # CS alone acts in the runs with SC: either subsystem is enough
+        r["esc_count"] = "0"
+    summary = seeded.summarise(rows, ["pmpc_off", "pmpc_sc"])
+    e = seeded.claim_e(rows, summary, "pmpc")
+    assert e["pmpc_sc"]["holds"] and e["pmpc_sc"]["acted"] == 10, e
+    assert "premise_sideslip" not in e
     print("seeded_test: ok")
 
 

@@ -146,8 +146,8 @@ def _appendices(cols, root, cmp_, man):
                                     "premise", _across(cols, root) + _tail(cmp_, man))
         for c in cols:
             out[f"column_{c[0]}.md"] = (col_title(c), _column(c, root))
-    if any(seeded_report.read(c) for c in cols):
-        out["seeded.md"] = ("study 2 over sensor-noise seeds: P(loss | GG)",
+    if any(seeded_report.read(c, st) for c in cols for st in seeded_report.STUDIES):
+        out["seeded.md"] = ("studies 2 and 3 over sensor-noise seeds: P(loss | GG)",
                             seeded_report.appendix(cols, root))
     for cm in claims_maps(root):
         out[f"{cm['dir']}.md"] = (f"claims map, {cm['set_label']} set", claims_map_lines(cm))

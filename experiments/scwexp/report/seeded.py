@@ -1,7 +1,8 @@
-"""The limit as a probability in the report (issue 48 item 2): each column's seeded study 2
-(experiments/seeded_limit.py: columns/<column>/study2_seeded/summary.json) as one row of the
-verdict table (claim (b) in its statistical form) and an appendix with the crossings, claim (b)
-and a link to each column's full P(loss | GG) table and figure."""
+"""The limit as a probability in the report (issue 48 item 2): each column's seeded studies
+(experiments/seeded_limit.py: columns/<column>/study2_seeded/ and study3_seeded/summary.json)
+as rows of the verdict table (claims (b) and (e) in their statistical form) and an appendix with
+the crossings, the claims' verdicts with their activation counts, and a link to each column's
+full P(loss | GG) table and figure."""
 
 import json
 import os
@@ -9,89 +10,105 @@ import os
 from scwexp import seeded
 from scwexp.report.common import col_title
 
-STUDY = "study2_seeded"
+STUDIES = ("study2_seeded", "study3_seeded")
 LABELS = {"none": "none", "esc": "ESC", "cs": "CS", "esc+cs": "ESC + CS"}
 
 
-def read(col):
-    """A column's seeded summary, or None."""
-    path = os.path.join(col[1], STUDY, "summary.json")
+def read(col, study="study2_seeded"):
+    """A column's seeded summary of `study`, or None."""
+    path = os.path.join(col[1], study, "summary.json")
     if not os.path.exists(path):
         return None
     with open(path, encoding="utf-8") as f:
         return json.load(f)
 
 
-def _gain(s):
-    """min over ESC, CS, ESC + CS of GG_50(c) − GG_50(none), and whether one is open (beyond the
-    grid: at least that much)."""
-    n = s["summary"]["none"]["limits"]["0.5"][0]
-    if n is None:
-        return None, False
-    top = max(p[0] for p in s["summary"]["none"]["curve"])
-    vals = [(s["summary"][c]["limits"]["0.5"][0], s["summary"][c]["limits"]["0.5"][0] is None)
-            for c in ("esc", "cs", "esc+cs")]
-    g = min((top if v is None else v) - n for v, _ in vals)
-    return g, any(o for _, o in vals)
+def claims_of(s):
+    """{claim key: verdicts} of a seeded summary (the first layout kept claim (b) alone)."""
+    return s.get("claims") or ({"b": s["claim_b"]} if "claim_b" in s else {})
+
+
+def _configs(v):
+    return [c for c, r in v.items() if isinstance(r, dict)]
+
+
+def _cell(s, key):
+    """One verdict cell: symbol and min over the claim's configurations of GG_50 − base's."""
+    v = claims_of(s).get(key)
+    if v is None:
+        return "–"
+    rs = [v[c] for c in _configs(v)]
+    base = rs[0]["base_gg50"][0] if rs else None
+    top = max(p[0] for c in s["summary"].values() for p in c["curve"])
+    gains = [((top if r["gg50"][0] is None else r["gg50"][0]) - base, r["gg50"][0] is None)
+             for r in rs] if base is not None else []
+    sym = ("?" if not v["evaluable"] else "✓✓" if all(r["with_confidence"] for r in rs)
+           else "✓" if all(r["holds"] for r in rs) else "✗")
+    if not gains:
+        return f"{sym} –"
+    g, open_ = min(gains)
+    return f"{sym} " + ("≥ " if open_ else "") + f"{g:+.2f}"
 
 
 def verdict_row(cols):
-    """The verdict table's row for claim (b) over seeds; [] when no column has the seeded run."""
-    found = [read(c) for c in cols]
-    if not any(found):
-        return []
-    cells = []
-    for s in found:
-        if s is None:
-            cells.append("–")
+    """The verdict table's rows for the claims over seeds; [] when no column has a seeded run."""
+    out = []
+    for study in STUDIES:
+        found = [read(c, study) for c in cols]
+        if not any(found):
             continue
-        v = s["claim_b"]
-        ok = all(v[c]["holds"] for c in ("esc", "cs", "esc+cs"))
-        conf = all(v[c]["with_confidence"] for c in ("esc", "cs", "esc+cs"))
-        g, open_ = _gain(s)
-        sym = "?" if not v["evaluable"] else ("✓✓" if conf else "✓" if ok else "✗")
-        cells.append(f"{sym} " + ("–" if g is None else ("≥ " if open_ else "") + f"{g:+.2f}"))
-    return [f"| (b) over {found[[x is not None for x in found].index(True)]['seeds']} seeds: "
-            "GG_50 | " + " | ".join(cells) + " |"]
+        first = next(s for s in found if s)
+        for key in claims_of(first):
+            name = f"({key[0]})" + (f" `{key.split(':', 1)[1]}`" if ":" in key else "")
+            out.append(f"| {name} over {first['seeds']} seeds: GG_50 | "
+                       + " | ".join("–" if s is None else _cell(s, key) for s in found) + " |")
+    return out
 
 
 def legend():
-    return ("(b) over seeds: ✓✓ holds with 95 % confidence, ✓ at the point estimates, ✗ not, ? "
-            "fewer than 10 seeds; the number: min over ESC, CS, ESC + CS of GG_50 − none's "
+    return ("Over seeds: ✓✓ holds with 95 % confidence, ✓ at the point estimates, ✗ not, ? fewer "
+            "than 10 seeds; the number: the smallest GG_50 gain over the claim's base "
             "([seeded](appendix/seeded.md)).")
+
+
+def _column_lines(c, s, root, study):
+    d = os.path.relpath(os.path.join(c[1], study), root)
+    labels = s.get("configs") or LABELS
+    out = [f"## {col_title(c)}, study {study[5]}", "",
+           f"{s['seeds']} seeds; wall {s['wall_time_s'] / 60:.1f} min.", "",
+           "| config | GG_10 | GG_50 | abort statuses |", "| --- | --- | --- | --- |"]
+    for k, sm in s["summary"].items():
+        st = ", ".join(f"{a} {n}" for a, n in sorted(sm["statuses"].items())) or "-"
+        out.append(f"| {labels.get(k, k)} | {seeded.fmt_limit(sm['limits']['0.1'])} | "
+                   f"{seeded.fmt_limit(sm['limits']['0.5'])} | {st} |")
+    out += ["", "| claim | config | holds | acted / completed at the base's GG_50 |",
+            "| --- | --- | --- | --- |"]
+    for key, v in claims_of(s).items():
+        for cfg in _configs(v):
+            r = v[cfg]
+            verdict = "✓✓" if r["with_confidence"] else "✓" if r["holds"] else "✗"
+            out.append(f"| ({key}) | {labels.get(cfg, cfg)} | {verdict} | "
+                       f"{r['acted']} / {r['completed']} |")
+    out += ["", f"Every GG: [{d}/seeded.md]({d}/seeded.md).", "",
+            f"![P(loss) per GG, {col_title(c)}, study {study[5]}]({d}/seeded.png)", ""]
+    return out
 
 
 def appendix(cols, root):
     """The appendix's lines (links relative to the results root)."""
-    out = ["# Study 2 over sensor-noise seeds: the limit as a probability", "",
+    out = ["# Studies 2 and 3 over sensor-noise seeds: the limit as a probability", "",
            "P(loss | GG) from n runs per configuration and GG that differ only in the "
            "sensor-noise seed (experiments/seeded_limit.py; criteria written before the first "
            "seeded run: experiments/statistical_criteria.md). GG_q: where P(loss) crosses q, "
            "[crossing of the Wilson upper bound, of the lower bound]. Activations: runs in "
-           "which the subsystem acted among the completed runs at `none`'s GG_50.", ""]
-    any_ = False
+           "which the subsystem acted among the completed runs at the base's GG_50.", ""]
+    found = False
     for c in cols:
-        s = read(c)
-        if s is None:
-            continue
-        any_ = True
-        d = os.path.relpath(os.path.join(c[1], STUDY), root)
-        v = s["claim_b"]
-        out += [f"## {col_title(c)}", "",
-                f"{s['seeds']} seeds; wall {s['wall_time_s'] / 60:.1f} min; none's losses "
-                f"mostly sideslip: {'yes' if v['premise_sideslip'] else 'no'}.", "",
-                "| config | GG_10 | GG_50 | (b) | acted / completed at none's GG_50 |",
-                "| --- | --- | --- | --- | --- |"]
-        for k, lab in LABELS.items():
-            sm = s["summary"][k]
-            b = v.get(k)
-            verdict = "–" if b is None else ("✓✓" if b["with_confidence"] else "✓" if b["holds"]
-                                              else "✗")
-            acted = "–" if b is None else f"{b['acted']} / {b['completed']}"
-            out.append(f"| {lab} | {seeded.fmt_limit(sm['limits']['0.1'])} | "
-                       f"{seeded.fmt_limit(sm['limits']['0.5'])} | {verdict} | {acted} |")
-        out += ["", f"Every GG: [{d}/seeded.md]({d}/seeded.md).", "",
-                f"![P(loss) per GG, {col_title(c)}]({d}/seeded.png)", ""]
-    if not any_:
-        out += ["No column has the seeded run yet (experiments/seeded_limit.py).", ""]
+        for study in STUDIES:
+            s = read(c, study)
+            if s is not None:
+                found = True
+                out += _column_lines(c, s, root, study)
+    if not found:
+        out += ["No column has a seeded run yet (experiments/seeded_limit.py).", ""]
     return out
