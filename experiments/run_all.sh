@@ -107,8 +107,11 @@ if [ "$quick" = 0 ]; then
   "$py" "$here/compare.py" --no-report "$here/../params/stability/default.yaml" "$@"
 fi
 # The run's wall and CPU time (children: every scw and python run above) for the report's header.
-cpu=$(times | tail -1 | awk '{ t = 0; for (i = 1; i <= 2; i++) { split($i, a, "m");
+# (`times` in a pipe or $(...) would report a subshell's children: it writes to a file instead)
+times > "$here/results/.times"
+cpu=$(tail -1 "$here/results/.times" | awk '{ t = 0; for (i = 1; i <= 2; i++) { split($i, a, "m");
   t += a[1] * 60 + substr(a[2], 1, length(a[2]) - 1) } print t }')
+rm -f "$here/results/.times"
 rev=$(git -C "$here/.." rev-parse --short HEAD 2>/dev/null || echo unknown)
 printf '{"mode": "%s", "wall_s": %d, "cpu_s": %s, "commit": "%s", "sets": %d}\n' \
   "$([ "$quick" = 1 ] && echo quick || echo full)" "$((SECONDS - start))" "$cpu" "$rev" \
