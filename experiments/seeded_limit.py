@@ -27,7 +27,8 @@ from scwexp.studies import (STUDY2_BASE_SETS, STUDY2_CONFIGS, STUDY2_CONTROLLER,
                             STUDY2_MAIN_PERT, STUDY2_PERT, STUDY3_BASE_SETS, STUDY3_COLORS,
                             STUDY3_VARIANTS)
 
-SUBSYSTEM = {"esc": "esc_count", "cs": "cs_count", "esc+cs": "esc_count"}
+# What must act for P5, as in the deterministic criterion (scwexp.claims.claim_b).
+SUBSYSTEM = {"esc": "esc_count", "cs": "cs_count", "esc+cs": ("esc_count", "cs_count")}
 
 
 def study_setup(args):
@@ -66,8 +67,9 @@ def table(summary, rows, configs):
     for c, _, label, _ in configs:
         s = summary[c]
         st = ", ".join(f"{k} {v}" for k, v in sorted(s["statuses"].items())) or "-"
-        out.append(f"| {label} | {seeded.fmt_limit(s['limits']['0.1'])} | "
-                   f"{seeded.fmt_limit(s['limits']['0.5'])} | {st} |")
+        lo = s.get("low_open", {})
+        out.append(f"| {label} | {seeded.fmt_limit(s['limits']['0.1'], lo.get('0.1'))} | "
+                   f"{seeded.fmt_limit(s['limits']['0.5'], lo.get('0.5'))} | {st} |")
     return out
 
 

@@ -59,6 +59,9 @@ def summarise(rows, configs):
         cv = curve(rows, c)
         out[c] = {"curve": cv,
                   "limits": {str(q): analysis.limit(cv, q) for q in LEVELS},
+                  # The Wilson upper bound already reaches q at the grid's first GG (0 of 10 lost
+                  # still allows 28 %): the crossing's low end is at or below the grid.
+                  "low_open": {str(q): bool(cv) and cv[0][5] >= q for q in LEVELS},
                   "statuses": statuses(rows, c),
                   "seeds": min((p[1] for p in cv), default=0)}
     return out
@@ -116,10 +119,12 @@ def claim_e(rows, summary, controller):
                       {f"{controller}_sc": ("esc_count", "cs_count")}, GAP_E)
 
 
-def fmt_limit(lim):
+def fmt_limit(lim, low_open=False):
+    """"1.07 [1.05, 1.10]": the crossing and its interval; "≤" where the low end is at or below
+    the grid's first GG, "> grid" where a curve never crosses within the grid."""
     est, lo, hi = lim
     if est is None:
         return "> grid"
-    a = "> grid" if lo is None else f"{lo:.2f}"
+    a = "> grid" if lo is None else ("≤ " if low_open else "") + f"{lo:.2f}"
     b = "> grid" if hi is None else f"{hi:.2f}"
     return f"{est:.2f} [{a}, {b}]"

@@ -67,8 +67,10 @@ def main():
     _, summary, _ = study(none, {1.0: 0, 1.1: 0})
     assert summary["esc"]["limits"]["0.5"][0] is None
     assert seeded.fmt_limit(summary["esc"]["limits"]["0.5"]) == "> grid"
-    assert seeded.fmt_limit((1.075, 1.05, None)) == "1.07 [1.05, > grid]" or \
-        seeded.fmt_limit((1.075, 1.05, None)) == "1.08 [1.05, > grid]"
+    assert seeded.fmt_limit((1.075, 1.05, None)) in ("1.07 [1.05, > grid]", "1.08 [1.05, > grid]")
+    # 0 of 10 lost at the grid's first GG still allows 28 %: GG_10's low end is at or below it.
+    assert summary["none"]["low_open"]["0.1"] and not summary["none"]["low_open"]["0.5"]
+    assert seeded.fmt_limit((1.02, 1.0, 1.05), True) == "1.02 [≤ 1.00, 1.05]"
     # Claim (e) for one controller: with SC lost two steps later, ESC or CS acting.
     rows = rows_for("pmpc_off", {1.0: 0, 1.1: 10, 1.2: 10}, acted=False)
     rows += rows_for("pmpc_sc", {1.0: 0, 1.1: 0, 1.2: 10})

@@ -79,8 +79,9 @@ def _column_lines(c, s, root, study):
            "| config | GG_10 | GG_50 | abort statuses |", "| --- | --- | --- | --- |"]
     for k, sm in s["summary"].items():
         st = ", ".join(f"{a} {n}" for a, n in sorted(sm["statuses"].items())) or "-"
-        out.append(f"| {labels.get(k, k)} | {seeded.fmt_limit(sm['limits']['0.1'])} | "
-                   f"{seeded.fmt_limit(sm['limits']['0.5'])} | {st} |")
+        lo = sm.get("low_open", {})
+        out.append(f"| {labels.get(k, k)} | {seeded.fmt_limit(sm['limits']['0.1'], lo.get('0.1'))} | "
+                   f"{seeded.fmt_limit(sm['limits']['0.5'], lo.get('0.5'))} | {st} |")
     out += ["", "| claim | config | holds | acted / completed at the base's GG_50 |",
             "| --- | --- | --- | --- |"]
     for key, v in claims_of(s).items():
