@@ -42,6 +42,16 @@ const ArchiveEntry* BestWithin(const std::vector<ArchiveEntry>& archive, const C
   return best;
 }
 
+/// The best archive entry within `b` whose clean-lap loss exceeds `lower` (it uses budget a
+/// tighter point does not have), or null.
+const ArchiveEntry* BestInBand(const std::vector<ArchiveEntry>& archive, double lower,
+                               const CleanLapBudget& b) {
+  const ArchiveEntry* best = nullptr;
+  for (const auto& e : archive)
+    if (Within(e, b) && e.lap_loss > lower && (!best || e.stability < best->stability)) best = &e;
+  return best;
+}
+
 /// Lockstep rounds over several searches, each in its own thread: a search submits the sets of
 /// its next point and waits; the calling thread (Coordinate) waits until every running search has
 /// submitted or ended, runs the round's sets as one batch in search order and hands each search
@@ -372,7 +382,11 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
   for (int k = 1; k < n - 1; ++k) {
     FrontPoint& p = points[static_cast<std::size_t>(k)];
     p.budget = FrontBudget(k, n, result.loss_span);
-    const ArchiveEntry* warm = BestWithin(archive, p.budget);
+    // Its own band first: the best set that spends budget the tighter neighbour does not have,
+    // so that neighbouring points whose budgets both bind nowhere do not run the same search.
+    const ArchiveEntry* warm =
+        BestInBand(archive, FrontBudget(k - 1, n, result.loss_span).lap_s, p.budget);
+    if (!warm) warm = BestWithin(archive, p.budget);
     inner.push_back(k);
     inner_starts.push_back(warm ? warm->u : u0);
   }

@@ -16,8 +16,10 @@
 //   stage 1   the two ends, from the base point, in lockstep: each round every running search
 //             asks for one point and the round runs as ONE batch of (set × scenario) jobs over
 //             the execution layer (threads or MPI ranks), in point order
-//   stage 2   the inner points in lockstep, each warm-started from the best set for its own
-//             budget among every evaluation so far (its neighbours' included)
+//   stage 2   the inner points in lockstep, each warm-started from the best set among every
+//             evaluation so far that lies in its own band (a clean-lap loss above the tighter
+//             neighbour's budget, within its own), else the best within its budget: two points
+//             whose budgets both bind nowhere would otherwise run the same search
 //   result    each point's set is the best within its budget over ALL the front's evaluations, so
 //             a looser budget never ranks a point worse (the front is monotone)
 // Deterministic: the rounds, the batches and the archive order depend on the inputs and the seed
