@@ -101,8 +101,11 @@ def appendix(cols, root):
            "P(loss | GG) from n runs per configuration and GG that differ only in the "
            "sensor-noise seed (experiments/seeded_limit.py; criteria written before the first "
            "seeded run: experiments/statistical_criteria.md). GG_q: where P(loss) crosses q, "
-           "[crossing of the Wilson upper bound, of the lower bound]. Activations: runs in "
-           "which the subsystem acted among the completed runs at the base's GG_50.", ""]
+           "[crossing of the Wilson upper bound, of the lower bound], each interpolated linearly "
+           "between grid points as the criteria state: where P(loss) jumps from 0 of n to n of n "
+           "within one step, the limit is sharp across seeds and lies anywhere in that step; the "
+           "interval then measures the seeds, not the grid. Activations: runs in which the "
+           "subsystem acted among the completed runs at the base's GG_50.", ""]
     found = False
     for c in cols:
         for study in STUDIES:
