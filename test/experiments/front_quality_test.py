@@ -38,7 +38,18 @@ def main():
                                            + list(args), capture_output=True, text=True)
         ok = run(a, b)
         assert ok.returncode == 0, ok.stdout + ok.stderr
-        assert "ratio 0.9" in ok.stdout, ok.stdout
+        assert "front / best known 0.9" in ok.stdout, ok.stdout
+        # A front that beats the reference is measured against both together: (0.3, 3.0)
+        # dominates b's tail, so the best known front is a's and b's points pooled.
+        write(a, [(0.0, 8.0), (0.3, 3.0)])
+        better = run(a, b)
+        assert better.returncode == 0 and "front / best known 1.000" in better.stdout, better.stdout
+        # Several reference folders pool their points.
+        c = os.path.join(tmp, "c")
+        write(c, [(0.0, 7.0)])
+        pooled = run(a, b, c)
+        assert pooled.returncode == 1, pooled.stdout
+        write(a, [(0.0, 8.0), (0.4, 4.2)])
         write(a, [(0.0, 9.0)])
         assert run(a, b).returncode == 1
         os.makedirs(bad)
