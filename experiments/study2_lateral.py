@@ -97,8 +97,10 @@ def knife_edge_of(scw, args, sets, none_abort, main_pert, xfiles, xr):
     t_act = knife_edge.SIM_ACTUATORS.get(act, vc)["brake_s"]
     corners = scwexp.track_corners(scw, sets)
     res = knife_edge.analyse_all(xfiles, vc["iz"], t_act, vc["alpha_peak_rad"],
-                                 {n: xr.get(n, {}).get("status") for n in xfiles})
+                                 {n: xr.get(n, {}).get("status") for n in xfiles},
+                                 vc["half_track_front"])
     ke = {"gg": none_abort, "mu": main_pert, "t_act": t_act, "iz": vc["iz"],
+          "half_track": vc["half_track_front"],
           "results": res,
           "lines": [knife_edge.describe(n, lab, res.get(n), corners,
                                      xr.get(n, {}).get("status"))

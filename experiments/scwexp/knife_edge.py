@@ -54,7 +54,7 @@ def vehicle_constants(scw):
         except ValueError:
             pass
     iz = next((v for k, v in vals.items() if k.endswith("yaw_inertia")), math.nan)
-    return {"iz": iz,
+    return {"iz": iz, "half_track_front": 0.5 * vals.get("track_front", math.nan),
             "brake_s": vals.get("brakes.delay", math.nan) + vals.get("brakes.time_constant", 0),
             "steer_s": vals.get("steering.delay", math.nan) +
             vals.get("steering.time_constant", 0.0),
@@ -86,6 +86,26 @@ def peak_slip_angle(t):
 CATCH_MARGIN_M = 30.0
 
 
+def front_brake_moment(r, half_track):
+    """The yaw moment [N·m] the front axle's longitudinal tyre forces make about the CoG,
+    (t_f / 2)(F_x,fr − F_x,fl) cos δ (> 0 turns left, as ESC's command): what ESC's differential
+    front braking delivers; None for a trace without the forces (before issue 48's test 6)."""
+    if half_track is None or "fx_fl_N" not in r or r["fx_fl_N"] is None:
+        return None
+    return half_track * (r["fx_fr_N"] - r["fx_fl_N"]) * math.cos(r["steer_meas_rad"])
+
+
+def delivered(rows, half_track):
+    """(largest |delivered| while ESC acts, the delivered moment at the tick of ESC's largest
+    command, that command) over `rows`; None without the forces or without ESC acting."""
+    act = [r for r in rows if r["esc_active"] > 0.5]
+    if not act or front_brake_moment(act[0], half_track) is None:
+        return None
+    peak = max(act, key=lambda r: abs(r["yaw_moment_Nm"]))
+    return (max(abs(front_brake_moment(r, half_track)) for r in act),
+            front_brake_moment(peak, half_track), peak["yaw_moment_Nm"])
+
+
 def catch_at(rows, at):
     """What a run that completed did where `none` lost the car: at = (lap, s from, s to) of
     `none`'s window from rear saturation to the loss; the rows of that lap within it (widened
@@ -112,7 +132,7 @@ def catch_at(rows, at):
             "beta_max_deg": max(abs(r["beta_deg"]) for r in w)}
 
 
-def analyse_all(files, iz, t_act, alpha_peak, statuses):
+def analyse_all(files, iz, t_act, alpha_peak, statuses, half_track=None):
     """analyse() of every configuration's trace; `none` first, and a configuration that
     completes is also read where `none` lost the car (catch_at)."""
     res = {}
@@ -122,11 +142,12 @@ def analyse_all(files, iz, t_act, alpha_peak, statuses):
     at = (n0["lap"], n0["s_sat_m"], n0["s_m"]) if n0 and n0["spun"] else None
     for n, f in files.items():
         if n != "none":
-            res[n] = analyse(f, iz, t_act, alpha_peak, statuses.get(n), at=at)
+            res[n] = analyse(f, iz, t_act, alpha_peak, statuses.get(n), at=at,
+                             half_track=half_track)
     return res
 
 
-def analyse(trace_csv, iz, t_act, alpha_peak, status=None, at=None):
+def analyse(trace_csv, iz, t_act, alpha_peak, status=None, at=None, half_track=None):
     """The knife-edge numbers of one traced run; status: how the run ended (an abort other
     than sideslip ends the window at the trace's end: the car was lost before |β| = 20°); at:
     `none`'s loss window (catch_at), read when this run completed."""
@@ -174,7 +195,7 @@ def analyse(trace_csv, iz, t_act, alpha_peak, status=None, at=None):
             "first_esc": first["esc"], "first_cs": first["cs"], "m_cmd_max": m_cmd,
             "p_extra_max": p_out, "steer_corr_max_deg": math.degrees(steer_corr),
             "t_act": t_act, "m_needed": need, "lap": int(upto[-1].get("lap", 0)),
-            "s_sat_m": upto[i]["s_m"],
+            "s_sat_m": upto[i]["s_m"], "delivered": delivered(upto, half_track),
             "catch": catch_at(rows, at) if at and not spun else None}
 
 
@@ -218,6 +239,10 @@ def describe(name, label, x, corners, status=None):
         parts.append(f"ESC commands up to {x['m_cmd_max']:.0f} N·m; its brake pressure reaches "
                      f"the wheel (≥ 10 bar above the request) {rel(x['t_delivered'])} from t_sat, "
                      f"up to {x['p_extra_max']:.0f} bar")
+        d = x.get("delivered")
+        if d:
+            parts.append(f"the front tyres deliver up to {d[0]:.0f} N·m while ESC acts "
+                         f"({d[1]:.0f} N·m at its largest command of {d[2]:.0f} N·m)")
     if name in ("cs", "esc+cs"):
         parts.append(f"countersteer up to {x['steer_corr_max_deg']:.1f}° at the road wheels")
     need = x["m_needed"]
@@ -315,7 +340,8 @@ def reanalyse(study_dir):
     old = with_statuses(s)
     statuses = {n: (old.get(n) or {}).get("status") for n in files}
     peak = next(math.radians(x["alpha_peak_deg"]) for x in old.values() if x)
-    ke["results"] = analyse_all(files, ke["iz"], ke["t_act"], peak, statuses)
+    ke["results"] = analyse_all(files, ke["iz"], ke["t_act"], peak, statuses,
+                                ke.get("half_track"))
     ke.pop("lines", None)  # the old analysis' text; the report describes the results anew
     write_json(path, s)
     return True

@@ -833,6 +833,32 @@ class KnifeEdge(unittest.TestCase):
         self.assertIn("Nothing prevents the catch (real car): only `none` loses the car; where "
                       "it did, esc: ESC acted there", knife_edge.verdict_line(res, "real car"))
 
+    def test_delivered_yaw_moment(self):
+        # Decisive test 6: the front tyres' longitudinal forces give the moment ESC's braking
+        # delivers, (t_f/2)(F_x,fr − F_x,fl) cos δ, beside its command; none without the forces.
+        path = os.path.join(WORK, "trace_fx.csv")
+        cols = ["t_s", "s_m", "vx_mps", "beta_deg", "yaw_rate_radps", "yaw_rate_ref_radps",
+                "alpha_rl_rad", "alpha_rr_rad", "esc_active", "cs_active", "yaw_moment_Nm",
+                "steer_out_rad", "steer_req_rad", "steer_meas_rad", "fx_fl_N", "fx_fr_N"] + \
+            [f"p_{k}_{w}_bar" for k in ("out", "req") for w in ("fl", "fr", "rl", "rr")]
+        with open(path, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(cols)
+            for i in range(101):
+                t = i * 0.01
+                esc = 1 if 0.2 <= t < 0.8 else 0
+                fx_fr = -4000.0 * esc * min(1.0, (t - 0.2) / 0.3) if esc else 0.0
+                w.writerow([t, 100 + t, 40, 2.0, 0.5, 0.5, 0.05, 0.05, esc, 0,
+                            -5000 * esc, 0, 0, 0.0, 0.0, fx_fr] + [0] * 8)
+        x = knife_edge.analyse(path, 1000.0, 0.148, 0.1, "completed", half_track=0.8)
+        peak, at_cmd, cmd = x["delivered"]
+        self.assertAlmostEqual(peak, 3200.0, places=6)      # 0.8 m × 4000 N
+        self.assertEqual(cmd, -5000)
+        self.assertAlmostEqual(at_cmd, 0.0, places=6)       # the first tick of the command
+        self.assertIn("the front tyres deliver up to 3200 N·m",
+                      knife_edge.describe("esc", "ESC only", x, []))
+        self.assertIsNone(knife_edge.analyse(path, 1000.0, 0.148, 0.1, "completed")["delivered"])
+
 
 if __name__ == "__main__":
     os.makedirs(WORK, exist_ok=True)

@@ -28,13 +28,14 @@ double PressureCommanded(const TickRecord& r, std::size_t i) { return r.output.b
 double SlipPercent(const TickRecord& r, std::size_t i) { return 100.0 * r.plant.kappa[i]; }
 double SlipAngle(const TickRecord& r, std::size_t i) { return r.plant.alpha[i]; }
 double VerticalLoad(const TickRecord& r, std::size_t i) { return r.plant.fz[i]; }
+double LongitudinalForce(const TickRecord& r, std::size_t i) { return r.plant.fx[i]; }
 
 }  // namespace
 
 // The lambdas return exactly the expressions the trace always wrote (same operands, same order),
 // so traces stay byte-identical.
 // clang-format off
-const std::array<TraceColumn, 50> kTraceColumns = {
+const std::array<TraceColumn, 54> kTraceColumns = {
     Scalar("t_s", "s", [](const TickRecord& r, std::size_t) { return r.t; }, "controller time of the tick"),
     Count("lap", [](const TickRecord& r) { return r.lap; }, "laps completed (0 on the first lap)"),
     Scalar("s_m", "m", [](const TickRecord& r, std::size_t) { return r.s; }, "arc length of the CoG projected on the track, in [0, L)"),
@@ -85,6 +86,10 @@ const std::array<TraceColumn, 50> kTraceColumns = {
     Wheel("fz_rr_N", "N", &VerticalLoad, kRR, "plant's vertical load"),
     Count("events", [](const TickRecord& r) { return static_cast<int>(r.event_mask); }, "bit mask of the active events: 1 throttle, 2 steer, 4 rear grip, 8 gust"),
     Scalar("yaw_rate_ref_radps", "rad/s", [](const TickRecord& r, std::size_t) { return r.output.yaw_rate_ref; }, "ESC's yaw-rate reference (what yaw_rate_radps is steered towards), > 0 left"),
+    Wheel("fx_fl_N", "N", &LongitudinalForce, kFL, "plant's tyre longitudinal force (tyre frame), < 0 braking"),
+    Wheel("fx_fr_N", "N", &LongitudinalForce, kFR, "plant's tyre longitudinal force"),
+    Wheel("fx_rl_N", "N", &LongitudinalForce, kRL, "plant's tyre longitudinal force"),
+    Wheel("fx_rr_N", "N", &LongitudinalForce, kRR, "plant's tyre longitudinal force"),
 };
 // clang-format on
 

@@ -36,7 +36,7 @@ struct TraceColumn {
 };
 
 /// Every column of the trace, in file order (names unique).
-extern const std::array<TraceColumn, 50> kTraceColumns;
+extern const std::array<TraceColumn, 54> kTraceColumns;
 
 /// Appends the cells of `r` in the order of kTraceColumns to `*w` and ends the row. Throws what
 /// CsvWriter::EndRow throws (std::logic_error) when `w` was not opened with TraceHeader().

@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <string>
 
 #include "params/io/csv.h"
 #include "params/io/yaml_doc.h"
@@ -112,6 +114,22 @@ TEST(ClosedLoopTest, TraceHasOneRowPerLogPeriodAndUnitsInTheHeader) {
   EXPECT_EQ(text.rfind("t_s,lap,s_m,", 0), 0u);
   const auto rows = std::count(text.begin(), text.end(), '\n') - 1;
   EXPECT_NEAR(static_cast<double>(rows), m.time * 50.0, 2.0);
+  // The tyres' longitudinal forces: braking (front pressure) pulls back, driving pushes the rear.
+  const auto records = io::ParseCsv(text);
+  const auto col = [&](const std::string& name) {
+    return static_cast<std::size_t>(std::find(records[0].begin(), records[0].end(), name) -
+                                    records[0].begin());
+  };
+  const std::size_t p_fl = col("p_out_fl_bar"), fx_fl = col("fx_fl_N"), fx_rl = col("fx_rl_N"),
+                    thr = col("throttle_out");
+  ASSERT_LT(fx_rl, records[0].size());
+  int braking = 0, driving = 0;
+  for (std::size_t k = 1; k < records.size(); ++k) {
+    if (std::stod(records[k][p_fl]) > 20.0) braking += std::stod(records[k][fx_fl]) < 0.0 ? 1 : -1;
+    if (std::stod(records[k][thr]) > 0.9) driving += std::stod(records[k][fx_rl]) > 0.0 ? 1 : -1;
+  }
+  EXPECT_GT(braking, 10);
+  EXPECT_GT(driving, 10);
 }
 
 TEST(ClosedLoopTest, AnAbortIsAResultNotAnException) {

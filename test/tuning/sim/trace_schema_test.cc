@@ -77,6 +77,8 @@ TEST(TraceSchemaTest, HeaderKeepsItsNamesAndOrder) {
   expected.push_back("events");
   expected.push_back(
       "yaw_rate_ref_radps");  // issue 27: appended, so older columns keep their place
+  // Issue 48 (decisive test 6): the tyres' longitudinal forces, appended likewise.
+  for (const char* w : kWheelNames) expected.push_back("fx_" + std::string(w) + "_N");
   EXPECT_EQ(TraceHeader(), expected);
 }
 
