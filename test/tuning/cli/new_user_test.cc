@@ -198,9 +198,10 @@ TEST_F(NewUserTest, SimulateRecordsTheRunBesideTheTrace) {
   EXPECT_NE(meta.find("stability: \"" + kShipped + "\"\n"), std::string::npos) << meta;
   EXPECT_NE(meta.find("stability_sha256: "), std::string::npos) << meta;
   EXPECT_NE(meta.find("\nstatus: "), std::string::npos) << meta;
-  // The trace itself has the ESC reference for the yaw-rate panel.
+  // The trace itself has the ESC reference for the yaw-rate panel and the tyre forces.
   const std::string head = Slurp(Path("t.csv")).substr(0, 2000);
-  EXPECT_NE(head.find(",yaw_rate_ref_radps\n"), std::string::npos) << head.substr(0, 200);
+  EXPECT_NE(head.find(",yaw_rate_ref_radps,"), std::string::npos) << head.substr(0, 200);
+  EXPECT_NE(head.find(",fx_rr_N\n"), std::string::npos) << head.substr(0, 200);
 }
 
 // 12: every --help lists the exit codes (130 included) once, and the defaults of the options.
