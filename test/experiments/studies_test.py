@@ -784,12 +784,17 @@ class KnifeEdge(unittest.TestCase):
         self.assertGreater(fy(a), fy(a + 0.01))
         self.assertTrue(0.05 < a < 0.2)
 
+    @staticmethod
+    def trace_cols(extra=()):
+        """A synthetic trace's columns: the signals the analysis reads, `extra`, the pressures."""
+        return ["t_s", "s_m", "vx_mps", "beta_deg", "yaw_rate_radps", "yaw_rate_ref_radps",
+                "alpha_rl_rad", "alpha_rr_rad", "esc_active", "cs_active", "yaw_moment_Nm",
+                "steer_out_rad", "steer_req_rad"] + list(extra) + \
+            [f"p_{k}_{w}_bar" for k in ("out", "req") for w in ("fl", "fr", "rl", "rr")]
+
     def test_window_and_bound(self):
         path = os.path.join(WORK, "trace.csv")
-        cols = ["t_s", "s_m", "vx_mps", "beta_deg", "yaw_rate_radps", "yaw_rate_ref_radps",
-                "alpha_rl_rad", "alpha_rr_rad", "esc_active", "cs_active", "yaw_moment_Nm",
-                "steer_out_rad", "steer_req_rad"] + \
-            [f"p_{k}_{w}_bar" for k in ("out", "req") for w in ("fl", "fr", "rl", "rr")]
+        cols = self.trace_cols()
         with open(path, "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(cols)
@@ -837,10 +842,7 @@ class KnifeEdge(unittest.TestCase):
         # Decisive test 6: the front tyres' longitudinal forces give the moment ESC's braking
         # delivers, (t_f/2)(F_x,fr − F_x,fl) cos δ, beside its command; none without the forces.
         path = os.path.join(WORK, "trace_fx.csv")
-        cols = ["t_s", "s_m", "vx_mps", "beta_deg", "yaw_rate_radps", "yaw_rate_ref_radps",
-                "alpha_rl_rad", "alpha_rr_rad", "esc_active", "cs_active", "yaw_moment_Nm",
-                "steer_out_rad", "steer_req_rad", "steer_meas_rad", "fx_fl_N", "fx_fr_N"] + \
-            [f"p_{k}_{w}_bar" for k in ("out", "req") for w in ("fl", "fr", "rl", "rr")]
+        cols = self.trace_cols(("steer_meas_rad", "fx_fl_N", "fx_fr_N"))
         with open(path, "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(cols)

@@ -34,22 +34,19 @@ bool Within(const ArchiveEntry& e, const CleanLapBudget& b) {
          (!b.interventions || e.extra == 0);
 }
 
-/// The best archive entry within `b` (lowest stability cost, then the earliest), or null.
-const ArchiveEntry* BestWithin(const std::vector<ArchiveEntry>& archive, const CleanLapBudget& b) {
-  const ArchiveEntry* best = nullptr;
-  for (const auto& e : archive)
-    if (Within(e, b) && (!best || e.stability < best->stability)) best = &e;
-  return best;
-}
-
 /// The best archive entry within `b` whose clean-lap loss exceeds `lower` (it uses budget a
-/// tighter point does not have), or null.
+/// tighter point does not have; lowest stability cost, then the earliest), or null.
 const ArchiveEntry* BestInBand(const std::vector<ArchiveEntry>& archive, double lower,
                                const CleanLapBudget& b) {
   const ArchiveEntry* best = nullptr;
   for (const auto& e : archive)
     if (Within(e, b) && e.lap_loss > lower && (!best || e.stability < best->stability)) best = &e;
   return best;
+}
+
+/// The best archive entry within `b`, or null (an entry within a budget has a finite loss).
+const ArchiveEntry* BestWithin(const std::vector<ArchiveEntry>& archive, const CleanLapBudget& b) {
+  return BestInBand(archive, -std::numeric_limits<double>::infinity(), b);
 }
 
 /// Lockstep rounds over several searches, each in its own thread: a search submits the sets of

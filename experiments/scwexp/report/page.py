@@ -171,6 +171,7 @@ def run_line(run):
 def page(cols, maps, esc_margin, root, appendix_links, laps, run=None):
     """The first page's lines (at most PAGE_LINES once fitted)."""
     vt, res = verdict_rows(cols)
+    seeded_rows = S.verdict_row(cols)
     s2 = next((c[2]["study2_lateral"] for c in cols if c[2].get("study2_lateral")), None)
     pert = (f", study 2 at {s2['perturbation']['label']} "
             + "/".join(s2["perturbation"].get("values", [])) if s2 else "")
@@ -179,11 +180,11 @@ def page(cols, maps, esc_margin, root, appendix_links, laps, run=None):
            "GG 1.43 = 100 % of the plant's combined limits. A claim holds "
            "in a column if its criterion (written before the numbers, "
            "[method](appendix/method.md)) holds in 2 of 3 perturbations.", ""] + run_line(run) + [
-           "## Verdict", ""] + vt + S.verdict_row(cols) + [
+           "## Verdict", ""] + vt + seeded_rows + [
            "", "✓ holds, ✗ does not, – not run; the number (main perturbation): "
            + "; ".join(f"({k}) {NUMBER[k]}" for k in "abcd")
            + "; (e)/(f) as (b)/(c) per controller."
-           + (" " + S.legend() if S.verdict_row(cols) else ""), "", "## Where each claim holds",
+           + (" " + S.legend() if seeded_rows else ""), "", "## Where each claim holds",
            ""]
     for (k, ctrl), rs in res.items():
         out.append(claim_sentence(k, ctrl, rs, cols, maps))
