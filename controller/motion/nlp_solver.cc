@@ -3,6 +3,7 @@
 #include <HSLLoader.h>
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
+#include <IpBlas.hpp>
 #include <IpIpoptApplication.hpp>
 #include <IpSolveStatistics.hpp>
 #include <IpTNLP.hpp>
@@ -10,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -25,6 +27,90 @@
 namespace Ipopt {
 Number CpuTime() { return 0.0; }
 Number SysTime() { return 0.0; }
+// The wall clock likewise (~160 readings per solve): Ipopt 3.11 uses it for its timing statistics
+// only; solve times are measured by MpcController itself.
+Number WallclockTime() { return 0.0; }
+}  // namespace Ipopt
+
+// Ipopt's vector operations reach the reference BLAS (Debian's libblas3, one element at a time)
+// through three wrappers that it calls through its PLT at every iteration: the max-norm
+// (IpBlasIdamax, a tenth of a PMPC solve with the copies), copies and scaling. These exact
+// replacements take their place for Ipopt alone (other users of BLAS, e.g. MUMPS, are not
+// affected): the same index, the same copied and the same scaled values, bit for bit, for every
+// input the reference routines accept (NaN, -0, strides).
+namespace Ipopt {
+namespace {
+
+// Reference IDAMAX: the first index (1-based) of the largest |x_i|; comparisons with NaN are
+// false, so a NaN first element stays the answer and later NaNs are skipped.
+Index IdamaxReference(Index n, const Number* x, Index inc) {
+  Index best = 1;
+  Number m = std::fabs(x[0]);
+  for (Index i = 1; i < n; ++i)
+    if (std::fabs(x[static_cast<std::ptrdiff_t>(i) * inc]) > m) {
+      best = i + 1;
+      m = std::fabs(x[static_cast<std::ptrdiff_t>(i) * inc]);
+    }
+  return best;
+}
+
+}  // namespace
+
+Index IpBlasIdamax(Index size, const Number* x, Index incX) {
+  if (size < 1 || incX <= 0) return 0;
+  if (size == 1) return 1;
+  if (incX != 1 || !(std::fabs(x[0]) == std::fabs(x[0]))) return IdamaxReference(size, x, incX);
+  // The largest |x_i| over the non-NaN entries (x[0] is one), with the reference's strict
+  // comparison in four lanes (two SSE2 registers), then its first occurrence: the reference's
+  // answer.
+  using D2 = double __attribute__((vector_size(16)));
+  using M2 = std::int64_t __attribute__((vector_size(16)));
+  constexpr M2 kMagnitude = {INT64_MAX, INT64_MAX};
+  const auto load_abs = [&](Index i) {
+    D2 v;
+    std::memcpy(&v, x + i, sizeof v);
+    return reinterpret_cast<D2>(reinterpret_cast<M2>(v) & kMagnitude);
+  };
+  D2 m0 = {std::fabs(x[0]), std::fabs(x[0])}, m1 = m0;
+  Index i = 1;
+  for (; i + 4 <= size; i += 4) {
+    const D2 v0 = load_abs(i), v1 = load_abs(i + 2);
+    m0 = v0 > m0 ? v0 : m0;
+    m1 = v1 > m1 ? v1 : m1;
+  }
+  Number top = std::max(std::max(m0[0], m0[1]), std::max(m1[0], m1[1]));
+  for (; i < size; ++i) top = std::fabs(x[i]) > top ? std::fabs(x[i]) : top;
+  for (Index k = 0; k < size; ++k)
+    if (std::fabs(x[k]) == top) return k + 1;
+  return 1;  // not reached: top is one of the |x_i|
+}
+
+void IpBlasDcopy(Index size, const Number* x, Index incX, Number* y, Index incY) {
+  if (incX <= 0) {  // Ipopt's own case: every y_i set to *x
+    for (; size != 0; --size, y += incY) *y = *x;
+    return;
+  }
+  if (size <= 0) return;
+  const auto n = static_cast<std::size_t>(size);
+  if (incX == 1 && incY == 1) {
+    std::memmove(y, x, n * sizeof(Number));  // BLAS arguments never overlap; memmove if they did
+    return;
+  }
+  // Reference DCOPY: element by element; a negative increment of y starts at its far end.
+  std::ptrdiff_t ix = 0;
+  std::ptrdiff_t iy = incY < 0 ? (1 - static_cast<std::ptrdiff_t>(size)) * incY : 0;
+  for (Index i = 0; i < size; ++i, ix += incX, iy += incY) y[iy] = x[ix];
+}
+
+void IpBlasDscal(Index size, Number alpha, Number* x, Index incX) {
+  if (size <= 0 || incX <= 0) return;  // the reference's early return
+  if (incX == 1) {
+    for (Index i = 0; i < size; ++i) x[i] *= alpha;
+    return;
+  }
+  for (Index i = 0; i < size; ++i) x[static_cast<std::ptrdiff_t>(i) * incX] *= alpha;
+}
+
 }  // namespace Ipopt
 
 namespace scw::controller::motion {

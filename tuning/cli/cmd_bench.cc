@@ -1,5 +1,7 @@
 // scw bench --plant|--pmpc|--evaluator [...] — wall-clock speed of the simulation parts.
 // Each mode flag runs one workload; without a flag: the default closed loop.
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -41,12 +43,24 @@ struct BenchOptions {
   int repeat = 3;
 };
 
+// The machine line of every figure: the CPU model and the memory allocator in use (the MPC's
+// speed depends on it; top-level CMakeLists, SCW_TCMALLOC): tcmalloc when its library is loaded
+// (linked, or preloaded), else glibc's.
 std::string CpuModel() {
   std::ifstream in("/proc/cpuinfo");
-  std::string line;
+  std::string line, model = "unknown CPU";
   while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-  return "unknown CPU";
+    if (line.rfind("model name", 0) == 0) {
+      model = line.substr(line.find(':') + 2);
+      break;
+    }
+  using TcVersion = const char* (*)(int*, int*, const char**);
+  if (void* f = dlsym(RTLD_DEFAULT, "tc_version")) {
+    int major = 0, minor = 0;
+    const char* patch = "";
+    return model + ", allocator " + reinterpret_cast<TcVersion>(f)(&major, &minor, &patch);
+  }
+  return model + ", allocator glibc";
 }
 
 // The plant alone, single thread: the reference manoeuvre (plant/vehicle/maneuver.h) from rest,
