@@ -30,6 +30,13 @@
 # SEEDED (default 1, 0 with --quick: studies 2 and 3 over 10 sensor-noise seeds per column,
 # experiments/seeded_limit.py, about 20 min a column). The wall and CPU time of the whole run
 # go to results/run_all.json, which the report's header names.
+# RESUME=1 keeps experiments/results and skips every piece (a column, a claims map, the ESC margin
+# scan, the comparison) that an earlier run of the same scw binary, experiments scripts, sets and
+# study settings finished, so a run cut short (a session's end, a reboot) continues where it
+# stopped, and more ACTUATORS, PLANTS or CLAIMS_MAP add their pieces; a piece cut short is run
+# again from its start. Results made otherwise are refused.
+# Each finished piece's wall and CPU time go to results/.pieces, and run_all.json sums them: a
+# resumed run reports every piece's time once.
 # Time on 2 cores: shipped + one tuned set, both actuator models (the reference run, run_all.sh
 # experiments/reference-results/tuned_seed1.yaml): 15.7 min wall on the idle 2-core machine (user
 # 21.9 + system 5.4 CPU-min; per column 2.9 / 4.3 / 3.8 / 4.5 min), 2026-11-27 at main 8bbc49b
@@ -57,9 +64,58 @@ seeded=${SEEDED:-$((1 - quick))}
 actuators=${ACTUATORS:-vehicle paper_sim}
 ctrls=${STUDY3_CONTROLLERS:-pure_pursuit,pmpc}
 procs=${PROCESSES:-2}
-cols="$here/results/columns"
-rm -rf "$cols"
+results="$here/results"
+cols="$results/columns"
+# What made the results: the scw binary the scripts use (its version names its git revision) and
+# the revision of the experiments scripts.
+scw_bin=$(cd "$here" && "$py" -c "from scwexp.paths import find_scw; print(find_scw())")
+scripts_rev=$(git -C "$here/.." rev-parse --short HEAD 2>/dev/null || echo unknown)
+if [ -n "$(git -C "$here/.." status --porcelain -- "$here" 2>/dev/null)" ]; then
+  scripts_rev+="+dirty"
+fi
+# What shapes a piece's content (ACTUATORS, PLANTS and CLAIMS_MAP only add or drop pieces, so a
+# resumed run may add columns or maps).
+stamp="$("$scw_bin" --version | head -1); scripts $scripts_rev; sets $*; quick $quick"
+stamp+="; seeded $seeded; controllers $ctrls; sensitivity ${SENSITIVITY:-0}; args ${STUDY_ARGS:-}"
+if [ "${RESUME:-0}" = 1 ] && [ -f "$results/.stamp" ]; then
+  if [ "$(cat "$results/.stamp")" != "$stamp" ]; then
+    echo "run_all: RESUME=1, but the results were made by '$(cat "$results/.stamp")'," \
+      "this run is '$stamp': run without RESUME" >&2
+    exit 2
+  fi
+  echo "run_all: resuming ($(wc -l < "$results/.pieces" 2>/dev/null || echo 0) pieces done)"
+else
+  rm -rf "$cols" "$results/.pieces"
+  mkdir -p "$results"
+  echo "$stamp" > "$results/.stamp"
+fi
 start=$SECONDS
+# The CPU seconds (user + system) of this shell's finished children so far: `times` runs in this
+# shell (in a pipe or $(...) it would report a subshell's children) and writes to a file.
+times_cpu() {
+  tail -1 "$results/.times" | awk '{ t = 0; for (i = 1; i <= 2; i++) { split($i, a, "m");
+    t += a[1] * 60 + substr(a[2], 1, length(a[2]) - 1) } printf "%.2f", t }'
+}
+# piece NAME COMMAND...: runs COMMAND unless RESUME=1 and NAME is finished in results/.pieces;
+# then records NAME, its wall and its CPU seconds there.
+piece() {
+  local name=$1
+  shift
+  if [ "${RESUME:-0}" = 1 ] && grep -q "^$name " "$results/.pieces" 2>/dev/null; then
+    echo "run_all: $name finished earlier, kept"
+    return 0
+  fi
+  local w0=$SECONDS c0 c1
+  times > "$results/.times"
+  c0=$(times_cpu)
+  "$@"
+  echo "run_all: $name: $((SECONDS - w0)) s"
+  times > "$results/.times"
+  c1=$(times_cpu)
+  rm -f "$results/.times"
+  echo "$name $((SECONDS - w0)) $(awk -v a="$c1" -v b="$c0" 'BEGIN { printf "%.2f", a - b }')" \
+    >> "$results/.pieces"
+}
 sets=("shipped")
 for f in "$@"; do sets+=("$(cd "$(dirname "$f")" && pwd)/$(basename "$f")"); done
 for set in "${sets[@]}"; do
@@ -78,43 +134,44 @@ for set in "${sets[@]}"; do
             --set "plant.actuators=$act" "${pset[@]}" "${stab[@]}" ${STUDY_ARGS:-})
     sens=(--no-sensitivity)
     if [ "${SENSITIVITY:-0}" = 1 ] && [ "$set" = shipped ] && [ "$act" = vehicle ]; then sens=(); fi
-    t0=$SECONDS
-    "$py" "$here/study1_longitudinal.py" "${common[@]}" "${sens[@]}"
-    "$py" "$here/study2_lateral.py" "${common[@]}" "${sens[@]}"
-    "$py" "$here/study3_motion.py" "${common[@]}" "${sens[@]}" --controllers "$ctrls"
-    if [ "$seeded" = 1 ]; then
-      for st in 2 3; do
-        "$py" "$here/seeded_limit.py" --study "$st" --controllers "$ctrls" --results "$dir" \
-          --label "$label" --processes "$procs" --set "plant.actuators=$act" "${pset[@]}" \
-          "${stab[@]}"
-      done
-    fi
-    echo "run_all: column $(basename "$dir"): $((SECONDS - t0)) s"
+    column() {  # one column, from an empty directory (a piece cut short starts again)
+      rm -rf "$dir"
+      "$py" "$here/study1_longitudinal.py" "${common[@]}" "${sens[@]}"
+      "$py" "$here/study2_lateral.py" "${common[@]}" "${sens[@]}"
+      "$py" "$here/study3_motion.py" "${common[@]}" "${sens[@]}" --controllers "$ctrls"
+      if [ "$seeded" = 1 ]; then
+        for st in 2 3; do
+          "$py" "$here/seeded_limit.py" --study "$st" --controllers "$ctrls" --results "$dir" \
+            --label "$label" --processes "$procs" --set "plant.actuators=$act" "${pset[@]}" \
+            "${stab[@]}"
+        done
+      fi
+    }
+    piece "column:$(basename "$dir")" column
   done
   done
 done
 if [ "${CLAIMS_MAP:-0}" = 1 ] && [ "$quick" = 0 ]; then
-  "$py" "$here/claims_map.py" --no-report --processes "$procs"
+  piece "claims_map:shipped" "$py" "$here/claims_map.py" --no-report --processes "$procs"
   fams=brake_steer,no_brake_dyn,paper_sim,paper_sim_steer,paper_sim_v1,grip_curve,esc_target
   fams+=,pmpc_yaw_feedback,pmpc_yaw_paper_sim,pmpc_ay_feedback,pmpc_ay_paper_sim,body_modes
   fams+=,paper_setup
   for f in "$@"; do
-    "$py" "$here/claims_map.py" --no-report --processes "$procs" --stability "$f" --families "$fams"
+    piece "claims_map:$(basename "$f" .yaml)" "$py" "$here/claims_map.py" --no-report \
+      --processes "$procs" --stability "$f" --families "$fams"
   done
 fi
-"$py" "$here/esc_margin.py" --no-report --processes "$procs"
+piece esc_margin "$py" "$here/esc_margin.py" --no-report --processes "$procs"
 if [ "$quick" = 0 ]; then
-  "$py" "$here/compare.py" --no-report "$here/../params/stability/default.yaml" "$@"
+  piece compare "$py" "$here/compare.py" --no-report "$here/../params/stability/default.yaml" "$@"
 fi
-# The run's wall and CPU time (children: every scw and python run above) for the report's header.
-# (`times` in a pipe or $(...) would report a subshell's children: it writes to a file instead)
-times > "$here/results/.times"
-cpu=$(tail -1 "$here/results/.times" | awk '{ t = 0; for (i = 1; i <= 2; i++) { split($i, a, "m");
-  t += a[1] * 60 + substr(a[2], 1, length(a[2]) - 1) } print t }')
-rm -f "$here/results/.times"
-rev=$(git -C "$here/.." rev-parse --short HEAD 2>/dev/null || echo unknown)
-printf '{"mode": "%s", "wall_s": %d, "cpu_s": %s, "commit": "%s", "sets": %d}\n' \
-  "$([ "$quick" = 1 ] && echo quick || echo full)" "$((SECONDS - start))" "$cpu" "$rev" \
-  "${#sets[@]}" > "$here/results/run_all.json"
+# The run's wall and CPU time for the report's header: the sums over its pieces (each counted
+# once, also when the run was resumed).
+read -r wall cpu npieces < <(awk '{ w += $2; c += $3; n++ } END { printf "%d %.1f %d\n", w, c, n }' \
+  "$results/.pieces")
+printf '{"mode": "%s", "wall_s": %d, "cpu_s": %s, "commit": "%s", "sets": %d, "pieces": %d, "resumed": %s}\n' \
+  "$([ "$quick" = 1 ] && echo quick || echo full)" "$wall" "$cpu" "$scripts_rev" \
+  "${#sets[@]}" "$npieces" "$([ "${RESUME:-0}" = 1 ] && echo true || echo false)" \
+  > "$results/run_all.json"
 "$py" "$here/report.py"
-echo "run_all: $((SECONDS - start)) s; report: $here/results/report.md"
+echo "run_all: ${wall} s over ${npieces} pieces (this invocation $((SECONDS - start)) s); report: $results/report.md"

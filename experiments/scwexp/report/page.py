@@ -163,8 +163,10 @@ def run_line(run):
     """The header's line on how the tree was made (results/run_all.json), or []."""
     if not run:
         return []
+    wall = (f"{run['wall_s'] / 60:.1f} min wall summed over {run['pieces']} pieces of a resumed run"
+            if run.get("resumed") else f"{run['wall_s'] / 60:.1f} min wall")
     return [f"Made by `experiments/run_all.sh{' --quick' if run.get('mode') == 'quick' else ''}` "
-            f"at commit {run.get('commit', '?')}: {run['wall_s'] / 60:.1f} min wall, "
+            f"at commit {run.get('commit', '?')}: {wall}, "
             f"{run['cpu_s'] / 60:.1f} CPU-min (2 cores).", ""]
 
 
