@@ -28,7 +28,8 @@
 # PLANTS (default "scw"; "scw ocd" adds each column on Open-Car-Dynamics, the paper's simulator,
 # as <set>__<actuators>__ocd: needs a build with OCD, docs/ocd-plant.md),
 # SEEDED (default 1, 0 with --quick: studies 2 and 3 over 10 sensor-noise seeds per column,
-# experiments/seeded_limit.py, about 20 min a column). The wall and CPU time of the whole run
+# experiments/seeded_limit.py, about 20 min a column; SEEDED_PLANTS, default "scw", the plants
+# whose columns get them: on OCD they would take hours a column). The wall and CPU time of the whole run
 # go to results/run_all.json, which the report's header names.
 # RESUME=1 keeps experiments/results and skips every piece (a column, a claims map, the ESC margin
 # scan, the comparison) that an earlier run of the same scw binary, experiments scripts, sets and
@@ -76,7 +77,8 @@ fi
 # What shapes a piece's content (ACTUATORS, PLANTS and CLAIMS_MAP only add or drop pieces, so a
 # resumed run may add columns or maps).
 stamp="$("$scw_bin" --version | head -1); scripts $scripts_rev; sets $*; quick $quick"
-stamp+="; seeded $seeded; controllers $ctrls; sensitivity ${SENSITIVITY:-0}; args ${STUDY_ARGS:-}"
+stamp+="; seeded $seeded on ${SEEDED_PLANTS:-scw}; controllers $ctrls"
+stamp+="; sensitivity ${SENSITIVITY:-0}; args ${STUDY_ARGS:-}"
 if [ "${RESUME:-0}" = 1 ] && [ -f "$results/.stamp" ]; then
   if [ "$(cat "$results/.stamp")" != "$stamp" ]; then
     echo "run_all: RESUME=1, but the results were made by '$(cat "$results/.stamp")'," \
@@ -139,7 +141,7 @@ for set in "${sets[@]}"; do
       "$py" "$here/study1_longitudinal.py" "${common[@]}" "${sens[@]}"
       "$py" "$here/study2_lateral.py" "${common[@]}" "${sens[@]}"
       "$py" "$here/study3_motion.py" "${common[@]}" "${sens[@]}" --controllers "$ctrls"
-      if [ "$seeded" = 1 ]; then
+      if [ "$seeded" = 1 ] && [[ " ${SEEDED_PLANTS:-scw} " == *" $plant "* ]]; then
         for st in 2 3; do
           "$py" "$here/seeded_limit.py" --study "$st" --controllers "$ctrls" --results "$dir" \
             --label "$label" --processes "$procs" --set "plant.actuators=$act" "${pset[@]}" \
