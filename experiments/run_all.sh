@@ -29,8 +29,8 @@
 # as <set>__<actuators>__ocd: needs a build with OCD, docs/ocd-plant.md),
 # SEEDED (default 1, 0 with --quick: studies 2 and 3 over 10 sensor-noise seeds per column,
 # experiments/seeded_limit.py, about 20 min a column; SEEDED_PLANTS, default "scw", the plants
-# whose columns get them: on OCD they would take hours a column). The wall and CPU time of the whole run
-# go to results/run_all.json, which the report's header names.
+# whose columns get them: on OCD they would take hours a column). The wall and CPU time of the
+# whole run go to results/run_all.json, which the report's header names.
 # RESUME=1 keeps experiments/results and skips every piece (a column, a claims map, the ESC margin
 # scan, the comparison) that an earlier run of the same scw binary, experiments scripts, sets and
 # study settings finished, so a run cut short (a session's end, a reboot) continues where it
