@@ -30,7 +30,6 @@ Number SysTime() { return 0.0; }
 // The wall clock likewise (~160 readings per solve): Ipopt 3.11 uses it for its timing statistics
 // only; solve times are measured by MpcController itself.
 Number WallclockTime() { return 0.0; }
-}  // namespace Ipopt
 
 // Ipopt's vector operations reach the reference BLAS (Debian's libblas3, one element at a time)
 // through three wrappers that it calls through its PLT at every iteration: the max-norm
@@ -38,7 +37,6 @@ Number WallclockTime() { return 0.0; }
 // replacements take their place for Ipopt alone (other users of BLAS, e.g. MUMPS, are not
 // affected): the same index, the same copied and the same scaled values, bit for bit, for every
 // input the reference routines accept (NaN, -0, strides).
-namespace Ipopt {
 namespace {
 
 // Reference IDAMAX: the first index (1-based) of the largest |x_i|; comparisons with NaN are
