@@ -38,12 +38,10 @@
 # again from its start. Results made otherwise are refused.
 # Each finished piece's wall and CPU time go to results/.pieces, and run_all.json sums them: a
 # resumed run reports every piece's time once.
-# Time on 2 cores: shipped + one tuned set, both actuator models (the reference run, run_all.sh
-# experiments/reference-results/tuned_seed1.yaml): 15.7 min wall on the idle 2-core machine (user
-# 21.9 + system 5.4 CPU-min; per column 2.9 / 4.3 / 3.8 / 4.5 min), 2026-11-27 at main 8bbc49b
-# with the probe runs; on a machine shared with two other jobs (load 4-8) 75.4 min wall, 29.1
-# CPU-min. A third set adds two columns: tuned_paper_sim_seed1 took 4.8 (real car) + 6.8 (paper's
-# sim) min wall (2026-11-28), so the three reference sets take about 27.5 min.
+# Time on the 2-vCPU machine (nearly idle): the full reference (both tuned sets of
+# reference-results, CLAIMS_MAP=1 SEEDED=1 SENSITIVITY=1, scw's plant) 81.1 min wall, 145.9
+# CPU-min: six columns 3.3-6.0 min each, claims maps 20.7 / 13.2 / 16.1 min, esc_margin 3.3 min
+# (2026-12-06, scripts 1cb030a, binary 1ee906d); --quick 4.9 min wall, 7.7 CPU-min.
 # To refresh the committed reference copy afterwards:
 #   python3 experiments/report.py --publish experiments/reference-results
 set -euo pipefail

@@ -129,7 +129,19 @@ class Report(unittest.TestCase):
 
     def test_first_page_then_appendices(self):
         root = unpack("full")
-        text = build(os.path.join(root), "--publish", os.path.join(WORK, "published"))
+        # Another page kept in the published folder (as maneuvers.md is): its figure stays, a
+        # figure no page links goes.
+        published = os.path.join(WORK, "published")
+        shutil.rmtree(published, ignore_errors=True)
+        os.makedirs(os.path.join(published, "other"))
+        with open(os.path.join(published, "other.md"), "w") as f:
+            f.write("![kept](other/kept.png)\n")
+        for name in ("other/kept.png", "stale.png"):
+            with open(os.path.join(published, name), "wb") as f:
+                f.write(b"png")
+        text = build(os.path.join(root), "--publish", published)
+        self.assertTrue(os.path.exists(os.path.join(published, "other", "kept.png")))
+        self.assertFalse(os.path.exists(os.path.join(published, "stale.png")))
         head = text.splitlines()[:PAGE]
         self.assertIn("## Verdict", head)
         self.assertIn("## Appendices", head)   # the whole answer within the page

@@ -14,8 +14,8 @@ _IMAGE = re.compile(r"!\[[^\]]*\]\(([^)]+\.png)\)")
 
 def publish(report_path, dest, appendix="appendix"):
     """Copies the report, its appendices and the figures they link into dest, keeping their
-    paths relative to the report (so the links work unchanged); figures and appendices no
-    longer linked are removed."""
+    paths relative to the report (so the links work unchanged); figures no page in dest links
+    and appendices no longer made are removed."""
     src_root = os.path.dirname(report_path)
     os.makedirs(os.path.join(dest, appendix), exist_ok=True)
     pages = ["report.md"] + sorted(
@@ -30,6 +30,15 @@ def publish(report_path, dest, appendix="appendix"):
             os.makedirs(os.path.dirname(dst), exist_ok=True)
             shutil.copyfile(os.path.join(src_root, rel_path), dst)
             linked.add(rel_path)
+    # Figures of other pages kept in dest (e.g. maneuvers.md) stay: they are linked too.
+    for root, _, files in os.walk(dest):
+        for name in files:
+            rel_md = os.path.relpath(os.path.join(root, name), dest)
+            if name.endswith(".md") and rel_md not in pages \
+                    and os.path.dirname(rel_md) != appendix:
+                with open(os.path.join(root, name)) as f:
+                    for target in _IMAGE.findall(f.read()):
+                        linked.add(os.path.normpath(os.path.join(os.path.dirname(rel_md), target)))
     for root, _, files in os.walk(dest):
         for name in files:
             rel_path = os.path.relpath(os.path.join(root, name), dest)

@@ -1,6 +1,6 @@
 sweep
 -o
-experiments/results/columns/shipped__vehicle/study3_seeded/sweep_seeded.csv
+/work/full/experiments/results/columns/shipped__vehicle/study3_seeded/sweep_seeded.csv
 --processes
 2
 --set

@@ -1,0 +1,16 @@
+sweep
+--stop-at-first-abort
+-o
+/work/full/experiments/results/columns/shipped__vehicle/study3_motion/sweep_pmpc_brake40ms_probe.csv
+--processes
+2
+--set
+motion.controller=pmpc
+plan_with_nominal_grip=true
+abort.lock_slip_pct=100
+plant.actuators=vehicle
+vehicle=/work/full/experiments/results/columns/shipped__vehicle/study3_motion/vehicle_brake40ms.yaml
+--vary
+laps=3
+--config
+r0:subsystems.esc=true,subsystems.cs=true,gg_scale=1.075,grip.rear_mu_y=0.8

@@ -1,0 +1,17 @@
+sweep
+--stop-at-first-abort
+-o
+/work/full/experiments/results/columns/tuned_paper_sim_seed1__paper_sim/study3_motion/sweep_pmpc_probe.csv
+--processes
+2
+--set
+motion.controller=pmpc
+plan_with_nominal_grip=true
+abort.lock_slip_pct=100
+plant.actuators=paper_sim
+--vary
+laps=3
+--config
+r0:subsystems.esc=true,subsystems.cs=true,gg_scale=1.075,grip.rear_mu_y=0.8
+--stability
+/work/full/experiments/reference-results/tuned_paper_sim_seed1.yaml

@@ -1,0 +1,17 @@
+sweep
+--stop-at-first-abort
+-o
+/work/full/experiments/results/columns/tuned_seed1__vehicle/study2_lateral/sweep_probe.csv
+--processes
+2
+--set
+motion.controller=pmpc
+plan_with_nominal_grip=true
+abort.lock_slip_pct=100
+plant.actuators=vehicle
+--vary
+laps=3
+--config
+r0:subsystems.esc=true,subsystems.cs=true,gg_scale=1.075,grip.rear_mu_y=0.82
+--stability
+/work/full/experiments/reference-results/tuned_seed1.yaml
