@@ -139,7 +139,12 @@ class Report(unittest.TestCase):
         for name in ("other/kept.png", "stale.png"):
             with open(os.path.join(published, name), "wb") as f:
                 f.write(b"png")
+        os.makedirs(os.path.join(root, "ocd"), exist_ok=True)
+        with open(os.path.join(root, "ocd", "crossval.md"), "w") as f:
+            f.write("| test | metric | scw | ocd |\n")
         text = build(os.path.join(root), "--publish", published)
+        self.assertIn("[scw's plant against Open-Car-Dynamics](ocd/crossval.md)",
+                      "\n".join(text.splitlines()[:PAGE]))
         self.assertTrue(os.path.exists(os.path.join(published, "other", "kept.png")))
         self.assertFalse(os.path.exists(os.path.join(published, "stale.png")))
         head = text.splitlines()[:PAGE]

@@ -175,6 +175,15 @@ def _links(apps):
     return out
 
 
+def _plant_links(root):
+    """The first page's link to the plants' cross-validation and the claims on both plants
+    (experiments/ocd_crossval.py, ocd_claims.py) where the tree has them."""
+    pages = [("ocd/crossval.md", "scw's plant against Open-Car-Dynamics"),
+             ("ocd/claims.md", "studies 1 and 2 on both plants")]
+    found = [f"[{t}]({p})" for p, t in pages if os.path.exists(os.path.join(root, p))]
+    return ["- the plants: " + " · ".join(found)] if found else []
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--publish", metavar="DIR",
@@ -209,8 +218,8 @@ def main(argv=None):
     if os.path.exists(os.path.join(root, "run_all.json")):
         with open(os.path.join(root, "run_all.json"), encoding="utf-8") as f:
             run = json.load(f)
-    out = page(cols, claims_maps(root), read_summary("esc_margin"), root, _links(apps),
-               _laps(cols), run) if cols else [
+    out = page(cols, claims_maps(root), read_summary("esc_margin"), root,
+               _links(apps) + _plant_links(root), _laps(cols), run) if cols else [
         "# Does stability control do what the paper says?", "", "No study results yet.", "",
         "## Appendices", ""] + _links(apps)
     path = os.path.join(root, "report.md")

@@ -9,6 +9,7 @@ import os
 import re
 import shutil
 
+_PAGE = re.compile(r"\]\(([^)#]+\.md)\)")
 _IMAGE = re.compile(r"!\[[^\]]*\]\(([^)]+\.png)\)")
 
 
@@ -49,6 +50,13 @@ def publish(report_path, dest, appendix="appendix"):
                 os.remove(os.path.join(root, name))
     for page in pages:
         shutil.copyfile(os.path.join(src_root, page), os.path.join(dest, page))
+    # Other pages the report links (e.g. ocd/crossval.md), where the results tree has them.
+    with open(os.path.join(src_root, "report.md")) as f:
+        for target in _PAGE.findall(f.read()):
+            rel_path = os.path.normpath(target)
+            if rel_path not in pages and os.path.exists(os.path.join(src_root, rel_path)):
+                os.makedirs(os.path.dirname(os.path.join(dest, rel_path)), exist_ok=True)
+                shutil.copyfile(os.path.join(src_root, rel_path), os.path.join(dest, rel_path))
     files = copy_data(src_root, dest)
     print(f"published {dest}/report.md, {len(pages) - 1} appendices and {files} data files")
 
