@@ -57,7 +57,8 @@ std::vector<std::vector<Number>> Cases() {
 }
 
 bool SameBits(const std::vector<Number>& a, const std::vector<Number>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Number)) == 0;
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(Number)) == 0);
 }
 
 TEST(IpoptBlasTest, IdamaxIsTheLibrarysIndex) {
