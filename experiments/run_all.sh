@@ -105,16 +105,31 @@ piece() {
     echo "run_all: $name finished earlier, kept"
     return 0
   fi
-  local w0=$SECONDS c0 c1
+  local w0=$SECONDS c0 c1 wall
   times > "$results/.times"
   c0=$(times_cpu)
   "$@"
-  echo "run_all: $name: $((SECONDS - w0)) s"
+  wall=$((SECONDS - w0))
+  echo "run_all: $name: $wall s"
   times > "$results/.times"
   c1=$(times_cpu)
   rm -f "$results/.times"
-  echo "$name $((SECONDS - w0)) $(awk -v a="$c1" -v b="$c0" 'BEGIN { printf "%.2f", a - b }')" \
-    >> "$results/.pieces"
+  echo "$name $wall $(awk -v a="$c1" -v b="$c0" 'BEGIN { printf "%.2f", a - b }')" >> "$results/.pieces"
+}
+# One column (the loop below sets dir, common, sens, plant, act, label, pset, stab), from an empty
+# directory: a piece cut short starts again.
+column() {
+  rm -rf "$dir"
+  "$py" "$here/study1_longitudinal.py" "${common[@]}" "${sens[@]}"
+  "$py" "$here/study2_lateral.py" "${common[@]}" "${sens[@]}"
+  "$py" "$here/study3_motion.py" "${common[@]}" "${sens[@]}" --controllers "$ctrls"
+  if [ "$seeded" = 1 ] && [[ " ${SEEDED_PLANTS:-scw} " == *" $plant "* ]]; then
+    for st in 2 3; do
+      "$py" "$here/seeded_limit.py" --study "$st" --controllers "$ctrls" --results "$dir" \
+        --label "$label" --processes "$procs" --set "plant.actuators=$act" "${pset[@]}" \
+        "${stab[@]}"
+    done
+  fi
 }
 sets=("shipped")
 for f in "$@"; do sets+=("$(cd "$(dirname "$f")" && pwd)/$(basename "$f")"); done
@@ -134,19 +149,6 @@ for set in "${sets[@]}"; do
             --set "plant.actuators=$act" "${pset[@]}" "${stab[@]}" ${STUDY_ARGS:-})
     sens=(--no-sensitivity)
     if [ "${SENSITIVITY:-0}" = 1 ] && [ "$set" = shipped ] && [ "$act" = vehicle ]; then sens=(); fi
-    column() {  # one column, from an empty directory (a piece cut short starts again)
-      rm -rf "$dir"
-      "$py" "$here/study1_longitudinal.py" "${common[@]}" "${sens[@]}"
-      "$py" "$here/study2_lateral.py" "${common[@]}" "${sens[@]}"
-      "$py" "$here/study3_motion.py" "${common[@]}" "${sens[@]}" --controllers "$ctrls"
-      if [ "$seeded" = 1 ] && [[ " ${SEEDED_PLANTS:-scw} " == *" $plant "* ]]; then
-        for st in 2 3; do
-          "$py" "$here/seeded_limit.py" --study "$st" --controllers "$ctrls" --results "$dir" \
-            --label "$label" --processes "$procs" --set "plant.actuators=$act" "${pset[@]}" \
-            "${stab[@]}"
-        done
-      fi
-    }
     piece "column:$(basename "$dir")" column
   done
   done

@@ -13,6 +13,13 @@ _PAGE = re.compile(r"\]\(([^)#]+\.md)\)")
 _IMAGE = re.compile(r"!\[[^\]]*\]\(([^)]+\.png)\)")
 
 
+def _figures(root, page):
+    """The figures `page` (a path relative to root) links, as paths relative to root."""
+    with open(os.path.join(root, page)) as f:
+        return [os.path.normpath(os.path.join(os.path.dirname(page), t))
+                for t in _IMAGE.findall(f.read())]
+
+
 def publish(report_path, dest, appendix="appendix"):
     """Copies the report, its appendices and the figures they link into dest, keeping their
     paths relative to the report (so the links work unchanged); figures no page in dest links
@@ -23,10 +30,7 @@ def publish(report_path, dest, appendix="appendix"):
         os.path.relpath(p, src_root) for p in glob.glob(os.path.join(src_root, appendix, "*.md")))
     linked = set()
     for page in pages:
-        with open(os.path.join(src_root, page)) as f:
-            text = f.read()
-        for target in _IMAGE.findall(text):
-            rel_path = os.path.normpath(os.path.join(os.path.dirname(page), target))
+        for rel_path in _figures(src_root, page):
             dst = os.path.join(dest, rel_path)
             os.makedirs(os.path.dirname(dst), exist_ok=True)
             shutil.copyfile(os.path.join(src_root, rel_path), dst)
@@ -37,9 +41,7 @@ def publish(report_path, dest, appendix="appendix"):
             rel_md = os.path.relpath(os.path.join(root, name), dest)
             if name.endswith(".md") and rel_md not in pages \
                     and os.path.dirname(rel_md) != appendix:
-                with open(os.path.join(root, name)) as f:
-                    for target in _IMAGE.findall(f.read()):
-                        linked.add(os.path.normpath(os.path.join(os.path.dirname(rel_md), target)))
+                linked.update(_figures(dest, rel_md))
     for root, _, files in os.walk(dest):
         for name in files:
             rel_path = os.path.relpath(os.path.join(root, name), dest)
