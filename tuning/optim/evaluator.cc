@@ -158,6 +158,38 @@ class EvaluatorWorkerTask final : public exec::WorkerTask {
 
 }  // namespace
 
+bool RunMemo::Find(const std::string& set, const std::vector<std::string>& scenarios,
+                   std::vector<RunMetrics>* runs, std::vector<std::string>* invalid) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  const auto s = runs_.find(set);
+  if (s == runs_.end()) return false;
+  for (const std::string& k : scenarios)
+    if (s->second.find(k) == s->second.end()) return false;
+  runs->clear();
+  invalid->clear();
+  for (const std::string& k : scenarios) {
+    const Run& r = s->second.at(k);
+    runs->push_back(r.metrics);
+    invalid->push_back(r.invalid);
+  }
+  reused_ += static_cast<long>(scenarios.size());
+  return true;
+}
+
+void RunMemo::Store(const std::string& set, const std::vector<std::string>& scenarios,
+                    const RunMetrics* runs, const std::string* invalid) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (runs_.find(set) == runs_.end() && runs_.size() >= max_sets_) runs_.clear();
+  auto& by_entry = runs_[set];
+  for (std::size_t i = 0; i < scenarios.size(); ++i)
+    by_entry.insert_or_assign(scenarios[i], Run{runs[i], invalid[i]});
+}
+
+long RunMemo::reused_runs() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return reused_;
+}
+
 struct BatchEvaluator::JobLengths {
   std::mutex mutex;
   std::vector<double> length;  ///< per scenario: [s] wall time, or [m] planned before any run
@@ -189,7 +221,8 @@ BatchEvaluator BatchEvaluator::FromEntries(const std::vector<ScenarioEntry>& ent
                                            const std::string& base_dir,
                                            const params::CostWeights& cost, int threads,
                                            const BatchProgress& progress,
-                                           controller::planning::ReferenceCache* cache) {
+                                           controller::planning::ReferenceCache* cache,
+                                           std::shared_ptr<RunMemo> memo) {
   // The other ranks (MPI) resolve the same scenarios meanwhile.
   exec::Options where;
   where.threads = threads;
@@ -219,18 +252,99 @@ BatchEvaluator BatchEvaluator::FromEntries(const std::vector<ScenarioEntry>& ent
   });
   BatchEvaluator ev(std::move(resolved), std::move(weights), cost, threads);
   ev.exec_ = std::move(executor);
+  if (memo) {
+    ev.memo_ = std::move(memo);
+    for (const auto& e : entries) ev.memo_keys_.push_back(EncodeSetup({e}, base_dir, cost));
+  }
   return ev;
 }
 
 std::vector<SetEvaluation> BatchEvaluator::Evaluate(
     const std::vector<params::StabilityParams>& sets, const BatchProgress& progress) const {
   const int n_sc = static_cast<int>(scenarios_.size());
+  const auto n_scenarios = static_cast<std::size_t>(n_sc);
+  const int n_all = static_cast<int>(sets.size()) * n_sc;
+  std::vector<RunMetrics> slots(static_cast<std::size_t>(n_all));
+  std::vector<std::string> invalid(static_cast<std::size_t>(n_all));
+  ProgressCounter counter(progress, n_all);
+  // The sets to run: without a memo all of them; with one, those whose runs it does not hold,
+  // each distinct set once (a repeat within the call takes the first one's runs).
+  std::vector<std::size_t> to_run;
+  std::vector<std::string> set_keys(memo_ ? sets.size() : 0);
+  std::vector<std::size_t> same_as(sets.size());
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    same_as[s] = s;
+    if (!memo_) {
+      to_run.push_back(s);
+      continue;
+    }
+    set_keys[s] = EncodeSets({sets[s]});
+    for (std::size_t t = 0; t < s; ++t)
+      if (set_keys[t] == set_keys[s]) {
+        same_as[s] = t;
+        break;
+      }
+    if (same_as[s] != s) continue;
+    std::vector<RunMetrics> known;
+    std::vector<std::string> known_invalid;
+    if (memo_->Find(set_keys[s], memo_keys_, &known, &known_invalid)) {
+      for (std::size_t k = 0; k < n_scenarios; ++k) {
+        slots[s * n_scenarios + k] = std::move(known[k]);
+        invalid[s * n_scenarios + k] = std::move(known_invalid[k]);
+        counter.JobDone();
+      }
+    } else {
+      to_run.push_back(s);
+    }
+  }
+  std::vector<params::StabilityParams> run_sets;
+  for (std::size_t s : to_run) run_sets.push_back(sets[s]);
+  const int n_jobs = static_cast<int>(run_sets.size()) * n_sc;
+  std::vector<RunMetrics> ran(static_cast<std::size_t>(n_jobs));
+  std::vector<std::string> ran_invalid(static_cast<std::size_t>(n_jobs));
+  Run(run_sets, &ran, &ran_invalid, [&counter] { counter.JobDone(); });
+  for (std::size_t i = 0; i < to_run.size(); ++i) {
+    if (memo_)
+      memo_->Store(set_keys[to_run[i]], memo_keys_, &ran[i * n_scenarios],
+                   &ran_invalid[i * n_scenarios]);
+    for (std::size_t k = 0; k < n_scenarios; ++k) {
+      slots[to_run[i] * n_scenarios + k] = std::move(ran[i * n_scenarios + k]);
+      invalid[to_run[i] * n_scenarios + k] = std::move(ran_invalid[i * n_scenarios + k]);
+    }
+  }
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    if (same_as[s] == s) continue;
+    for (std::size_t k = 0; k < n_scenarios; ++k) {
+      slots[s * n_scenarios + k] = slots[same_as[s] * n_scenarios + k];
+      invalid[s * n_scenarios + k] = invalid[same_as[s] * n_scenarios + k];
+      counter.JobDone();
+    }
+  }
+  std::vector<SetEvaluation> out(sets.size());
+  for (std::size_t s = 0; s < sets.size(); ++s) {
+    SetEvaluation& ev = out[s];
+    for (int k = 0; k < n_sc; ++k) {
+      const std::size_t j = s * static_cast<std::size_t>(n_sc) + static_cast<std::size_t>(k);
+      ev.runs.push_back(slots[j]);
+      ev.costs.push_back(
+          ScenarioCostOfKind(slots[j], cost_, scenarios_[static_cast<std::size_t>(k)].spec.kind));
+      if (ev.invalid.empty()) ev.invalid = invalid[j];
+    }
+    ev.total = TotalCost(ev.costs, weights_);
+  }
+  return out;
+}
+
+void BatchEvaluator::Run(const std::vector<params::StabilityParams>& sets,
+                         std::vector<RunMetrics>* slots_out, std::vector<std::string>* invalid_out,
+                         const std::function<void()>& job_done) const {
+  const int n_sc = static_cast<int>(scenarios_.size());
   const int n_jobs = static_cast<int>(sets.size()) * n_sc;
-  std::vector<RunMetrics> slots(static_cast<std::size_t>(n_jobs));
-  std::vector<std::string> invalid(static_cast<std::size_t>(n_jobs));
+  if (n_jobs == 0) return;
+  std::vector<RunMetrics>& slots = *slots_out;
+  std::vector<std::string>& invalid = *invalid_out;
   std::vector<double> wall(static_cast<std::size_t>(n_jobs), 0.0);
   const RunOptions ro = OptionsFor(cost_);
-  ProgressCounter counter(progress, n_jobs);
   std::vector<int> order;
   {
     const std::lock_guard<std::mutex> lock(lengths_->mutex);
@@ -248,18 +362,18 @@ std::vector<SetEvaluation> BatchEvaluator::Evaluate(
     RunJob(scenarios_[static_cast<std::size_t>(j % n_sc)], sets[static_cast<std::size_t>(j / n_sc)],
            ro, &slots[static_cast<std::size_t>(j)], &invalid[static_cast<std::size_t>(j)]);
     wall[static_cast<std::size_t>(j)] = Seconds(t0);
-    counter.JobDone();
+    job_done();
   };
   if (exec_->backend() != exec::Backend::kThreads) {
     batch.payload = EncodeSets(sets);
     batch.remote = [&](int j, std::string_view bytes) {
       const auto k = static_cast<std::size_t>(j);
       DecodeResult(bytes, &slots[k], &wall[k], &invalid[k]);
-      counter.JobDone();
+      job_done();
     };
   }
   exec_->Run(batch);
-  if (n_jobs > 0) {  // this call's lengths order the next call's jobs
+  {  // this call's lengths order the next call's jobs
     const std::lock_guard<std::mutex> lock(lengths_->mutex);
     std::fill(lengths_->length.begin(), lengths_->length.end(), 0.0);
     for (int j = 0; j < n_jobs; ++j) {
@@ -267,19 +381,6 @@ std::vector<SetEvaluation> BatchEvaluator::Evaluate(
       l = std::max(l, wall[static_cast<std::size_t>(j)]);
     }
   }
-  std::vector<SetEvaluation> out(sets.size());
-  for (std::size_t s = 0; s < sets.size(); ++s) {
-    SetEvaluation& ev = out[s];
-    for (int k = 0; k < n_sc; ++k) {
-      const std::size_t j = s * static_cast<std::size_t>(n_sc) + static_cast<std::size_t>(k);
-      ev.runs.push_back(slots[j]);
-      ev.costs.push_back(
-          ScenarioCostOfKind(slots[j], cost_, scenarios_[static_cast<std::size_t>(k)].spec.kind));
-      if (ev.invalid.empty()) ev.invalid = invalid[j];
-    }
-    ev.total = TotalCost(ev.costs, weights_);
-  }
-  return out;
 }
 
 SetEvaluation BatchEvaluator::Evaluate(const params::StabilityParams& set) const {

@@ -27,8 +27,10 @@
 
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "params/schema/cost_params.h"
@@ -55,6 +57,39 @@ struct SetEvaluation {
 /// Progress of one batch: (jobs finished, jobs in the batch). See the header comment.
 using BatchProgress = std::function<void(int done, int total)>;
 
+/// Runs already made, for the evaluators of one study to reuse (FromEntries' `memo`): a run is a
+/// pure function of its scenario entry (name, file, overrides, folder, cost settings) and the
+/// parameter set, so the run of a set an evaluator has made before, on any evaluator of the same
+/// memo, is returned as it was, bit for bit, without running it again. A front's points whose
+/// searches end on the same set, the exported set's evaluations across the export phases and the
+/// base set beside every plant neighbour then run once. Keys are exact (the set's and the entry's
+/// bytes). Bounded: at `max_sets` sets the memo forgets everything and starts again, which costs
+/// runs, never results. Thread-safe.
+class RunMemo {
+ public:
+  /// 2048 sets of ~30 runs: ~25 MB at most.
+  static constexpr std::size_t kDefaultMaxSets = 2048;
+  explicit RunMemo(std::size_t max_sets = kDefaultMaxSets) : max_sets_(max_sets) {}
+  /// The runs of set `set` on the scenarios `scenarios` (keys), if every one is known.
+  bool Find(const std::string& set, const std::vector<std::string>& scenarios,
+            std::vector<RunMetrics>* runs, std::vector<std::string>* invalid) const;
+  /// Remembers runs[i] / invalid[i] of `set` on scenarios[i].
+  void Store(const std::string& set, const std::vector<std::string>& scenarios,
+             const RunMetrics* runs, const std::string* invalid);
+  /// Runs returned from the memo so far.
+  long reused_runs() const;
+
+ private:
+  struct Run {
+    RunMetrics metrics;
+    std::string invalid;
+  };
+  mutable std::mutex mutex_;
+  std::size_t max_sets_;
+  std::unordered_map<std::string, std::unordered_map<std::string, Run>> runs_;  ///< set -> entry
+  mutable long reused_ = 0;
+};
+
 class BatchEvaluator {
  public:
   BatchEvaluator(std::vector<ResolvedScenario> scenarios, std::vector<double> weights,
@@ -62,11 +97,13 @@ class BatchEvaluator {
 
   /// Resolves the entries of a set (training or held-out) in parallel; `progress` counts the
   /// resolved scenarios. `cache` (the caller's, shared by its evaluators) holds the prepared
-  /// references; null: one of this call's own over the disk store.
+  /// references; null: one of this call's own over the disk store. `memo` (null: none): the runs
+  /// this evaluator makes are remembered there, and a set whose runs are all there is not run.
   static BatchEvaluator FromEntries(const std::vector<ScenarioEntry>& entries,
                                     const std::string& base_dir, const params::CostWeights& cost,
                                     int threads = 0, const BatchProgress& progress = {},
-                                    controller::planning::ReferenceCache* cache = nullptr);
+                                    controller::planning::ReferenceCache* cache = nullptr,
+                                    std::shared_ptr<RunMemo> memo = nullptr);
 
   /// Every set on every scenario (sets.size() × scenarios jobs); `progress` counts the runs.
   std::vector<SetEvaluation> Evaluate(const std::vector<params::StabilityParams>& sets,
@@ -79,6 +116,11 @@ class BatchEvaluator {
   int threads() const { return threads_; }
 
  private:
+  /// Runs every set on every scenario into slots / invalid (set-major), calling job_done after
+  /// each job.
+  void Run(const std::vector<params::StabilityParams>& sets, std::vector<RunMetrics>* slots,
+           std::vector<std::string>* invalid, const std::function<void()>& job_done) const;
+
   std::vector<ResolvedScenario> scenarios_;
   std::vector<double> weights_;
   params::CostWeights cost_;
@@ -86,6 +128,8 @@ class BatchEvaluator {
   std::shared_ptr<const exec::Executor> exec_;  ///< runs the jobs (threads, or MPI ranks)
   struct JobLengths;
   std::shared_ptr<JobLengths> lengths_;  ///< per scenario, for the job order (see above)
+  std::shared_ptr<RunMemo> memo_;
+  std::vector<std::string> memo_keys_;  ///< per scenario: its entry's key in memo_
 };
 
 /// Longest first: the job indices [0, lengths.size()) sorted by decreasing length, ties by index.

@@ -244,7 +244,7 @@ NeighbourhoodResult CheckNeighbourhood(const NeighbourhoodInput& in,
         continue;
       }
       const BatchEvaluator moved = BatchEvaluator::FromEntries(
-          entries, in.scenarios->base_dir, in.scenarios->cost, in.threads, {}, in.cache);
+          entries, in.scenarios->base_dir, in.scenarios->cost, in.threads, {}, in.cache, in.memo);
       std::vector<params::StabilityParams> sets = {centre};
       if (in.reference) sets.push_back(*in.reference);
       const auto results = moved.Evaluate(sets, count(static_cast<int>(entries.size())));

@@ -91,6 +91,7 @@ struct NeighbourhoodInput {
   bool plant = true;  ///< also the plant's unknowns
   int threads = 0;
   controller::planning::ReferenceCache* cache = nullptr;
+  std::shared_ptr<RunMemo> memo;  ///< the study's runs (evaluator.h), null: none
 };
 
 /// The neighbours of the input's set (no run).

@@ -52,7 +52,7 @@ std::vector<BatchEvaluator> EdgeEvaluators(const RobustRoundInput& in) {
       for (const auto& o : a.neighbour.overrides) entry.overrides.push_back(o);
     }
     out.push_back(BatchEvaluator::FromEntries({entry}, in.scenarios->base_dir, in.scenarios->cost,
-                                              in.threads, {}, in.cache));
+                                              in.threads, {}, in.cache, in.memo));
   }
   return out;
 }

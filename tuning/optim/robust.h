@@ -58,6 +58,7 @@ struct RobustRoundInput {
   std::string log;  ///< evaluation log of the round ("" = none)
   int threads = 0;
   controller::planning::ReferenceCache* cache = nullptr;
+  std::shared_ptr<RunMemo> memo;  ///< the study's runs (evaluator.h), null: none
   const std::atomic<bool>* stop = nullptr;
   std::function<void(const Progress&)> on_progress;
 };

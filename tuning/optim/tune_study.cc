@@ -362,9 +362,9 @@ namespace {
 /// (`held` receives the held-out evaluator), the verdicts at the study's resolution, the clean
 /// laps against the budget, and the statement when the search found a gain the export lost.
 void CompareWithBase(const TuneStudy& study, const BatchEvaluator& training,
-                     std::optional<BatchEvaluator>* held,
-                     controller::planning::ReferenceCache* cache, TuneObserver& observer,
-                     const TuneObjective& fine_objective, const SetEvaluation& fine_base,
+                     std::optional<BatchEvaluator>* held, const TunePrepared& prep,
+                     TuneObserver& observer, const TuneObjective& fine_objective,
+                     const SetEvaluation& fine_base,
                      const std::optional<SetEvaluation>& tuned_training, TuneReport* report) {
   const TuneStudyOptions& o = study.options();
   const ScenarioSet& set = study.scenarios();
@@ -397,7 +397,7 @@ void CompareWithBase(const TuneStudy& study, const BatchEvaluator& training,
   if (!set.held_out.empty()) {
     held->emplace(BatchEvaluator::FromEntries(set.held_out, set.base_dir, set.cost, o.threads,
                                               Jobs(observer, TunePhase::kCompare, done, total),
-                                              cache));
+                                              prep.cache.get(), prep.memo));
     report->held_out =
         (*held)->Evaluate(both, Jobs(observer, TunePhase::kCompare, done + n_held, total));
     report->held_out_change =
@@ -428,8 +428,7 @@ void CompareWithBase(const TuneStudy& study, const BatchEvaluator& training,
 
 /// Phase neighbourhood: the knife-edge check of the exported set on both groups.
 NeighbourhoodInput KnifeEdgeInput(const TuneStudy& study, const BatchEvaluator& training,
-                                  const BatchEvaluator* held,
-                                  controller::planning::ReferenceCache* cache,
+                                  const BatchEvaluator* held, const TunePrepared& prep,
                                   const TuneReport& report) {
   NeighbourhoodInput in;
   in.scenarios = &study.scenarios();
@@ -444,14 +443,15 @@ NeighbourhoodInput KnifeEdgeInput(const TuneStudy& study, const BatchEvaluator& 
   in.held_out_centre = held ? &report.held_out[1] : nullptr;
   in.step = study.options().neighbourhood_step;
   in.threads = study.options().threads;
-  in.cache = cache;
+  in.cache = prep.cache.get();
+  in.memo = prep.memo;
   return in;
 }
 
 void CheckKnifeEdges(const TuneStudy& study, const BatchEvaluator& training,
-                     const BatchEvaluator* held, controller::planning::ReferenceCache* cache,
-                     TuneObserver& observer, TuneReport* report) {
-  const NeighbourhoodInput in = KnifeEdgeInput(study, training, held, cache, *report);
+                     const BatchEvaluator* held, const TunePrepared& prep, TuneObserver& observer,
+                     TuneReport* report) {
+  const NeighbourhoodInput in = KnifeEdgeInput(study, training, held, prep, *report);
   std::vector<std::string> notes;
   const std::vector<Neighbour> planned = PlanNeighbourhood(in, &notes);
   int runs = 0;
@@ -470,7 +470,7 @@ void CheckKnifeEdges(const TuneStudy& study, const BatchEvaluator& training,
 /// Phase robust (options.robust): the training knife edges join the objective and the search
 /// continues from the exported point; after each round the comparison and the check run again.
 void RunRobust(const TuneStudy& study, const BatchEvaluator& training,
-               std::optional<BatchEvaluator>* held, controller::planning::ReferenceCache* cache,
+               std::optional<BatchEvaluator>* held, const TunePrepared& prep,
                TuneObserver& observer, const TuneObjective& fine_objective,
                const SetEvaluation& fine_base, TuneReport* report) {
   const TuneStudyOptions& o = study.options();
@@ -501,7 +501,8 @@ void RunRobust(const TuneStudy& study, const BatchEvaluator& training,
                 ("robust_evaluations_" + std::to_string(round) + ".csv"))
                    .string();
     in.threads = o.threads;
-    in.cache = cache;
+    in.cache = prep.cache.get();
+    in.memo = prep.memo;
     in.stop = o.stop;
     in.on_progress = [&observer](const Progress& p) { observer.OnEvaluation(p); };
     observer.OnPhaseBegin(TunePhase::kRobust, in.evaluations);
@@ -510,10 +511,9 @@ void RunRobust(const TuneStudy& study, const BatchEvaluator& training,
     report->robust_evaluations += r.search.evals;
     report->exported_u = r.best;
     observer.OnPhaseEnd(TunePhase::kRobust, *report);
-    CompareWithBase(study, training, held, cache, observer, fine_objective, fine_base, std::nullopt,
+    CompareWithBase(study, training, held, prep, observer, fine_objective, fine_base, std::nullopt,
                     report);
-    CheckKnifeEdges(study, training, held->has_value() ? &**held : nullptr, cache, observer,
-                    report);
+    CheckKnifeEdges(study, training, held->has_value() ? &**held : nullptr, prep, observer, report);
     if (r.search.stop_reason == "interrupted") break;
   }
 }
@@ -577,9 +577,10 @@ TunePrepared TuneStudy::Prepare(TuneObserver& observer, TuneReport* report_out) 
   // One preparation cache for every evaluator of the run (training, the search step's, held-out,
   // the neighbourhood's).
   prep.cache = std::make_shared<controller::planning::ReferenceCache>(&PrepCache::Process());
+  prep.memo = std::make_shared<RunMemo>();
   prep.training = std::make_shared<const BatchEvaluator>(BatchEvaluator::FromEntries(
       set.training, set.base_dir, set.cost, o.threads,
-      Jobs(observer, TunePhase::kPrepare, 0, n_prepare), prep.cache.get()));
+      Jobs(observer, TunePhase::kPrepare, 0, n_prepare), prep.cache.get(), prep.memo));
   const BatchEvaluator& training = *prep.training;
   prep.fine_base =
       training.Evaluate({base_}, Jobs(observer, TunePhase::kPrepare, n_training, n_prepare))
@@ -588,7 +589,8 @@ TunePrepared TuneStudy::Prepare(TuneObserver& observer, TuneReport* report_out) 
   if (step > 0.0 && StepDiffers(training, step)) {
     auto coarse = std::make_shared<const BatchEvaluator>(BatchEvaluator::FromEntries(
         WithPlantStep(set.training, step), set.base_dir, set.cost, o.threads,
-        Jobs(observer, TunePhase::kPrepare, 2 * n_training, n_prepare), prep.cache.get()));
+        Jobs(observer, TunePhase::kPrepare, 2 * n_training, n_prepare), prep.cache.get(),
+        prep.memo));
     prep.coarse_base =
         coarse->Evaluate({base_}, Jobs(observer, TunePhase::kPrepare, 3 * n_training, n_prepare))
             .front();
@@ -825,13 +827,12 @@ void TuneStudy::Finish(const TunePrepared& prep, TuneObserver& observer,
   std::optional<SetEvaluation> tuned_training;
   if (report.sensitivity_state == SensitivityState::kDone)
     tuned_training = report.revert.evaluation;
-  CompareWithBase(*this, training, &held, prep.cache.get(), observer, fine_objective,
-                  prep.fine_base, tuned_training, &report);
+  CompareWithBase(*this, training, &held, prep, observer, fine_objective, prep.fine_base,
+                  tuned_training, &report);
   if (o.neighbourhood && opt.stop_reason != "interrupted" && !stopped()) {
-    CheckKnifeEdges(*this, training, held ? &*held : nullptr, prep.cache.get(), observer, &report);
+    CheckKnifeEdges(*this, training, held ? &*held : nullptr, prep, observer, &report);
     if (o.robust && OwnEdges(report.neighbourhood) > 0)
-      RunRobust(*this, training, &held, prep.cache.get(), observer, fine_objective, prep.fine_base,
-                &report);
+      RunRobust(*this, training, &held, prep, observer, fine_objective, prep.fine_base, &report);
   }
   detail::AnnotateKeptRelations(*this, &report);
   report.comparison_markdown =

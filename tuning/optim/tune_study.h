@@ -335,6 +335,9 @@ struct TuneRunRecord {
 /// read by Search and Finish (and by a front's points, which share one preparation).
 struct TunePrepared {
   std::shared_ptr<controller::planning::ReferenceCache> cache;  ///< every evaluator's
+  /// Every evaluator's runs (evaluator.h RunMemo): a set run once is not run again by the study
+  /// (or by a front's other points, which share the preparation).
+  std::shared_ptr<RunMemo> memo;
   std::shared_ptr<const BatchEvaluator> training;  ///< training scenarios, each vehicle's step
   /// At the search step, when its check passed (null: the search runs on `training`).
   std::shared_ptr<const BatchEvaluator> coarse;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <memory>
 
 #include "tuning/optim/space.h"
 #include "tuning/optim/tuner.h"
@@ -85,6 +86,55 @@ TEST(EvaluatorTest, JobOrderLearnedFromEarlierCallsDoesNotChangeResults) {
     for (std::size_t k = 0; k < entries.size(); ++k) {
       EXPECT_EQ(EncodeRunMetrics(first[s].runs[k]), EncodeRunMetrics(second[s].runs[k]));
       EXPECT_EQ(EncodeRunMetrics(first[s].runs[k]), EncodeRunMetrics(fresh[s].runs[k]));
+    }
+  }
+}
+
+// A memo shared by evaluators returns the runs they made before, bit for bit, without running
+// them again: across calls, within a call (a repeated set), across evaluators whose entries
+// coincide (a subset of the scenarios), never for an entry that differs (another override); the
+// progress still counts every job; a memo too small to hold a set forgets and stays exact.
+TEST(EvaluatorTest, ARunMemoReturnsTheRunsItHoldsBitForBit) {
+  const params::CostWeights w;
+  params::StabilityParams a, b, bad;
+  b.ESC.kp_psi_dot = 4.0;
+  bad.ESC.beta_threshold_activate = {0.1, 0.2, 0.3};
+  const std::vector<params::StabilityParams> sets{a, b, a, bad};
+  const auto plain = BatchEvaluator::FromEntries(SmallSet(), "", w, 2).Evaluate(sets);
+  const auto same = [&](const std::vector<SetEvaluation>& got, std::size_t scenario_offset) {
+    for (std::size_t s = 0; s < sets.size(); ++s) {
+      EXPECT_EQ(got[s].invalid, plain[s].invalid);
+      for (std::size_t k = 0; k < got[s].runs.size(); ++k)
+        EXPECT_EQ(EncodeRunMetrics(got[s].runs[k]),
+                  EncodeRunMetrics(plain[s].runs[k + scenario_offset]));
+    }
+  };
+  for (std::size_t capacity : {std::size_t{1}, RunMemo::kDefaultMaxSets}) {
+    SCOPED_TRACE(capacity);
+    auto memo = std::make_shared<RunMemo>(capacity);
+    const auto ev = BatchEvaluator::FromEntries(SmallSet(), "", w, 2, {}, nullptr, memo);
+    int last_done = 0, calls = 0;
+    const auto first = ev.Evaluate(sets, [&](int done, int total) {
+      EXPECT_EQ(total, 8);
+      EXPECT_EQ(done, last_done + 1);
+      last_done = done;
+      ++calls;
+    });
+    EXPECT_EQ(calls, 8);
+    same(first, 0);
+    EXPECT_EQ(memo->reused_runs(), 0);  // the repeated set copies within the call
+    const auto again = ev.Evaluate(sets);
+    same(again, 0);
+    if (capacity > 1) {
+      EXPECT_EQ(memo->reused_runs(), 6);  // a, b, bad: 2 runs each
+      // An evaluator of the second entry alone finds its runs; one with another override does not.
+      const auto sub = BatchEvaluator::FromEntries({SmallSet()[1]}, "", w, 1, {}, nullptr, memo);
+      same(sub.Evaluate(sets), 1);
+      EXPECT_EQ(memo->reused_runs(), 9);
+      auto other_entry = SmallSet()[1];
+      other_entry.overrides.push_back("grip.rear_mu_y=0.81");
+      BatchEvaluator::FromEntries({other_entry}, "", w, 1, {}, nullptr, memo).Evaluate(sets);
+      EXPECT_EQ(memo->reused_runs(), 9);
     }
   }
 }
