@@ -902,7 +902,7 @@ void AddTune(CLI::App& app) {
                                 "The trade-off as N tuned sets, from the base set's lap time (no "
                                 "loss) to no clean-lap budget (whatever it takes to survive), each "
                                 "a constrained tune (the ends --max-evals evaluations from the "
-                                "base set, the inner points half of it from the best set so far), "
+                                "base set, the inner points twice that from the best set so far), "
                                 "in lockstep; "
                                 "writes front.csv, front.md, front.png and point_<k>/ with each "
                                 "point's params files (docs/tuned-files.md#front)"),

@@ -207,7 +207,7 @@ std::string Join(const std::vector<std::string>& v) {
 
 int FrontPointEvals(int k, int n, int max_evals) {
   if (k <= 0 || k >= n - 1) return max_evals;
-  return std::max(1, max_evals / 2);
+  return 2 * max_evals;
 }
 
 double FrontSpan(double unbudgeted_loss) {

@@ -12,7 +12,7 @@
 // budgets an engineer weighs (0.025, 0.1, 0.225 s a lap for N = 5).
 //
 // The searches (each Subplex; FrontPointEvals: the ends `max_evals` evaluations from the study's
-// options, the inner points half of it):
+// options, the inner points twice that):
 //   stage 1   the two ends, from the base point, in lockstep: each round every running search
 //             asks for one point and the round runs as ONE batch of (set × scenario) jobs over
 //             the execution layer (threads or MPI ranks), in point order
@@ -89,8 +89,10 @@ TuneStudyOptions FrontPointOptions(const TuneStudyOptions& o, const CleanLapBudg
 
 /// The evaluations of point k's search: `max_evals` for the ends, which start from the base point
 /// (on the built-in set the unbudgeted search needs about 210 to find the set that trades lap time
-/// for stability), half of it (at least 1) for the inner points, which start from the best set for
-/// their budget found so far.
+/// for stability), twice that for the inner points, which start from the best set for their budget
+/// found so far and hold the constrained optima the front is judged by (in a 4x reference front
+/// the search of the budget 0.025 s reached its best region after 334 evaluations;
+/// experiments/front_budget_criterion.md).
 int FrontPointEvals(int k, int n, int max_evals);
 /// The clean-lap budget of point k of n, given L (see the header comment).
 CleanLapBudget FrontBudget(int k, int n, double loss_span);

@@ -40,12 +40,12 @@ TEST(FrontTest, SpanIsTheUnbudgetedLossButNeverBelowTheMinimum) {
 
 // The ends start from the base point and get the whole budget (the built-in set's unbudgeted
 // search found its trade only after ~210 evaluations); the warm-started inner points half.
-TEST(FrontTest, TheEndsSearchWithTheWholeBudgetTheInnerPointsWithHalf) {
+TEST(FrontTest, TheEndsSearchWithTheWholeBudgetTheInnerPointsWithTwice) {
   EXPECT_EQ(FrontPointEvals(0, 5, 240), 240);
   EXPECT_EQ(FrontPointEvals(4, 5, 240), 240);
-  for (int k = 1; k < 4; ++k) EXPECT_EQ(FrontPointEvals(k, 5, 240), 120);
-  EXPECT_EQ(FrontPointEvals(1, 3, 3), 1);
-  EXPECT_EQ(FrontPointEvals(1, 3, 1), 1);  // never a search of no evaluation
+  for (int k = 1; k < 4; ++k) EXPECT_EQ(FrontPointEvals(k, 5, 240), 480);
+  EXPECT_EQ(FrontPointEvals(1, 3, 3), 6);
+  EXPECT_EQ(FrontPointEvals(1, 3, 1), 2);
   EXPECT_EQ(FrontPointEvals(1, 2, 7), 7);  // a front of two is its ends
 }
 
