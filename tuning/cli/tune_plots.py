@@ -340,7 +340,8 @@ def comparison(run_dir):
 
 def front(run_dir):
     """front.png: the clean-lap loss against the stability cost of every point of a front,
-    training and held-out, the base set at the origin of the loss."""
+    training and held-out, and the base set (the car's shipped set unless --base) at loss 0.
+    Points on the same spot (a looser budget that found nothing better) share one label."""
     rows = read_csv(os.path.join(run_dir, "front.csv"),
                     ["point", "label", "training_lap_loss_s", "training_stability",
                      "held_out_lap_loss_s", "held_out_stability", "training_aborts",
@@ -355,10 +356,27 @@ def front(run_dir):
         pts = [(x, y, r) for x, y, r in zip(xs, ys, rows) if math.isfinite(x) and math.isfinite(y)]
         if pts:
             ax.plot([p[0] for p in pts], [p[1] for p in pts], "-", color="0.6", lw=1.0, zorder=2)
+        spots = []  # [(x, y, [rows])] in point order
         for x, y, r in pts:
+            if spots and spots[-1][0] == x and spots[-1][1] == y:
+                spots[-1][2].append(r)
+            else:
+                spots.append((x, y, [r]))
+        for x, y, same in spots:
             ax.plot([x], [y], "o", color="tab:blue", ms=7, zorder=3)
-            ax.annotate("%s %s\n%s aborts" % (r["point"], r["label"], r[group + "_aborts"]),
+            first, last = same[0], same[-1]
+            name = ("%s %s" % (first["point"], first["label"]) if len(same) == 1 else
+                    "%s-%s %s to %s" % (first["point"], last["point"], first["label"],
+                                        last["label"]))
+            ax.annotate("%s\n%s aborts" % (name, first[group + "_aborts"]),
                         (x, y), textcoords="offset points", xytext=(6, 4), fontsize=8)
+        base_y = number(rows[0].get("base_%s_stability" % group, ""))
+        if math.isfinite(base_y):
+            ax.plot([0.0], [base_y], "s", color="black", ms=7, zorder=3)
+            aborts = rows[0].get("base_%s_aborts" % group, "")
+            ax.annotate("base set" + ("\n%s aborts" % aborts if aborts else ""), (0.0, base_y),
+                        textcoords="offset points", xytext=(-8, -4), ha="right", va="top",
+                        fontsize=8)
         ax.axvline(0.0, color="0.35", ls="--", lw=0.9)
         ax.set_xlabel("largest clean-lap loss against the base set [s per lap]")
         ax.set_ylabel("stability cost of the critical scenarios")

@@ -447,7 +447,8 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
       "point,label,lap_budget_s,activations_limited,changed_keys,training_lap_loss_s,"
       "training_stability,training_aborts,held_out_lap_loss_s,held_out_stability,"
       "held_out_aborts,knife_edges,own_knife_edges,base_training_stability,file,"
-      "training_clean_activations\n";
+      "training_clean_activations,base_held_out_stability,base_training_aborts,"
+      "base_held_out_aborts\n";
   std::string md =
       "# scw tune --front " + std::to_string(n) + ": clean-lap time against stability\n\n";
   md +=
@@ -489,7 +490,10 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
            num(r.held_out_value.stability) + "," + std::to_string(Aborts(r.held_out, 1)) + "," +
            (r.neighbourhood_done ? std::to_string(r.neighbourhood.edges.size()) : "") + "," +
            (r.neighbourhood_done ? std::to_string(own) : "") + "," + num(s_base) + "," + file +
-           "," + CleanActivations(r.tuned_value, false) + "\n";
+           "," + CleanActivations(r.tuned_value, false) + "," +
+           (r.held_out.empty() ? std::string() : num(r.held_out_base_value.stability)) + "," +
+           std::to_string(Aborts(r.training, 0)) + "," +
+           (r.held_out.empty() ? std::string() : std::to_string(Aborts(r.held_out, 0))) + "\n";
     const auto [buys, loses] = k == 0 ? Bought(r, 0, r) : Bought(points[k - 1].report, 1, r);
     std::string bought = buys.empty() ? "-" : "survives " + Join(buys);
     if (!loses.empty()) bought += "; loses " + Join(loses);

@@ -402,8 +402,10 @@ void CompareWithBase(const TuneStudy& study, const BatchEvaluator& training,
         (*held)->Evaluate(both, Jobs(observer, TunePhase::kCompare, done + n_held, total));
     report->held_out_change =
         CompareSets(**held, report->held_out[0], report->held_out[1], o.resolution);
-    report->held_out_value = TuneObjective::For(**held, o.objective, o.budget, report->held_out[0])
-                                 .Of(report->held_out[1]);
+    const TuneObjective held_objective =
+        TuneObjective::For(**held, o.objective, o.budget, report->held_out[0]);
+    report->held_out_value = held_objective.Of(report->held_out[1]);
+    report->held_out_base_value = held_objective.base_value();
   }
   // A gain the search found and the export does not keep is said, never called "no change".
   const TuneResult& r = report->optimisation;

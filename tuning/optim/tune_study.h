@@ -243,6 +243,8 @@ struct TuneReport {
   /// The exported set's objectives at the vehicle's step (training), and both sets' clean laps on
   /// the held-out scenarios against the same budget.
   ObjectiveValue tuned_value, held_out_value;
+  /// The base set's objectives on the held-out scenarios (its stability: a front's base point).
+  ObjectiveValue held_out_base_value;
   /// Non-empty when the search found a gain the export does not keep: the statement that says so
   /// and why (the comparison then never calls the set unchanged).
   std::string unexported_gain;

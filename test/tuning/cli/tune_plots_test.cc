@@ -175,6 +175,36 @@ TEST_F(TunePlotsTest, TheSameInputsGiveTheSameBytes) {
   EXPECT_EQ(b, Read(dir_ / kComparisonPlotFile));
 }
 
+// front.png from a front.csv whose looser points found the same set (one label for the spot) with
+// the base set's columns (its marker in both panels), and from one written before those columns.
+TEST_F(TunePlotsTest, AFrontIsDrawnWithTheBaseSetAndSharedSpots) {
+  const std::string header =
+      "point,label,lap_budget_s,activations_limited,changed_keys,training_lap_loss_s,"
+      "training_stability,training_aborts,held_out_lap_loss_s,held_out_stability,"
+      "held_out_aborts,knife_edges,own_knife_edges,base_training_stability,file,"
+      "training_clean_activations";
+  const std::string rows[] = {
+      "0,no loss,0.0,true,9,0.0,1501.4,1,0.01,849.0,1,38,12,3037.2,point_0/x.yaml,2/41/8/2",
+      "1,+0.025 s,0.025,false,26,-0.067,1161.1,0,-0.103,491.5,0,48,30,3037.2,point_1/x.yaml,"
+      "2/37/19/23",
+      "2,no budget,inf,false,26,-0.067,1161.1,0,-0.103,491.5,0,48,30,3037.2,point_2/x.yaml,"
+      "2/37/19/23"};
+  for (bool base_columns : {true, false}) {
+    SCOPED_TRACE(base_columns);
+    std::string csv = header + (base_columns ? ",base_held_out_stability,base_training_aborts,"
+                                               "base_held_out_aborts\n"
+                                             : "\n");
+    for (const std::string& r : rows) csv += r + (base_columns ? ",1111.9,5,1\n" : "\n");
+    std::ofstream(dir_ / "front.csv") << csv;
+    fs::remove(dir_ / cli::kFrontPlotFile);
+    std::string message;
+    const bool ok = cli::WriteFrontPlot(dir_, &message);
+    if (!ok && NoPlotter(message)) GTEST_SKIP() << message;
+    ASSERT_TRUE(ok) << message;
+    EXPECT_GT(fs::file_size(dir_ / cli::kFrontPlotFile), 1000u);
+  }
+}
+
 TEST_F(TunePlotsTest, AMissingInputIsAOneLineReason) {
   WriteEvaluations();  // no comparison.csv
   std::string message;

@@ -118,8 +118,12 @@ TEST_F(TuneEngineerTest, AFrontWritesOneExportedSetPerPointAndTheTable) {
                                                "\\d+/\\d+ \\(training\\)")))
       << md;
   EXPECT_TRUE(std::regex_search(md, std::regex("\\| \\d+/\\d+/\\d+/\\d+ \\| "))) << md;
+  // ... and the base set's stability and aborts (front.png marks it).
+  EXPECT_NE(csv.find(",base_held_out_stability,base_training_aborts,base_held_out_aborts\n"),
+            std::string::npos)
+      << csv;
   EXPECT_TRUE(std::regex_search(csv, std::regex(",point_0/stability_tuned.yaml,\\d+/\\d+/\\d+/"
-                                                "\\d+\\n")))
+                                                "\\d+,[^,]*,\\d+,\\d*\\n")))
       << csv;
   // Point 0 keeps the base set's clean laps exactly within its zero budget.
   EXPECT_NE(Slurp(run + "/point_0/manifest.yaml").find("tuned_within_budget: true"),
