@@ -267,57 +267,53 @@ std::vector<SetEvaluation> BatchEvaluator::Evaluate(
   std::vector<RunMetrics> slots(static_cast<std::size_t>(n_all));
   std::vector<std::string> invalid(static_cast<std::size_t>(n_all));
   ProgressCounter counter(progress, n_all);
-  // The sets to run: without a memo all of them; with one, those whose runs it does not hold,
-  // each distinct set once (a repeat within the call takes the first one's runs).
-  std::vector<std::size_t> to_run;
-  std::vector<std::string> set_keys(memo_ ? sets.size() : 0);
-  std::vector<std::size_t> same_as(sets.size());
-  for (std::size_t s = 0; s < sets.size(); ++s) {
-    same_as[s] = s;
-    if (!memo_) {
-      to_run.push_back(s);
-      continue;
-    }
-    set_keys[s] = EncodeSets({sets[s]});
-    for (std::size_t t = 0; t < s; ++t)
-      if (set_keys[t] == set_keys[s]) {
-        same_as[s] = t;
-        break;
+  const auto job_done = [&counter] { counter.JobDone(); };
+  if (!memo_) {
+    Run(sets, &slots, &invalid, job_done);
+  } else {
+    // The sets the memo does not hold, each distinct set once (a repeat within the call takes
+    // the first one's runs).
+    std::vector<std::size_t> to_run, same_as(sets.size());
+    std::vector<std::string> set_keys(sets.size());
+    for (std::size_t s = 0; s < sets.size(); ++s) {
+      set_keys[s] = EncodeSets({sets[s]});
+      same_as[s] = static_cast<std::size_t>(
+          std::find(set_keys.begin(), set_keys.begin() + static_cast<std::ptrdiff_t>(s),
+                    set_keys[s]) -
+          set_keys.begin());
+      if (same_as[s] != s) continue;
+      std::vector<RunMetrics> known;
+      std::vector<std::string> known_invalid;
+      if (!memo_->Find(set_keys[s], memo_keys_, &known, &known_invalid)) {
+        to_run.push_back(s);
+        continue;
       }
-    if (same_as[s] != s) continue;
-    std::vector<RunMetrics> known;
-    std::vector<std::string> known_invalid;
-    if (memo_->Find(set_keys[s], memo_keys_, &known, &known_invalid)) {
       for (std::size_t k = 0; k < n_scenarios; ++k) {
         slots[s * n_scenarios + k] = std::move(known[k]);
         invalid[s * n_scenarios + k] = std::move(known_invalid[k]);
-        counter.JobDone();
+        job_done();
       }
-    } else {
-      to_run.push_back(s);
     }
-  }
-  std::vector<params::StabilityParams> run_sets;
-  for (std::size_t s : to_run) run_sets.push_back(sets[s]);
-  const int n_jobs = static_cast<int>(run_sets.size()) * n_sc;
-  std::vector<RunMetrics> ran(static_cast<std::size_t>(n_jobs));
-  std::vector<std::string> ran_invalid(static_cast<std::size_t>(n_jobs));
-  Run(run_sets, &ran, &ran_invalid, [&counter] { counter.JobDone(); });
-  for (std::size_t i = 0; i < to_run.size(); ++i) {
-    if (memo_)
+    std::vector<params::StabilityParams> run_sets;
+    for (std::size_t s : to_run) run_sets.push_back(sets[s]);
+    std::vector<RunMetrics> ran(run_sets.size() * n_scenarios);
+    std::vector<std::string> ran_invalid(ran.size());
+    Run(run_sets, &ran, &ran_invalid, job_done);
+    for (std::size_t i = 0; i < to_run.size(); ++i) {
       memo_->Store(set_keys[to_run[i]], memo_keys_, &ran[i * n_scenarios],
                    &ran_invalid[i * n_scenarios]);
-    for (std::size_t k = 0; k < n_scenarios; ++k) {
-      slots[to_run[i] * n_scenarios + k] = std::move(ran[i * n_scenarios + k]);
-      invalid[to_run[i] * n_scenarios + k] = std::move(ran_invalid[i * n_scenarios + k]);
+      for (std::size_t k = 0; k < n_scenarios; ++k) {
+        slots[to_run[i] * n_scenarios + k] = std::move(ran[i * n_scenarios + k]);
+        invalid[to_run[i] * n_scenarios + k] = std::move(ran_invalid[i * n_scenarios + k]);
+      }
     }
-  }
-  for (std::size_t s = 0; s < sets.size(); ++s) {
-    if (same_as[s] == s) continue;
-    for (std::size_t k = 0; k < n_scenarios; ++k) {
-      slots[s * n_scenarios + k] = slots[same_as[s] * n_scenarios + k];
-      invalid[s * n_scenarios + k] = invalid[same_as[s] * n_scenarios + k];
-      counter.JobDone();
+    for (std::size_t s = 0; s < sets.size(); ++s) {
+      if (same_as[s] == s) continue;
+      for (std::size_t k = 0; k < n_scenarios; ++k) {
+        slots[s * n_scenarios + k] = slots[same_as[s] * n_scenarios + k];
+        invalid[s * n_scenarios + k] = invalid[same_as[s] * n_scenarios + k];
+        job_done();
+      }
     }
   }
   std::vector<SetEvaluation> out(sets.size());
@@ -340,7 +336,6 @@ void BatchEvaluator::Run(const std::vector<params::StabilityParams>& sets,
                          const std::function<void()>& job_done) const {
   const int n_sc = static_cast<int>(scenarios_.size());
   const int n_jobs = static_cast<int>(sets.size()) * n_sc;
-  if (n_jobs == 0) return;
   std::vector<RunMetrics>& slots = *slots_out;
   std::vector<std::string>& invalid = *invalid_out;
   std::vector<double> wall(static_cast<std::size_t>(n_jobs), 0.0);
@@ -373,7 +368,7 @@ void BatchEvaluator::Run(const std::vector<params::StabilityParams>& sets,
     };
   }
   exec_->Run(batch);
-  {  // this call's lengths order the next call's jobs
+  if (n_jobs > 0) {  // this call's lengths order the next call's jobs
     const std::lock_guard<std::mutex> lock(lengths_->mutex);
     std::fill(lengths_->length.begin(), lengths_->length.end(), 0.0);
     for (int j = 0; j < n_jobs; ++j) {
