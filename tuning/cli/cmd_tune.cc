@@ -619,6 +619,8 @@ int RunFrontCli(const TuneOptions& o, const tuning::TuneStudy& study, const std:
   std::cout << "outputs: " << dir << "/{front.csv, front.md"
             << (figure.empty() ? "" : ", front.png") << ", point_0 ... point_" << o.front - 1
             << "/} in " << Seconds(SecondsSince(t_start)) << "\n";
+  std::cout << "runs: " << r.runs_made << " made, " << r.runs_reused
+            << " identical ones taken from the run memo instead of run again\n";
   for (const auto& p : r.points)
     if (p.report.neighbourhood_done && tuning::OwnEdges(p.report.neighbourhood) > 0)
       std::cout << "WARNING: point " << p.index << " has "

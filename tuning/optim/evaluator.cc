@@ -180,6 +180,7 @@ void RunMemo::Store(const std::string& set, const std::vector<std::string>& scen
                     const RunMetrics* runs, const std::string* invalid) {
   const std::lock_guard<std::mutex> lock(mutex_);
   if (runs_.find(set) == runs_.end() && runs_.size() >= max_sets_) runs_.clear();
+  made_ += static_cast<long>(scenarios.size());
   auto& by_entry = runs_[set];
   for (std::size_t i = 0; i < scenarios.size(); ++i)
     by_entry.insert_or_assign(scenarios[i], Run{runs[i], invalid[i]});
@@ -188,6 +189,11 @@ void RunMemo::Store(const std::string& set, const std::vector<std::string>& scen
 long RunMemo::reused_runs() const {
   const std::lock_guard<std::mutex> lock(mutex_);
   return reused_;
+}
+
+long RunMemo::made_runs() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return made_;
 }
 
 struct BatchEvaluator::JobLengths {

@@ -76,8 +76,9 @@ class RunMemo {
   /// Remembers runs[i] / invalid[i] of `set` on scenarios[i].
   void Store(const std::string& set, const std::vector<std::string>& scenarios,
              const RunMetrics* runs, const std::string* invalid);
-  /// Runs returned from the memo so far.
+  /// Runs returned from the memo so far, and runs stored (made) so far.
   long reused_runs() const;
+  long made_runs() const;
 
  private:
   struct Run {
@@ -88,6 +89,7 @@ class RunMemo {
   std::size_t max_sets_;
   std::unordered_map<std::string, std::unordered_map<std::string, Run>> runs_;  ///< set -> entry
   mutable long reused_ = 0;
+  long made_ = 0;
 };
 
 class BatchEvaluator {

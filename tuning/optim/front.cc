@@ -429,6 +429,9 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
     front_observer.OnPoint(p);
   }
 
+  result.runs_made = prep.memo->made_runs();
+  result.runs_reused = prep.memo->reused_runs();
+
   // The front's numbers and tables.
   double max_loss = 0.0;
   std::vector<std::pair<double, double>> xy;

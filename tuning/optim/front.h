@@ -78,6 +78,8 @@ struct FrontResult {
   /// The hypervolume of the training front and its reference point (loss [s/lap], stability).
   double hypervolume = 0.0;
   std::pair<double, double> reference{0.0, 0.0};
+  /// Runs made by the front's evaluators, and runs their shared memo answered instead.
+  long runs_made = 0, runs_reused = 0;
   std::string csv;       ///< front.csv
   std::string markdown;  ///< front.md (without the figure)
 };

@@ -123,6 +123,7 @@ TEST(EvaluatorTest, ARunMemoReturnsTheRunsItHoldsBitForBit) {
     EXPECT_EQ(calls, 8);
     same(first, 0);
     EXPECT_EQ(memo->reused_runs(), 0);  // the repeated set copies within the call
+    EXPECT_EQ(memo->made_runs(), 6);    // a, b, bad: 2 runs each
     const auto again = ev.Evaluate(sets);
     same(again, 0);
     if (capacity > 1) {

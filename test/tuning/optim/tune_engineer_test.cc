@@ -97,6 +97,12 @@ TEST_F(TuneEngineerTest, AFrontWritesOneExportedSetPerPointAndTheTable) {
                               "--no-neighbourhood --out-dir " +
                               run);
   ASSERT_EQ(front.code, 0) << front.all();
+  // The points' exports share runs (the base set beside the plant neighbours, sets two points
+  // end on): some come from the run memo.
+  std::smatch runs;
+  ASSERT_TRUE(std::regex_search(front.out, runs, std::regex("runs: (\\d+) made, (\\d+) identical")))
+      << front.all();
+  EXPECT_GT(std::stol(runs[2]), 0) << front.all();
   const std::string csv = Slurp(run + "/front.csv");
   EXPECT_EQ(csv.rfind("point,label,lap_budget_s,", 0), 0u) << csv;
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4) << csv;
