@@ -179,9 +179,16 @@ bool RunMemo::Find(const std::string& set, const std::vector<std::string>& scena
 void RunMemo::Store(const std::string& set, const std::vector<std::string>& scenarios,
                     const RunMetrics* runs, const std::string* invalid) {
   const std::lock_guard<std::mutex> lock(mutex_);
-  if (runs_.find(set) == runs_.end() && runs_.size() >= max_sets_) runs_.clear();
   made_ += static_cast<long>(scenarios.size());
-  auto& by_entry = runs_[set];
+  auto [it, added] = runs_.try_emplace(set);
+  if (added) {
+    order_.push_back(&it->first);  // a node's key stays where it is until the node is erased
+    while (runs_.size() > max_sets_) {
+      runs_.erase(*order_.front());
+      order_.pop_front();
+    }
+  }
+  auto& by_entry = it->second;
   for (std::size_t i = 0; i < scenarios.size(); ++i)
     by_entry.insert_or_assign(scenarios[i], Run{runs[i], invalid[i]});
 }

@@ -25,6 +25,7 @@
 // timing), so they stay bit-identical for any thread count.
 #pragma once
 
+#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -63,13 +64,15 @@ using BatchProgress = std::function<void(int done, int total)>;
 /// memo, is returned as it was, bit for bit, without running it again. A front's points whose
 /// searches end on the same set, the exported set's evaluations across the export phases and the
 /// base set beside every plant neighbour then run once. Keys are exact (the set's and the entry's
-/// bytes). Bounded: at `max_sets` sets the memo forgets everything and starts again, which costs
-/// runs, never results. Thread-safe.
+/// bytes). Bounded: beyond `max_sets` sets the memo forgets the set it learnt first (the export
+/// phases ask again for the sets of the latest ones), which costs runs, never results.
+/// Thread-safe.
 class RunMemo {
  public:
   /// 2048 sets of ~30 runs: ~25 MB at most.
   static constexpr std::size_t kDefaultMaxSets = 2048;
-  explicit RunMemo(std::size_t max_sets = kDefaultMaxSets) : max_sets_(max_sets) {}
+  explicit RunMemo(std::size_t max_sets = kDefaultMaxSets)
+      : max_sets_(max_sets > 0 ? max_sets : 1) {}
   /// The runs of set `set` on the scenarios `scenarios` (keys), if every one is known.
   bool Find(const std::string& set, const std::vector<std::string>& scenarios,
             std::vector<RunMetrics>* runs, std::vector<std::string>* invalid) const;
@@ -88,6 +91,7 @@ class RunMemo {
   mutable std::mutex mutex_;
   std::size_t max_sets_;
   std::unordered_map<std::string, std::unordered_map<std::string, Run>> runs_;  ///< set -> entry
+  std::deque<const std::string*> order_;  ///< the keys of runs_, first learnt first
   mutable long reused_ = 0;
   long made_ = 0;
 };

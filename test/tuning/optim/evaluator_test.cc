@@ -140,6 +140,28 @@ TEST(EvaluatorTest, ARunMemoReturnsTheRunsItHoldsBitForBit) {
   }
 }
 
+// Full, the memo forgets the set it learnt first and keeps the later ones.
+TEST(EvaluatorTest, AFullRunMemoForgetsTheOldestSet) {
+  RunMemo memo(2);
+  const std::vector<std::string> entries = {"e1", "e2"};
+  RunMetrics runs[2];
+  runs[1].max_speed = 42.0;
+  const std::string invalid[2] = {"", "why"};
+  for (const char* set : {"s1", "s2", "s3"}) memo.Store(set, entries, runs, invalid);
+  std::vector<RunMetrics> got;
+  std::vector<std::string> why;
+  EXPECT_FALSE(memo.Find("s1", entries, &got, &why));
+  ASSERT_TRUE(memo.Find("s2", entries, &got, &why));
+  ASSERT_TRUE(memo.Find("s3", entries, &got, &why));
+  EXPECT_EQ(got[1].max_speed, 42.0);
+  EXPECT_EQ(why[1], "why");
+  EXPECT_FALSE(memo.Find("s3", {"e1", "e3"}, &got, &why));  // an entry it never ran
+  EXPECT_EQ(memo.made_runs(), 6);
+  EXPECT_EQ(memo.reused_runs(), 4);
+  memo.Store("s2", entries, runs, invalid);  // known: nothing forgotten
+  EXPECT_TRUE(memo.Find("s3", entries, &got, &why));
+}
+
 TEST(EvaluatorTest, AnInvalidSetIsAResultWithAStatus) {
   const auto ev = BatchEvaluator::FromEntries({SmallSet()[0]}, "", params::CostWeights{}, 2);
   params::StabilityParams bad;
