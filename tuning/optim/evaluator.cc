@@ -89,6 +89,13 @@ std::string EncodeSets(const std::vector<params::StabilityParams>& sets) {
   return w.Take();
 }
 
+// A set's key in the run memo: its exact bytes.
+std::string SetKey(const params::StabilityParams& set) {
+  exec::WireWriter w;
+  w.Params(set);
+  return w.Take();
+}
+
 double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
@@ -163,14 +170,13 @@ bool RunMemo::Find(const std::string& set, const std::vector<std::string>& scena
   const std::lock_guard<std::mutex> lock(mutex_);
   const auto s = runs_.find(set);
   if (s == runs_.end()) return false;
-  for (const std::string& k : scenarios)
-    if (s->second.find(k) == s->second.end()) return false;
   runs->clear();
   invalid->clear();
   for (const std::string& k : scenarios) {
-    const Run& r = s->second.at(k);
-    runs->push_back(r.metrics);
-    invalid->push_back(r.invalid);
+    const auto r = s->second.find(k);
+    if (r == s->second.end()) return false;
+    runs->push_back(r->second.metrics);
+    invalid->push_back(r->second.invalid);
   }
   reused_ += static_cast<long>(scenarios.size());
   return true;
@@ -289,7 +295,7 @@ std::vector<SetEvaluation> BatchEvaluator::Evaluate(
     std::vector<std::size_t> to_run, same_as(sets.size());
     std::vector<std::string> set_keys(sets.size());
     for (std::size_t s = 0; s < sets.size(); ++s) {
-      set_keys[s] = EncodeSets({sets[s]});
+      set_keys[s] = SetKey(sets[s]);
       same_as[s] = static_cast<std::size_t>(
           std::find(set_keys.begin(), set_keys.begin() + static_cast<std::ptrdiff_t>(s),
                     set_keys[s]) -

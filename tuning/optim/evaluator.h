@@ -73,7 +73,8 @@ class RunMemo {
   static constexpr std::size_t kDefaultMaxSets = 2048;
   explicit RunMemo(std::size_t max_sets = kDefaultMaxSets)
       : max_sets_(max_sets > 0 ? max_sets : 1) {}
-  /// The runs of set `set` on the scenarios `scenarios` (keys), if every one is known.
+  /// The runs of set `set` on the scenarios `scenarios` (keys), if every one is known (false:
+  /// `runs` and `invalid` hold nothing of use).
   bool Find(const std::string& set, const std::vector<std::string>& scenarios,
             std::vector<RunMetrics>* runs, std::vector<std::string>* invalid) const;
   /// Remembers runs[i] / invalid[i] of `set` on scenarios[i].
