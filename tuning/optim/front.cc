@@ -231,6 +231,20 @@ CleanLapBudget FrontBudget(int k, int n, double loss_span) {
   return b;
 }
 
+bool TighterSetDominates(const TuneReport& tighter, const TuneReport& looser,
+                         const CleanLapBudget& looser_budget) {
+  const ObjectiveValue& a = tighter.tuned_value;
+  const ObjectiveValue& b = looser.tuned_value;
+  if (tighter.exported_u.empty() || tighter.exported_u == looser.exported_u) return false;
+  const bool within = std::isfinite(a.lap_loss) &&
+                      (!std::isfinite(looser_budget.lap_s) || a.lap_loss <= looser_budget.lap_s) &&
+                      (!looser_budget.interventions || a.extra_activations == 0);
+  if (!within || !(a.stability <= b.stability)) return false;
+  if (!tighter.neighbourhood_done || !looser.neighbourhood_done) return a.stability < b.stability;
+  const int edges_a = OwnEdges(tighter.neighbourhood), edges_b = OwnEdges(looser.neighbourhood);
+  return edges_a <= edges_b && (a.stability < b.stability || edges_a < edges_b);
+}
+
 double Hypervolume2D(std::vector<std::pair<double, double>> points,
                      std::pair<double, double> reference) {
   std::sort(points.begin(), points.end());
@@ -423,8 +437,38 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
     if (best && best->search != k)
       r.convergence += "; the point's set comes from point " + std::to_string(best->search) +
                        "'s search (the best within this budget over the whole front)";
+    TuneReport own = r;  // before its export phases: the start of a re-export
     TuneObserver quiet;
     point_study.Finish(prep, quiet, &r);
+    if (k > 0) {
+      const TuneReport& tighter = points[static_cast<std::size_t>(k - 1)].report;
+      if (TighterSetDominates(tighter, r, p.budget)) {
+        // The tighter neighbour's set went through the export rules under a budget this one
+        // contains: exported as it is (no sensitivity, no revert, no robust rounds), then compared
+        // and checked for knife edges under this point's budget (its runs come from the memo).
+        TuneStudyOptions again = po;
+        again.sensitivity = false;
+        again.robust = false;
+        const TuneStudy adopt(study.base(), study.given_space(), study.scenarios(), again);
+        own.optimisation.best_u = tighter.exported_u;  // what Finish exports
+        own.top_points.clear();
+        own.pinned_dims = tighter.pinned_dims;
+        const auto edges = [](const TuneReport& t) {
+          return t.neighbourhood_done ? ", " + std::to_string(OwnEdges(t.neighbourhood)) +
+                                            " knife edge(s) of its own"
+                                      : std::string();
+        };
+        own.convergence +=
+            "; the point's set is point " + std::to_string(k - 1) +
+            "'s exported set: this point's export ended on a set it dominates (stability " +
+            FormatFixed(r.tuned_value.stability, 3) + edges(r) + " against " +
+            FormatFixed(tighter.tuned_value.stability, 3) + edges(tighter) +
+            "), so it is exported as it is, without sensitivity and robust rounds";
+        adopt.Finish(prep, quiet, &own);
+        own.chosen_eval = -1;  // not an evaluation of this point's search
+        r = std::move(own);
+      }
+    }
     p.report = std::move(r);
     front_observer.OnPoint(p);
   }

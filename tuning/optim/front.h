@@ -22,6 +22,12 @@
 //             whose budgets both bind nowhere would otherwise run the same search
 //   result    each point's set is the best within its budget over ALL the front's evaluations, so
 //             a looser budget never ranks a point worse (the front is monotone)
+//   export    point by point, tightest first; the export phases (the joint revert, and with
+//             --robust the robust rounds, whose objective holds each point's own knife edges) can
+//             leave a point's set worse than its tighter neighbour's exported one. A point whose
+//             exported set the tighter neighbour's dominates (TighterSetDominates) takes that set
+//             instead, exported again under its own budget without sensitivity and robust rounds,
+//             so the exported front stays monotone too.
 // Deterministic: the rounds, the batches and the archive order depend on the inputs and the seed
 // only, never on the threads or ranks.
 //
@@ -98,6 +104,13 @@ TuneStudyOptions FrontPointOptions(const TuneStudyOptions& o, const CleanLapBudg
 int FrontPointEvals(int k, int n, int max_evals);
 /// The clean-lap budget of point k of n, given L (see the header comment).
 CleanLapBudget FrontBudget(int k, int n, double loss_span);
+
+/// Whether the tighter neighbour's exported set (`tighter`) dominates a point's own (`looser`,
+/// exported under `looser_budget`): `tighter`'s set is another set, within that budget on the
+/// training clean laps, its training stability cost no higher and its own knife edges no more (when
+/// both were checked), and one of the two strictly lower.
+bool TighterSetDominates(const TuneReport& tighter, const TuneReport& looser,
+                         const CleanLapBudget& looser_budget);
 
 /// Runs the front of `study` (its options: the search settings per point; the budget options are
 /// replaced per point; its evaluation_log names the front's folder's log, point k writes

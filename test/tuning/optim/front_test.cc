@@ -1,10 +1,11 @@
-// The front's pure parts (tuning/optim/front.h): the budgets of its points and the 2-D
-// hypervolume its quality is measured with.
+// The front's pure parts (tuning/optim/front.h): the budgets of its points, the rule that keeps
+// the exported front monotone, and the 2-D hypervolume its quality is measured with.
 #include "tuning/optim/front.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 namespace scw::tuning {
 namespace {
@@ -60,6 +61,57 @@ TEST(FrontTest, HypervolumeIsTheAreaTheFrontDominatesUpToTheReference) {
   EXPECT_DOUBLE_EQ(Hypervolume2D({}, {1.0, 10.0}), 0.0);
   // A better front dominates more.
   EXPECT_GT(Hypervolume2D({{0.0, 7.0}, {0.5, 4.0}}, {1.0, 10.0}), hv);
+}
+
+// A point's exported report: its set, training clean-lap loss, extra activations, stability and
+// own knife edges (-1: not checked).
+TuneReport Exported(std::vector<double> u, double loss, int extra, double stability, int edges) {
+  TuneReport r;
+  r.exported_u = std::move(u);
+  r.tuned_value.lap_loss = loss;
+  r.tuned_value.extra_activations = extra;
+  r.tuned_value.stability = stability;
+  r.neighbourhood_done = edges >= 0;
+  for (int i = 0; i < edges; ++i) r.neighbourhood.edges.emplace_back();
+  return r;
+}
+
+// The --robust front on the built-in set ended point 4 (no budget) at 1184.5 with 17 knife edges
+// beside point 3's 1161.5 with 1: the looser point takes the tighter one's set.
+TEST(FrontTest, ALooserPointTakesItsTighterNeighboursSetOnlyWhenThatDominatesIt) {
+  const CleanLapBudget none = FrontBudget(4, 5, 0.4), quarter = FrontBudget(3, 5, 0.4);
+  const TuneReport point3 = Exported({0.2, 0.4}, -0.079, 3, 1161.5, 1);
+  EXPECT_TRUE(TighterSetDominates(point3, Exported({0.3, 0.4}, -0.05, 0, 1184.5, 17), none));
+  // Lower in one, equal in the other.
+  EXPECT_TRUE(TighterSetDominates(point3, Exported({0.3, 0.4}, -0.05, 0, 1161.5, 2), none));
+  EXPECT_TRUE(TighterSetDominates(point3, Exported({0.3, 0.4}, -0.05, 0, 1170.0, 1), none));
+  // Not when the looser set is better in either, or equal in both, or the same set.
+  EXPECT_FALSE(TighterSetDominates(point3, Exported({0.3, 0.4}, -0.05, 0, 1150.0, 17), none));
+  EXPECT_FALSE(TighterSetDominates(point3, Exported({0.3, 0.4}, -0.05, 0, 1184.5, 0), none));
+  EXPECT_FALSE(TighterSetDominates(point3, Exported({0.3, 0.4}, -0.05, 0, 1161.5, 1), none));
+  EXPECT_FALSE(TighterSetDominates(point3, Exported({0.2, 0.4}, -0.079, 3, 1184.5, 17), none));
+  // Without a knife-edge check on either side the stability cost alone decides.
+  EXPECT_TRUE(TighterSetDominates(Exported({0.2}, 0.0, 0, 1161.5, -1),
+                                  Exported({0.3}, 0.0, 0, 1184.5, 0), none));
+  EXPECT_FALSE(TighterSetDominates(Exported({0.2}, 0.0, 0, 1161.5, -1),
+                                   Exported({0.3}, 0.0, 0, 1161.5, 0), none));
+  // The tighter set must be within the looser budget: its clean-lap loss and, where the budget
+  // limits them, its activations; a set that aborts a clean lap never is.
+  EXPECT_TRUE(TighterSetDominates(Exported({0.2}, 0.2, 0, 1000.0, 0),
+                                  Exported({0.3}, 0.1, 0, 1100.0, 0), quarter));
+  EXPECT_FALSE(TighterSetDominates(Exported({0.2}, 0.3, 0, 1000.0, 0),
+                                   Exported({0.3}, 0.1, 0, 1100.0, 0), quarter));
+  EXPECT_FALSE(TighterSetDominates(Exported({0.2}, INFINITY, 0, 1000.0, 0),
+                                   Exported({0.3}, 0.1, 0, 1100.0, 0), none));
+  CleanLapBudget limited = quarter;
+  limited.interventions = true;
+  EXPECT_FALSE(TighterSetDominates(Exported({0.2}, 0.0, 1, 1000.0, 0),
+                                   Exported({0.3}, 0.0, 0, 1100.0, 0), limited));
+  EXPECT_TRUE(TighterSetDominates(Exported({0.2}, 0.0, 0, 1000.0, 0),
+                                  Exported({0.3}, 0.0, 0, 1100.0, 0), limited));
+  // No exported set (nothing to take).
+  EXPECT_FALSE(TighterSetDominates(Exported({}, 0.0, 0, 1000.0, 0),
+                                   Exported({0.3}, 0.0, 0, 1100.0, 0), none));
 }
 
 }  // namespace
