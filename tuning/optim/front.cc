@@ -8,6 +8,7 @@
 #include <exception>
 #include <filesystem>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -47,6 +48,30 @@ const ArchiveEntry* BestInBand(const std::vector<ArchiveEntry>& archive, double 
 /// The best archive entry within `b`, or null (an entry within a budget has a finite loss).
 const ArchiveEntry* BestWithin(const std::vector<ArchiveEntry>& archive, const CleanLapBudget& b) {
   return BestInBand(archive, -std::numeric_limits<double>::infinity(), b);
+}
+
+/// The select phase's candidates of a point with budget `b` (TuneReport::top_points): the
+/// kSelectCandidates entries of the whole front within `b` with the lowest stability cost (at the
+/// search step; ties in archive order), numbered as evaluations of the point's own search
+/// (`own_index`: its sets and their first evaluation) or -1 (another point's).
+std::vector<TopPoint> Candidates(const std::vector<ArchiveEntry>& archive, const CleanLapBudget& b,
+                                 const std::map<std::vector<double>, int>& own_index) {
+  std::vector<const ArchiveEntry*> within;
+  for (const auto& e : archive)
+    if (Within(e, b)) within.push_back(&e);
+  std::stable_sort(within.begin(), within.end(), [](const ArchiveEntry* x, const ArchiveEntry* y) {
+    return x->stability < y->stability;
+  });
+  std::vector<TopPoint> out;
+  for (const ArchiveEntry* e : within) {
+    if (out.size() == kSelectCandidates) break;
+    const bool seen =
+        std::any_of(out.begin(), out.end(), [&](const TopPoint& t) { return t.u == e->u; });
+    if (seen) continue;
+    const auto at = own_index.find(e->u);
+    out.push_back({at == own_index.end() ? -1 : at->second, e->stability, e->u});
+  }
+  return out;
 }
 
 /// Lockstep rounds over several searches, each in its own thread: a search submits the sets of
@@ -290,6 +315,8 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
   std::vector<FrontPoint> points(static_cast<std::size_t>(n));
   std::vector<TuneResult> searches(static_cast<std::size_t>(n));
   std::vector<ArchiveEntry> archive;
+  // Per point: the sets its own search evaluated and the first evaluation of each.
+  std::vector<std::map<std::vector<double>, int>> evaluation_index(static_cast<std::size_t>(n));
   std::mutex archive_mutex;
   FrontResult result;
 
@@ -361,6 +388,11 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
           const Objective single = [&](const std::vector<double>& v) { return batch({v}).front(); };
           TunerOptions to = studies[jj].SearchOptions(shared, obj);
           to.log_path = studies[jj].options().evaluation_log;
+          auto& index = evaluation_index[static_cast<std::size_t>(which[jj])];
+          to.on_record = [&](int i, const std::vector<double>& v, const Evaluation&) {
+            std::lock_guard<std::mutex> lock(archive_mutex);
+            index.emplace(expand(v), i);  // the first evaluation of a set
+          };
           searches[static_cast<std::size_t>(which[jj])] =
               Tune(reduce(starts[jj]), single, batch, to);
         } catch (...) {
@@ -421,6 +453,8 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
     const double base_merit =
         point_study.ObjectiveOn(prep.search(), prep.search_base()).base_value().merit;
     r.optimisation.start_cost = base_merit;
+    // A search at a coarser plant step: the select phase runs these at the vehicle's step.
+    r.top_points = Candidates(archive, p.budget, evaluation_index[static_cast<std::size_t>(k)]);
     if (best && best->stability < base_merit) {
       r.optimisation.best_u = best->u;
       r.optimisation.best_cost = best->stability;

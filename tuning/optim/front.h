@@ -21,7 +21,10 @@
 //             neighbour's budget, within its own), else the best within its budget: two points
 //             whose budgets both bind nowhere would otherwise run the same search
 //   result    each point's set is the best within its budget over ALL the front's evaluations, so
-//             a looser budget never ranks a point worse (the front is monotone)
+//             a looser budget never ranks a point worse (the front is monotone); a front searched
+//             at a coarser plant step (--search-plant-step) runs the point's eight best sets
+//             within its budget at the vehicle's step and exports the best there, as a single
+//             tune's select phase does
 //   export    point by point, tightest first; the export phases (the joint revert, and with
 //             --robust the robust rounds, whose objective holds each point's own knife edges) can
 //             leave a point's set worse than its tighter neighbour's exported one. A point whose

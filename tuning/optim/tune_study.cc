@@ -59,9 +59,6 @@ BatchProgress Jobs(TuneObserver& observer, TunePhase phase, int offset, int tota
   };
 }
 
-/// Points the select phase runs at the vehicle's step.
-constexpr std::size_t kSelectCandidates = 8;
-
 /// The identity lines of a log ("key: value"); `found` false when the file cannot be read.
 std::map<std::string, std::string> ReadIdentity(const std::string& path, bool* found) {
   std::map<std::string, std::string> out;

@@ -159,6 +159,9 @@ struct TuneStudyOptions {
 
 /// Rounds of the robust continuation (options.robust).
 inline constexpr int kRobustRounds = 2;
+/// The search's best points (TuneReport::top_points) the select phase runs at the vehicle's step
+/// when the search ran at a coarser one.
+inline constexpr std::size_t kSelectCandidates = 8;
 
 enum class TunePhase {
   kPrepare,

@@ -46,6 +46,27 @@ class TuneEngineerTest : public ::testing::Test {
     return manifest.substr(from, manifest.find('\n', from) - from);
   }
 
+  /// "--scenarios S --space P" of a tiny problem (a clean lap and a power-on event on the
+  /// built-in track; two keys), its files written into the test's folder.
+  std::string TinyProblem() const {
+    const std::string set = Path("set.yaml");
+    std::ofstream(set)
+        << "name: tiny\ntraining:\n"
+           "  - {name: clean_gg1.1, set: [motion.raceline=centerline, kind=clean, gg_scale=1.1, "
+           "laps=1]}\n"
+           "  - {name: power_on_c1, set: [motion.raceline=centerline, kind=critical, laps=1, "
+           "abort.max_lateral_error=10, \"events.throttle.corner=[1]\", "
+           "\"events.throttle.s=[20]\", "
+           "\"events.throttle.lap=[1]\", \"events.throttle.duration=[1.0]\", "
+           "\"events.throttle.value=[1.0]\"]}\n";
+    const std::string space = Path("space.yaml");
+    std::ofstream(space) << "name: two\nparameters:\n"
+                            "  - {key: countersteer_system.steering_factor, lo: 0.3, hi: 1.5}\n"
+                            "  - {key: SlipControl.TC.rear.slip_threshold_hold_reduce, lo: 3.0, "
+                            "hi: 20.0}\n";
+    return "--scenarios " + set + " --space " + space;
+  }
+
   fs::path dir_;
   std::string oval_;
 };
@@ -80,22 +101,9 @@ TEST_F(TuneEngineerTest, OnAUsersOvalTheExportKeepsWhatTheThresholdsOnlyDoTogeth
 }
 
 TEST_F(TuneEngineerTest, AFrontWritesOneExportedSetPerPointAndTheTable) {
-  const std::string set = Path("set.yaml");
-  std::ofstream(set)
-      << "name: tiny\ntraining:\n"
-         "  - {name: clean_gg1.1, set: [motion.raceline=centerline, kind=clean, gg_scale=1.1, "
-         "laps=1]}\n"
-         "  - {name: power_on_c1, set: [motion.raceline=centerline, kind=critical, laps=1, "
-         "abort.max_lateral_error=10, \"events.throttle.corner=[1]\", \"events.throttle.s=[20]\", "
-         "\"events.throttle.lap=[1]\", \"events.throttle.duration=[1.0]\", "
-         "\"events.throttle.value=[1.0]\"]}\n";
-  const std::string space = Path("space.yaml");
-  std::ofstream(space) << "name: two\nparameters:\n"
-                          "  - {key: countersteer_system.steering_factor, lo: 0.3, hi: 1.5}\n"
-                          "  - {key: SlipControl.TC.rear.slip_threshold_hold_reduce, lo: 3.0, "
-                          "hi: 20.0}\n";
+  const std::string problem = TinyProblem();
   const std::string run = Path("front");
-  const CliResult front = Scw("tune --scenarios " + set + " --space " + space +
+  const CliResult front = Scw("tune " + problem +
                               " --front 3 --max-evals 4 --threads 2 --progress never "
                               "--no-neighbourhood --out-dir " +
                               run);
@@ -139,7 +147,7 @@ TEST_F(TuneEngineerTest, AFrontWritesOneExportedSetPerPointAndTheTable) {
             std::string::npos);
   // Same inputs, same front (the points ran in lockstep on two threads).
   const std::string again = Path("front2");
-  ASSERT_EQ(Scw("tune --scenarios " + set + " --space " + space +
+  ASSERT_EQ(Scw("tune " + problem +
                 " --front 3 --max-evals 4 --threads 1 --progress never --no-neighbourhood "
                 "--out-dir " +
                 again)
@@ -157,22 +165,9 @@ TEST_F(TuneEngineerTest, AFrontWritesOneExportedSetPerPointAndTheTable) {
 // the no-budget point's robust rounds ended at 512.965 beside point 1's 512.048 (neither with a
 // knife edge of its own); the point takes its neighbour's set, and the exported front is monotone.
 TEST_F(TuneEngineerTest, ARobustFrontStaysMonotoneAfterTheExport) {
-  const std::string set = Path("set.yaml");
-  std::ofstream(set)
-      << "name: tiny\ntraining:\n"
-         "  - {name: clean_gg1.1, set: [motion.raceline=centerline, kind=clean, gg_scale=1.1, "
-         "laps=1]}\n"
-         "  - {name: power_on_c1, set: [motion.raceline=centerline, kind=critical, laps=1, "
-         "abort.max_lateral_error=10, \"events.throttle.corner=[1]\", \"events.throttle.s=[20]\", "
-         "\"events.throttle.lap=[1]\", \"events.throttle.duration=[1.0]\", "
-         "\"events.throttle.value=[1.0]\"]}\n";
-  const std::string space = Path("space.yaml");
-  std::ofstream(space) << "name: two\nparameters:\n"
-                          "  - {key: countersteer_system.steering_factor, lo: 0.3, hi: 1.5}\n"
-                          "  - {key: SlipControl.TC.rear.slip_threshold_hold_reduce, lo: 3.0, "
-                          "hi: 20.0}\n";
+  const std::string problem = TinyProblem();
   const std::string run = Path("robust_front");
-  const CliResult front = Scw("tune --scenarios " + set + " --space " + space +
+  const CliResult front = Scw("tune " + problem +
                               " --front 3 --max-evals 12 --threads 2 --progress never --robust "
                               "--out-dir " +
                               run);
@@ -198,6 +193,31 @@ TEST_F(TuneEngineerTest, ARobustFrontStaysMonotoneAfterTheExport) {
   const CliResult diff = Scw("params diff " + run + "/point_1/stability_tuned.yaml " + run +
                              "/point_2/stability_tuned.yaml");
   EXPECT_EQ(diff.code, 0) << diff.all();
+}
+
+// A front searched at a coarser plant step (--search-plant-step) exported the base set at every
+// point: the select phase, which runs the search's best points at the vehicle's step, had none
+// but the base to choose from. Its candidates are the front's best sets within each budget.
+TEST_F(TuneEngineerTest, AFrontSearchedAtACoarserStepExportsWhatItFound) {
+  const std::string run = Path("coarse_front");
+  const CliResult front = Scw("tune " + TinyProblem() +
+                              " --front 3 --max-evals 8 --threads 2 --progress never "
+                              "--no-neighbourhood --search-plant-step 0.002 --out-dir " +
+                              run);
+  ASSERT_EQ(front.code, 0) << front.all();
+  for (int k = 0; k < 3; ++k) {
+    SCOPED_TRACE(k);
+    const std::string p = run + "/point_" + std::to_string(k);
+    const std::string manifest = Slurp(p + "/manifest.yaml");
+    EXPECT_EQ(Value(manifest, "unexported_gain"), "\"\"") << manifest;
+    EXPECT_NE(Value(manifest, "changed_keys"), "0") << manifest;
+    // The base set aborts power_on_c1; the search's set survives it.
+    EXPECT_LT(std::stod(Value(manifest, "tuned_stability")),
+              0.5 * std::stod(Value(manifest, "baseline_stability")))
+        << manifest;
+    EXPECT_NE(Slurp(p + "/comparison.md").find("- selected at the vehicle's step: evaluation"),
+              std::string::npos);
+  }
 }
 
 // Issue 50 finding 15: a bad scenario file inside a set was found after "output in ..." and left
