@@ -510,9 +510,10 @@ std::string TuneSummary(const tuning::TuneReport& r, const tuning::TuneStudy& st
   if (!r.held_out.empty()) out += GroupLine("held-out", r.held_out, r.held_out_change);
   out += CleanLine("training", r.tuned_value, so.budget);
   if (!r.held_out.empty()) out += CleanLine("held-out", r.held_out_value, so.budget);
-  out += "  search best " + Cost(r.optimisation.best_cost) + " (evaluation " +
-         std::to_string(r.optimisation.best_eval) + "), exported " + Cost(r.tuned_value.merit) +
-         " at the vehicle's step (base " + Cost(r.base_value.merit) + ")\n";
+  out += "  search best " + Cost(r.optimisation.best_cost) + " (" +
+         tuning::EvaluationName(r.optimisation.best_eval) + "), exported " +
+         Cost(r.tuned_value.merit) + " at the vehicle's step (base " + Cost(r.base_value.merit) +
+         ")\n";
   if (!r.unexported_gain.empty()) out += "  NOTE: " + r.unexported_gain + "\n";
   out += "  convergence: " + r.convergence + "\n";
   out += "  changed keys: " + std::to_string(r.changed.size()) + " of the " +

@@ -56,7 +56,7 @@ std::string WhatChangedMarkdown(const TuneReport& r) {
   std::string md = "## What the tuned file changes\n\n";
   md += "- convergence: " + r.convergence + "\n";
   if (!r.selection.empty()) {
-    md += "- selected at the vehicle's step: evaluation " + std::to_string(r.chosen_eval) +
+    md += "- selected at the vehicle's step: " + EvaluationName(r.chosen_eval) +
           " (the best within the budget of the search's best points run there):\n";
     for (const auto& s : r.selection) md += "  - " + s + "\n";
   }
@@ -135,8 +135,8 @@ std::string AnswerMarkdown(const TuneStudy& study, const TuneReport& r) {
           std::to_string(Aborts(r.held_out[0])) + " -> " + std::to_string(Aborts(r.held_out[1])) +
           " of " + std::to_string(r.held_out[0].runs.size()) + "\n";
   const std::string step_ms = params::FormatNumber(r.plant_step.used() * 1000.0);
-  md += "- search best: merit " + FormatFixed(opt.best_cost, 3) + " at evaluation " +
-        std::to_string(opt.best_eval) + " (base " + FormatFixed(opt.start_cost, 3) +
+  md += "- search best: merit " + FormatFixed(opt.best_cost, 3) + " at " +
+        EvaluationName(opt.best_eval) + " (base " + FormatFixed(opt.start_cost, 3) +
         (r.plant_step.used() > 0 ? ", at the " + step_ms + " ms search step" : std::string()) +
         "); exported: merit " + FormatFixed(r.tuned_value.merit, 3) + " (base " +
         FormatFixed(r.base_value.merit, 3) + ") at the vehicle's step, " +

@@ -233,6 +233,10 @@ std::string EvaluationLogScreenPath(const std::string& log) {
   return log + ".screen.yaml";
 }
 
+std::string EvaluationName(int index) {
+  return index < 0 ? "another point's search" : "evaluation " + std::to_string(index);
+}
+
 std::string ConvergenceVerdict(const TuneResult& r, int max_evals, int dims) {
   const std::string last = "last improvement of more than " +
                            params::FormatNumber(100.0 * kSignificantImprovement) +
@@ -418,8 +422,8 @@ void CompareWithBase(const TuneStudy& study, const BatchEvaluator& training,
             params::FormatNumber(std::round(exported_gain * 1e3) / 1e3) + " at the vehicle's step";
     report->unexported_gain =
         "the search found a merit of " + params::FormatNumber(std::round(r.best_cost * 1e3) / 1e3) +
-        " against the base's " + params::FormatNumber(std::round(base_merit * 1e3) / 1e3) +
-        " (evaluation " + std::to_string(r.best_eval) + "), but " + why +
+        " against the base's " + params::FormatNumber(std::round(base_merit * 1e3) / 1e3) + " (" +
+        EvaluationName(r.best_eval) + "), but " + why +
         ": the search's gain is NOT in the file (see the revert decisions and the selection)";
   }
   observer.OnPhaseEnd(TunePhase::kCompare, *report);
@@ -766,7 +770,7 @@ void TuneStudy::Finish(const TunePrepared& prep, TuneObserver& observer,
     for (std::size_t k = 0; k < candidates.size(); ++k) {
       const ObjectiveValue v = fine_objective.Of(at_own_step[k]);
       report.selection.push_back(
-          "evaluation " + std::to_string(candidates[k].index) + ": merit " +
+          EvaluationName(candidates[k].index) + ": merit " +
           params::FormatNumber(std::round(candidates[k].cost * 1000.0) / 1000.0) + " at " +
           params::FormatNumber(report.plant_step.used() * 1000.0) + " ms, " +
           params::FormatNumber(std::round(v.merit * 1000.0) / 1000.0) + " at the vehicle's step" +

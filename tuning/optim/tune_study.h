@@ -275,6 +275,10 @@ struct TuneReport {
 /// not fit in the evaluations made, "budget too small to judge convergence".
 std::string ConvergenceVerdict(const TuneResult& r, int max_evals, int dims);
 
+/// Where a search's best set came from, for reports: "evaluation 14"; a front point's set found by
+/// another point's search (index -1): "another point's search".
+std::string EvaluationName(int index);
+
 /// A resume whose log already holds the whole run (TuneStudyOptions::stop_if_complete): what()
 /// says so and how to extend it.
 class TuneAlreadyComplete : public std::runtime_error {
