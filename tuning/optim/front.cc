@@ -484,9 +484,22 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
         again.sensitivity = false;
         again.robust = false;
         const TuneStudy adopt(study.base(), study.given_space(), study.scenarios(), again);
-        own.optimisation.best_u = tighter.exported_u;  // what Finish exports
-        own.top_points.clear();
+        // Its set as a point of the space: the dimensions its export reverted at the base value.
+        std::vector<double> u = tighter.exported_u;
+        for (int d : tighter.pinned_dims)
+          u[static_cast<std::size_t>(d)] = u0[static_cast<std::size_t>(d)];
+        own.optimisation.best_u = u;  // what Finish exports
         own.pinned_dims = tighter.pinned_dims;
+        own.top_points.clear();
+        if (prep.coarse) {
+          // The select phase's only candidate besides the base, with its merit at the search step.
+          const params::StabilityParams set = search_space.Decode(u, study.base(), nullptr);
+          own.top_points.push_back({-1,
+                                    adopt.ObjectiveOn(prep.search(), prep.search_base())
+                                        .Of(prep.search().Evaluate(set))
+                                        .merit,
+                                    u});
+        }
         const auto edges = [](const TuneReport& t) {
           return t.neighbourhood_done ? ", " + std::to_string(OwnEdges(t.neighbourhood)) +
                                             " knife edge(s) of its own"
@@ -497,7 +510,8 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
             "'s exported set: this point's export ended on a set it dominates (stability " +
             FormatFixed(r.tuned_value.stability, 3) + edges(r) + " against " +
             FormatFixed(tighter.tuned_value.stability, 3) + edges(tighter) +
-            "), so it is exported as it is, without sensitivity and robust rounds";
+            "), so it is exported as it is (point " + std::to_string(k - 1) +
+            "'s revert decisions hold), without a sensitivity of its own and robust rounds";
         adopt.Finish(prep, quiet, &own);
         own.chosen_eval = -1;  // not an evaluation of this point's search
         r = std::move(own);
