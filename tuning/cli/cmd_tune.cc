@@ -588,8 +588,11 @@ class FrontRun : public tuning::FrontObserver {
     std::snprintf(loss, sizeof loss, "%+.3f", v.lap_loss);
     std::cerr << "  point " << p.index << " (" << p.label << "): clean-lap loss "
               << (std::isfinite(v.lap_loss) ? loss : "abort") << " s/lap, stability "
-              << Cost(v.stability) << ", " << p.report.changed.size() << " keys changed, in "
-              << Seconds(SecondsSince(t_point_)) << " -> " << folder.string() << "\n";
+              << Cost(v.stability) << ", " << p.report.changed.size() << " keys changed"
+              << (p.adopted_from >= 0 ? " (point " + std::to_string(p.adopted_from) +
+                                            "'s set: this point's own export ended worse)"
+                                      : std::string())
+              << ", in " << Seconds(SecondsSince(t_point_)) << " -> " << folder.string() << "\n";
   }
 
  private:

@@ -515,6 +515,7 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
         adopt.Finish(prep, quiet, &own);
         own.chosen_eval = -1;  // not an evaluation of this point's search
         r = std::move(own);
+        p.adopted_from = k - 1;
       }
     }
     p.report = std::move(r);

@@ -57,6 +57,9 @@ struct FrontPoint {
   std::string label;   ///< "no loss", "+0.025 s", "no budget"
   std::string folder;  ///< point_<k> (relative to the front's folder)
   TuneReport report;   ///< the point's tune, exported
+  /// The tighter point whose exported set this point took (its own export ended on a set that
+  /// one dominates; TighterSetDominates), or -1.
+  int adopted_from = -1;
 };
 
 /// Watches a front. Empty defaults; called from the thread that runs the front.

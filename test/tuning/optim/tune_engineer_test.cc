@@ -189,6 +189,11 @@ TEST_F(TuneEngineerTest, ARobustFrontStaysMonotoneAfterTheExport) {
   for (std::size_t k = 1; k < stability.size(); ++k) EXPECT_LE(stability[k], stability[k - 1]) << k;
   const std::string md = Slurp(run + "/point_2/comparison.md");
   EXPECT_NE(md.find("the point's set is point 1's exported set"), std::string::npos) << md;
+  EXPECT_NE(front.err.find("point 2 (no budget): clean-lap loss"), std::string::npos)
+      << front.all();
+  EXPECT_NE(front.err.find("keys changed (point 1's set: this point's own export ended worse)"),
+            std::string::npos)
+      << front.all();
   // The same file as point 1's, keys and values.
   const CliResult diff = Scw("params diff " + run + "/point_1/stability_tuned.yaml " + run +
                              "/point_2/stability_tuned.yaml");
