@@ -74,6 +74,7 @@ struct TuneOptions {
   bool robust = false;                             // robust in the small
   int front = 0;                                   // --front N: N points (0: one tune)
   bool max_evals_given = false;                    // --max-evals on the command line
+  bool lap_budget_given = false;                   // --lap-budget on the command line
   std::vector<std::string> params_files;           // evaluate
   std::vector<std::string> labels;                 // evaluate
   std::string csv;                                 // evaluate
@@ -666,6 +667,15 @@ int RunTune(TuneOptions o) {
   if (o.front != 0 && o.objective != "constrained")
     throw ConfigError("scw tune", "--front",
                       "a front is a row of constrained tunes: drop --objective " + o.objective);
+  // A front sets each point's clean-lap budget itself: a budget given for it would be ignored.
+  for (const auto& [given, name] : std::vector<std::pair<bool, std::string>>{
+           {o.lap_budget_given, "--lap-budget"},
+           {o.free_clean_activations, "--free-clean-activations"}})
+    if (o.front != 0 && given)
+      throw ConfigError("scw tune", name,
+                        "a front sets each point's clean-lap budget itself (no loss and no "
+                        "extra activation at point 0, no budget at the last): drop " +
+                            name);
   try {
     tuning::CheckTunerAlgorithm(o.algorithm);
   } catch (const std::invalid_argument& e) {
@@ -922,6 +932,7 @@ void AddTune(CLI::App& app) {
       "ranks compute runs; the outputs equal a plain run's for any N (docs/scaling.md).");
   cmd->callback([o, cmd] {
     o->max_evals_given = cmd->count("--max-evals") > 0;
+    o->lap_budget_given = cmd->count("--lap-budget") > 0;
     SetExitCode(RunTune(*o));
   });
 

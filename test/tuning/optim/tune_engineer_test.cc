@@ -258,6 +258,16 @@ TEST_F(TuneEngineerTest, OptionsACommandCannotUseAreRefusedAndTooManyThreadsAreN
   EXPECT_NE(check.all().find("--out-dir: --check-set runs no search"), std::string::npos)
       << check.all();
   EXPECT_FALSE(fs::exists(Path("x")));
+  // A front sets each point's clean-lap budget: a budget given for it is refused, not ignored.
+  for (const std::string option : {"--lap-budget 0.1", "--free-clean-activations"}) {
+    const CliResult front =
+        Scw("tune --front 3 " + option + " --out-dir " + Path("f") + " --progress never");
+    EXPECT_EQ(front.code, 2) << front.all();
+    EXPECT_NE(front.all().find("a front sets each point's clean-lap budget itself"),
+              std::string::npos)
+        << front.all();
+    EXPECT_FALSE(fs::exists(Path("f")));
+  }
   const CliResult sweep = Scw("sweep --threads 2 --processes 2 --vary gg_scale=1.0");
   EXPECT_EQ(sweep.code, 2) << sweep.all();
   EXPECT_NE(sweep.all().find("--processes"), std::string::npos) << sweep.all();
