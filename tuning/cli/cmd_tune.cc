@@ -668,14 +668,15 @@ int RunTune(TuneOptions o) {
     throw ConfigError("scw tune", "--front",
                       "a front is a row of constrained tunes: drop --objective " + o.objective);
   // A front sets each point's clean-lap budget itself: a budget given for it would be ignored.
-  for (const auto& [given, name] : std::vector<std::pair<bool, std::string>>{
-           {o.lap_budget_given, "--lap-budget"},
-           {o.free_clean_activations, "--free-clean-activations"}})
-    if (o.front != 0 && given)
-      throw ConfigError("scw tune", name,
-                        "a front sets each point's clean-lap budget itself (no loss and no "
-                        "extra activation at point 0, no budget at the last): drop " +
-                            name);
+  if (o.front != 0)
+    for (const auto& [given, name] : std::vector<std::pair<bool, std::string>>{
+             {o.lap_budget_given, "--lap-budget"},
+             {o.free_clean_activations, "--free-clean-activations"}})
+      if (given)
+        throw ConfigError("scw tune", name,
+                          "a front sets each point's clean-lap budget itself (no loss and no "
+                          "extra activation at point 0, no budget at the last): drop " +
+                              name);
   try {
     tuning::CheckTunerAlgorithm(o.algorithm);
   } catch (const std::invalid_argument& e) {

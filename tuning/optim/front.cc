@@ -388,11 +388,13 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
           const Objective single = [&](const std::vector<double>& v) { return batch({v}).front(); };
           TunerOptions to = studies[jj].SearchOptions(shared, obj);
           to.log_path = studies[jj].options().evaluation_log;
-          auto& index = evaluation_index[static_cast<std::size_t>(which[jj])];
-          to.on_record = [&](int i, const std::vector<double>& v, const Evaluation&) {
-            std::lock_guard<std::mutex> lock(archive_mutex);
-            index.emplace(expand(v), i);  // the first evaluation of a set
-          };
+          if (prep.coarse) {  // only a select phase numbers its candidates
+            auto& index = evaluation_index[static_cast<std::size_t>(which[jj])];
+            to.on_record = [&](int i, const std::vector<double>& v, const Evaluation&) {
+              std::lock_guard<std::mutex> lock(archive_mutex);
+              index.emplace(expand(v), i);  // the first evaluation of a set
+            };
+          }
           searches[static_cast<std::size_t>(which[jj])] =
               Tune(reduce(starts[jj]), single, batch, to);
         } catch (...) {
@@ -454,7 +456,8 @@ FrontResult RunFront(const TuneStudy& study, int n, TuneObserver& observer,
         point_study.ObjectiveOn(prep.search(), prep.search_base()).base_value().merit;
     r.optimisation.start_cost = base_merit;
     // A search at a coarser plant step: the select phase runs these at the vehicle's step.
-    r.top_points = Candidates(archive, p.budget, evaluation_index[static_cast<std::size_t>(k)]);
+    if (prep.coarse)
+      r.top_points = Candidates(archive, p.budget, evaluation_index[static_cast<std::size_t>(k)]);
     if (best && best->stability < base_merit) {
       r.optimisation.best_u = best->u;
       r.optimisation.best_cost = best->stability;
