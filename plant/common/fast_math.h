@@ -25,7 +25,6 @@
 // on |t| <= 7/16 (atan) and |r| <= pi/4 (sin, cos); the pi/2 split of fdlibm e_rem_pio2.c.
 #pragma once
 
-#include <bit>
 #include <cmath>
 #include <cstdint>
 
@@ -61,7 +60,7 @@ inline constexpr int kLanes = static_cast<int>(sizeof(V) / sizeof(double));
 
 template <class V>
 SCW_FAST_MATH_INLINE MaskOf<V> Bits(V v) noexcept {
-  return std::bit_cast<MaskOf<V>>(v);
+  return __builtin_bit_cast(MaskOf<V>, v);
 }
 template <class M>
 struct VecOfMask;
@@ -75,23 +74,23 @@ struct VecOfMask<Mask4> {
 };
 template <class M>
 SCW_FAST_MATH_INLINE typename VecOfMask<M>::type FromBits(M m) noexcept {
-  return std::bit_cast<typename VecOfMask<M>::type>(m);
+  return __builtin_bit_cast(typename VecOfMask<M>::type, m);
 }
 template <class M>
-constexpr M MaskSplat(std::int64_t v) noexcept {
+constexpr SCW_FAST_MATH_INLINE M MaskSplat(std::int64_t v) noexcept {
   if constexpr (sizeof(M) == sizeof(Mask2))
     return M{v, v};
   else
     return M{v, v, v, v};
 }
 template <class V>
-constexpr MaskOf<V> SignBit() noexcept {
+constexpr SCW_FAST_MATH_INLINE MaskOf<V> SignBit() noexcept {
   return MaskSplat<MaskOf<V>>(INT64_MIN);
 }
 
 // Constants as whole registers: a scalar operand would be re-broadcast at every use.
 template <class V = Double2>
-constexpr V Splat(double v) noexcept {
+constexpr SCW_FAST_MATH_INLINE V Splat(double v) noexcept {
   if constexpr (sizeof(V) == sizeof(Double2))
     return V{v, v};
   else
