@@ -43,10 +43,11 @@ struct BenchOptions {
   int repeat = 3;
 };
 
-// The machine line of every figure: the CPU model and the memory allocator in use (the MPC's
+// The machine line of every figure: the CPU model, the memory allocator in use (the MPC's
 // speed depends on it; top-level CMakeLists, SCW_TCMALLOC): tcmalloc when its library is loaded
-// (linked, or preloaded), else glibc's.
+// (linked, or preloaded), else glibc's; and whether the build is profile-guided (SCW_PGO).
 std::string CpuModel() {
+  const char* build = SCW_BUILD_PGO ? ", build PGO" : ", build without PGO";
   std::ifstream in("/proc/cpuinfo");
   std::string line, model = "unknown CPU";
   while (std::getline(in, line))
@@ -58,9 +59,9 @@ std::string CpuModel() {
   if (void* f = dlsym(RTLD_DEFAULT, "tc_version")) {
     int major = 0, minor = 0;
     const char* patch = "";
-    return model + ", allocator " + reinterpret_cast<TcVersion>(f)(&major, &minor, &patch);
+    return model + ", allocator " + reinterpret_cast<TcVersion>(f)(&major, &minor, &patch) + build;
   }
-  return model + ", allocator glibc";
+  return model + ", allocator glibc" + build;
 }
 
 // The plant alone, single thread: the reference manoeuvre (plant/vehicle/maneuver.h) from rest,

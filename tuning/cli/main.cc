@@ -206,7 +206,10 @@ int RunCommand(int argc, char** argv) {
   app.set_version_flag("--version", std::string("scw ") + SCW_VERSION + " (git revision " +
                                         SCW_GIT_REVISION + ")\nMPI: " +
                                         (mpi::BuiltIn() ? "built in (" + mpi::LibraryVersion() + ")"
-                                                        : std::string("not built in")));
+                                                        : std::string("not built in")) +
+                                        "\nbuild: " +
+                                        (SCW_BUILD_PGO ? "profile-guided optimisation (SCW_PGO)"
+                                                       : "without profile-guided optimisation"));
   app.require_subcommand(1, 1);
   app.footer(kExitCodesHelp);
   // Every option shows its default in --help (subcommands copy these option defaults).
