@@ -60,6 +60,27 @@ Path::Path(std::vector<PathPoint> points, double length)
     seg_ey_[i] = ey;
     seg_len2_[i] = ex * ex + ey * ey;
   }
+  // Each block's circle: the centre of the bounding box of its segments' end stations, the
+  // largest distance to one of them as radius (a segment lies in the hull of its ends).
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  for (auto* v : {&blk_cx_, &blk_cy_, &blk_r_}) v->resize(blocks);
+  for (std::size_t b = 0; b < blocks; ++b) {
+    const std::size_t lo = b * kBlock, hi = std::min(n, lo + kBlock);  // stations lo … hi
+    const auto at = [&](std::size_t k) -> const PathPoint& { return points_[k % n]; };
+    double x0 = at(lo).x, x1 = x0, y0 = at(lo).y, y1 = y0;
+    for (std::size_t k = lo + 1; k <= hi; ++k) {
+      x0 = std::min(x0, at(k).x);
+      x1 = std::max(x1, at(k).x);
+      y0 = std::min(y0, at(k).y);
+      y1 = std::max(y1, at(k).y);
+    }
+    const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+    double r = 0.0;
+    for (std::size_t k = lo; k <= hi; ++k) r = std::max(r, std::hypot(at(k).x - cx, at(k).y - cy));
+    blk_cx_[b] = cx;
+    blk_cy_[b] = cy;
+    blk_r_[b] = r;
+  }
 }
 
 double Path::Wrap(double s) const noexcept {
@@ -124,7 +145,7 @@ PathProjection Path::Project(double x, double y, double psi, double s_hint,
   const auto load = [](const std::vector<double>& v, std::size_t i) {
     return Double2{v[i], v[i + 1]};
   };
-  const auto scan = [&](std::size_t from, std::size_t to) {  // segments [from, to)
+  const auto scan_segments = [&](std::size_t from, std::size_t to) {  // segments [from, to)
     std::size_t i = from;
     for (; i + 1 < to; i += 2) {
       const Double2 ax = load(seg_ax_, i), ay = load(seg_ay_, i), ex = load(seg_ex_, i),
@@ -152,6 +173,34 @@ PathProjection Path::Project(double x, double y, double psi, double s_hint,
         best_t = t;
         best_i = i;
       }
+    }
+  };
+  // A block is skipped when even its circle is farther than `bound`, the smaller of the closest
+  // distance found so far and that of the hint's segment (a distance some segment of the window
+  // has): a skipped segment is then strictly farther than the closest one, so the scan's result,
+  // the first closest segment in scan order, is the same as without skipping. The margin (1 µm,
+  // and 1e-12 of the coordinates' size) covers the rounding of the circle test and of the
+  // segments' own distances by orders of magnitude; non-finite values never skip.
+  double bound = std::numeric_limits<double>::infinity();
+  if (count < n) {
+    const std::size_t c = first + count / 2 < n ? first + count / 2 : first + count / 2 - n;
+    const double ax = seg_ax_[c], ay = seg_ay_[c], ex = seg_ex_[c], ey = seg_ey_[c],
+                 len2 = seg_len2_[c];
+    double t = len2 > 0 ? ((x - ax) * ex + (y - ay) * ey) / len2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    const double px = ax + t * ex, py = ay + t * ey;
+    bound = (x - px) * (x - px) + (y - py) * (y - py);
+  }
+  const double slack = 1e-6 + 1e-12 * (std::abs(x) + std::abs(y));
+  const auto scan = [&](std::size_t from, std::size_t to) {
+    while (from < to) {
+      const std::size_t b = from / kBlock, stop = std::min(to, (b + 1) * kBlock);
+      const double cx = blk_cx_[b], cy = blk_cy_[b];
+      const double gap = std::sqrt((x - cx) * (x - cx) + (y - cy) * (y - cy)) - blk_r_[b] -
+                         (slack + 1e-12 * (std::abs(cx) + std::abs(cy)));
+      const double closest = std::min(bound, best_d2);
+      if (!(gap > 0.0 && gap * gap > closest)) scan_segments(from, stop);
+      from = stop;
     }
   };
   // The window, segments first, first + 1, … (count of them, modulo n), in that order: at most

@@ -53,6 +53,11 @@ class Path {
   // per quantity: start point, direction b − a and its squared length (the scan's own
   // expressions, computed once).
   std::vector<double> seg_ax_, seg_ay_, seg_ex_, seg_ey_, seg_len2_;
+  // Blocks of kBlock consecutive segments (block b: segments kBlock·b …), each inside the circle
+  // (blk_cx_, blk_cy_) of radius blk_r_: Project skips a block no point of which can beat the
+  // closest segment found so far.
+  static constexpr std::size_t kBlock = 8;
+  std::vector<double> blk_cx_, blk_cy_, blk_r_;
   double length_;
   double mean_ds_;
 };
