@@ -45,9 +45,11 @@ struct BenchOptions {
 
 // The machine line of every figure: the CPU model, the memory allocator in use (the MPC's
 // speed depends on it; top-level CMakeLists, SCW_TCMALLOC): tcmalloc when its library is loaded
-// (linked, or preloaded), else glibc's; and whether the build is profile-guided (SCW_PGO).
+// (linked, or preloaded), else glibc's; and whether the build is profile-guided (SCW_PGO) and
+// link-time optimised (SCW_LTO).
 std::string CpuModel() {
-  const char* build = SCW_BUILD_PGO ? ", build PGO" : ", build without PGO";
+  const std::string build = std::string(SCW_BUILD_PGO ? ", build PGO" : ", build without PGO") +
+                            (SCW_BUILD_LTO ? "+LTO" : "");
   std::ifstream in("/proc/cpuinfo");
   std::string line, model = "unknown CPU";
   while (std::getline(in, line))

@@ -203,13 +203,15 @@ int RunCommand(int argc, char** argv) {
       "scw - stability-control workspace: design, tune and export the stability control\n"
       "(ESC, ABS/TC slip control, countersteer) of an autonomous race car.",
       "scw"};
-  app.set_version_flag("--version", std::string("scw ") + SCW_VERSION + " (git revision " +
-                                        SCW_GIT_REVISION + ")\nMPI: " +
-                                        (mpi::BuiltIn() ? "built in (" + mpi::LibraryVersion() + ")"
-                                                        : std::string("not built in")) +
-                                        "\nbuild: " +
-                                        (SCW_BUILD_PGO ? "profile-guided optimisation (SCW_PGO)"
-                                                       : "without profile-guided optimisation"));
+  app.set_version_flag("--version",
+                       std::string("scw ") + SCW_VERSION + " (git revision " + SCW_GIT_REVISION +
+                           ")\nMPI: " +
+                           (mpi::BuiltIn() ? "built in (" + mpi::LibraryVersion() + ")"
+                                           : std::string("not built in")) +
+                           "\nbuild: " +
+                           (SCW_BUILD_PGO ? "profile-guided optimisation (SCW_PGO)"
+                                          : "without profile-guided optimisation") +
+                           (SCW_BUILD_LTO ? ", link-time optimisation (SCW_LTO)" : ""));
   app.require_subcommand(1, 1);
   app.footer(kExitCodesHelp);
   // Every option shows its default in --help (subcommands copy these option defaults).
