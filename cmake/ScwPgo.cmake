@@ -57,6 +57,18 @@ include(ExternalProject)
 set(SCW_PGO_DIR "${CMAKE_BINARY_DIR}/pgo")
 set(SCW_PGO_TRAIN_DIR "${SCW_PGO_DIR}/train")
 set(SCW_PGO_PROFILE_DIR "${SCW_PGO_DIR}/profile")
+# What both stages build: scw alone, with this build's compiler, build type and features.
+set(_scw_stage_args
+    -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
+    -DCMAKE_CXX_COMPILER=${CMAKE_CXX_COMPILER}
+    -DSCW_PGO=OFF
+    -DSCW_LTO=OFF
+    -DSCW_BUILD_TESTS=OFF
+    -DSCW_WERROR=OFF
+    -DSCW_WITH_MPI=${SCW_WITH_MPI}
+    -DSCW_TCMALLOC=${SCW_TCMALLOC}
+    -DSCW_WITH_OCD=${SCW_WITH_OCD}
+    "-DSCW_OCD_SOURCE_DIR=${SCW_OCD_SOURCE_DIR}")
 set(_scw_pgo_generate
     "-fprofile-generate=${SCW_PGO_PROFILE_DIR} -fprofile-update=atomic -fprofile-prefix-path=${SCW_PGO_TRAIN_DIR}")
 ExternalProject_Add(
@@ -66,18 +78,9 @@ ExternalProject_Add(
   STAMP_DIR "${SCW_PGO_DIR}/stamp"
   TMP_DIR "${SCW_PGO_DIR}/tmp"
   CMAKE_ARGS
-    -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
-    -DCMAKE_CXX_COMPILER=${CMAKE_CXX_COMPILER}
+    ${_scw_stage_args}
     "-DCMAKE_CXX_FLAGS=${CMAKE_CXX_FLAGS} ${_scw_pgo_generate}"
     "-DCMAKE_EXE_LINKER_FLAGS=${CMAKE_EXE_LINKER_FLAGS} -fprofile-generate=${SCW_PGO_PROFILE_DIR}"
-    -DSCW_PGO=OFF
-    -DSCW_LTO=OFF
-    -DSCW_BUILD_TESTS=OFF
-    -DSCW_WERROR=OFF
-    -DSCW_WITH_MPI=${SCW_WITH_MPI}
-    -DSCW_TCMALLOC=${SCW_TCMALLOC}
-    -DSCW_WITH_OCD=${SCW_WITH_OCD}
-    "-DSCW_OCD_SOURCE_DIR=${SCW_OCD_SOURCE_DIR}"
   BUILD_COMMAND ${CMAKE_COMMAND} --build <BINARY_DIR> --target scw
   INSTALL_COMMAND
     ${CMAKE_COMMAND} -E rm -rf "${SCW_PGO_PROFILE_DIR}"
@@ -96,20 +99,11 @@ if(SCW_LTO)
     STAMP_DIR "${SCW_PGO_DIR}/lto-stamp"
     TMP_DIR "${SCW_PGO_DIR}/tmp"
     CMAKE_ARGS
-      -DCMAKE_BUILD_TYPE=${CMAKE_BUILD_TYPE}
-      -DCMAKE_CXX_COMPILER=${CMAKE_CXX_COMPILER}
+      ${_scw_stage_args}
       "-DCMAKE_CXX_FLAGS=${CMAKE_CXX_FLAGS}"
       "-DCMAKE_EXE_LINKER_FLAGS=${CMAKE_EXE_LINKER_FLAGS}"
       -DCMAKE_INTERPROCEDURAL_OPTIMIZATION=ON
-      -DSCW_PGO=OFF
-      -DSCW_LTO=OFF
       "-DSCW_PGO_PROFILE=${SCW_PGO_PROFILE_DIR}"
-      -DSCW_BUILD_TESTS=OFF
-      -DSCW_WERROR=OFF
-      -DSCW_WITH_MPI=${SCW_WITH_MPI}
-      -DSCW_TCMALLOC=${SCW_TCMALLOC}
-      -DSCW_WITH_OCD=${SCW_WITH_OCD}
-      "-DSCW_OCD_SOURCE_DIR=${SCW_OCD_SOURCE_DIR}"
     BUILD_COMMAND ${CMAKE_COMMAND} --build <BINARY_DIR> --target scw
     BUILD_ALWAYS ON
     INSTALL_COMMAND ""
