@@ -145,6 +145,16 @@ PathProjection Path::Project(double x, double y, double psi, double s_hint,
   const auto load = [](const std::vector<double>& v, std::size_t i) {
     return Double2{v[i], v[i + 1]};
   };
+  // Segment i's squared distance to (x, y) and the parameter t of its closest point (scalar).
+  const auto foot = [&](std::size_t i, double* t_out) {
+    const double ax = seg_ax_[i], ay = seg_ay_[i], ex = seg_ex_[i], ey = seg_ey_[i],
+                 len2 = seg_len2_[i];
+    double t = len2 > 0 ? ((x - ax) * ex + (y - ay) * ey) / len2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    const double px = ax + t * ex, py = ay + t * ey;
+    *t_out = t;
+    return (x - px) * (x - px) + (y - py) * (y - py);
+  };
   const auto scan_segments = [&](std::size_t from, std::size_t to) {  // segments [from, to)
     std::size_t i = from;
     for (; i + 1 < to; i += 2) {
@@ -162,12 +172,8 @@ PathProjection Path::Project(double x, double y, double psi, double s_hint,
         }
     }
     for (; i < to; ++i) {
-      const double ax = seg_ax_[i], ay = seg_ay_[i], ex = seg_ex_[i], ey = seg_ey_[i],
-                   len2 = seg_len2_[i];
-      double t = len2 > 0 ? ((x - ax) * ex + (y - ay) * ey) / len2 : 0.0;
-      t = std::clamp(t, 0.0, 1.0);
-      const double px = ax + t * ex, py = ay + t * ey;
-      const double d2 = (x - px) * (x - px) + (y - py) * (y - py);
+      double t = 0.0;
+      const double d2 = foot(i, &t);
       if (d2 < best_d2) {
         best_d2 = d2;
         best_t = t;
@@ -184,12 +190,8 @@ PathProjection Path::Project(double x, double y, double psi, double s_hint,
   double bound = std::numeric_limits<double>::infinity();
   if (count < n) {
     const std::size_t c = first + count / 2 < n ? first + count / 2 : first + count / 2 - n;
-    const double ax = seg_ax_[c], ay = seg_ay_[c], ex = seg_ex_[c], ey = seg_ey_[c],
-                 len2 = seg_len2_[c];
-    double t = len2 > 0 ? ((x - ax) * ex + (y - ay) * ey) / len2 : 0.0;
-    t = std::clamp(t, 0.0, 1.0);
-    const double px = ax + t * ex, py = ay + t * ey;
-    bound = (x - px) * (x - px) + (y - py) * (y - py);
+    double t_c = 0.0;
+    bound = foot(c, &t_c);
   }
   const double slack = 1e-6 + 1e-12 * (std::abs(x) + std::abs(y));
   const auto scan = [&](std::size_t from, std::size_t to) {
