@@ -1,7 +1,7 @@
 sweep
 --stop-at-first-abort
 -o
-/work/full/experiments/results/columns/shipped__paper_sim/study3_motion/sweep_pmpc_probe.csv
+/work/regen/wt/experiments/results/columns/shipped__paper_sim/study3_motion/sweep_pmpc_probe.csv
 --processes
 2
 --set

@@ -1,7 +1,7 @@
 sweep
 --stop-at-first-abort
 -o
-/work/full/experiments/results/columns/shipped__vehicle/study1_longitudinal/sweep_brake40ms_refine1.csv
+/work/regen/wt/experiments/results/columns/shipped__vehicle/study1_longitudinal/sweep_brake40ms_refine1.csv
 --processes
 2
 --set
@@ -12,7 +12,7 @@ abort.slip_time=0.1
 abort.max_lateral_error=100
 sensor_noise=true
 plant.actuators=vehicle
-vehicle=/work/full/experiments/results/columns/shipped__vehicle/study1_longitudinal/vehicle_brake40ms.yaml
+vehicle=/work/regen/wt/experiments/results/columns/shipped__vehicle/study1_longitudinal/vehicle_brake40ms.yaml
 --vary
 laps=3
 --config

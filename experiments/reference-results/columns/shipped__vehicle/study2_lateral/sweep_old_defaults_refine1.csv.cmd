@@ -1,7 +1,7 @@
 sweep
 --stop-at-first-abort
 -o
-/work/full/experiments/results/columns/shipped__vehicle/study2_lateral/sweep_old_defaults_refine1.csv
+/work/regen/wt/experiments/results/columns/shipped__vehicle/study2_lateral/sweep_old_defaults_refine1.csv
 --threads
 0
 --set

@@ -1,7 +1,7 @@
 sweep
 --stop-at-first-abort
 -o
-/work/full/experiments/results/columns/shipped__vehicle/study3_motion/sweep_pmpc_brake40ms_probe.csv
+/work/regen/wt/experiments/results/columns/shipped__vehicle/study3_motion/sweep_pmpc_brake40ms_probe.csv
 --processes
 2
 --set
@@ -9,7 +9,7 @@ motion.controller=pmpc
 plan_with_nominal_grip=true
 abort.lock_slip_pct=100
 plant.actuators=vehicle
-vehicle=/work/full/experiments/results/columns/shipped__vehicle/study3_motion/vehicle_brake40ms.yaml
+vehicle=/work/regen/wt/experiments/results/columns/shipped__vehicle/study3_motion/vehicle_brake40ms.yaml
 --vary
 laps=3
 --config

@@ -1,7 +1,7 @@
 sweep
 --stop-at-first-abort
 -o
-/work/full/experiments/results/columns/shipped__vehicle/study3_motion/sweep_pmpc_refine1.csv
+/work/regen/wt/experiments/results/columns/shipped__vehicle/study3_motion/sweep_pmpc_refine1.csv
 --processes
 2
 --set

@@ -1,6 +1,6 @@
 sweep
 -o
-/work/full/experiments/results/columns/shipped__vehicle/study3_seeded/sweep_seeded.csv
+/work/regen/wt/experiments/results/columns/shipped__vehicle/study3_seeded/sweep_seeded.csv
 --processes
 2
 --set

@@ -1,6 +1,6 @@
 sweep
 -o
-/work/full/experiments/results/columns/tuned_paper_sim_seed1__paper_sim/study2_seeded/sweep_seeded.csv
+/work/regen/wt/experiments/results/columns/tuned_paper_sim_seed1__paper_sim/study2_seeded/sweep_seeded.csv
 --processes
 2
 --set
@@ -24,4 +24,4 @@ cs:subsystems.esc=false,subsystems.cs=true
 --config
 esc+cs:subsystems.esc=true,subsystems.cs=true
 --stability
-/work/full/experiments/reference-results/tuned_paper_sim_seed1.yaml
+/work/regen/wt/experiments/reference-results/tuned_paper_sim_seed1.yaml

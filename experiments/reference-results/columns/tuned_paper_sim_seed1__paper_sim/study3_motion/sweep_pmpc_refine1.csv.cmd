@@ -1,7 +1,7 @@
 sweep
 --stop-at-first-abort
 -o
-/work/full/experiments/results/columns/tuned_paper_sim_seed1__paper_sim/study3_motion/sweep_pmpc_refine1.csv
+/work/regen/wt/experiments/results/columns/tuned_paper_sim_seed1__paper_sim/study3_motion/sweep_pmpc_refine1.csv
 --processes
 2
 --set
@@ -24,4 +24,4 @@ r4:subsystems.esc=true,subsystems.cs=true,gg_scale=1.175,grip.rear_mu_y=0.8
 --config
 r5:subsystems.esc=true,subsystems.cs=true,gg_scale=1.175,grip.rear_mu_y=0.82
 --stability
-/work/full/experiments/reference-results/tuned_paper_sim_seed1.yaml
+/work/regen/wt/experiments/reference-results/tuned_paper_sim_seed1.yaml

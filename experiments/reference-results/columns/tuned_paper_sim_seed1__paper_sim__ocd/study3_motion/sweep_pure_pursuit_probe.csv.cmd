@@ -1,7 +1,7 @@
 sweep
 --stop-at-first-abort
 -o
-/work/full/experiments/results/columns/tuned_paper_sim_seed1__paper_sim__ocd/study3_motion/sweep_pure_pursuit_probe.csv
+/work/regen/wt/experiments/results/columns/tuned_paper_sim_seed1__paper_sim__ocd/study3_motion/sweep_pure_pursuit_probe.csv
 --threads
 0
 --set
@@ -19,4 +19,4 @@ r1:subsystems.esc=true,subsystems.cs=true,gg_scale=1.175,grip.rear_mu_y=0.8
 --config
 r2:subsystems.esc=true,subsystems.cs=true,gg_scale=1.175,grip.rear_mu_y=0.82
 --stability
-/work/full/experiments/reference-results/tuned_paper_sim_seed1.yaml
+/work/regen/wt/experiments/reference-results/tuned_paper_sim_seed1.yaml

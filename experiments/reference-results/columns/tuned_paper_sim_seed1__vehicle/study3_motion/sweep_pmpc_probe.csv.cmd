@@ -1,7 +1,7 @@
 sweep
 --stop-at-first-abort
 -o
-/work/full/experiments/results/columns/tuned_paper_sim_seed1__vehicle/study3_motion/sweep_pmpc_probe.csv
+/work/regen/wt/experiments/results/columns/tuned_paper_sim_seed1__vehicle/study3_motion/sweep_pmpc_probe.csv
 --processes
 2
 --set
@@ -16,4 +16,4 @@ r0:subsystems.esc=true,subsystems.cs=true,gg_scale=1.025,grip.rear_mu_y=0.78
 --config
 r1:subsystems.esc=true,subsystems.cs=true,gg_scale=1.075,grip.rear_mu_y=0.82
 --stability
-/work/full/experiments/reference-results/tuned_paper_sim_seed1.yaml
+/work/regen/wt/experiments/reference-results/tuned_paper_sim_seed1.yaml

@@ -1,7 +1,7 @@
 sweep
 --stop-at-first-abort
 -o
-/work/full/experiments/results/columns/tuned_seed1__paper_sim/study2_lateral/sweep_refine1.csv
+/work/regen/wt/experiments/results/columns/tuned_seed1__paper_sim/study2_lateral/sweep_refine1.csv
 --processes
 2
 --set
@@ -36,4 +36,4 @@ r10:subsystems.esc=true,subsystems.cs=true,gg_scale=1.125,grip.rear_mu_y=0.8
 --config
 r11:subsystems.esc=true,subsystems.cs=true,gg_scale=1.125,grip.rear_mu_y=0.82
 --stability
-/work/full/experiments/reference-results/tuned_seed1.yaml
+/work/regen/wt/experiments/reference-results/tuned_seed1.yaml

@@ -1,6 +1,6 @@
 sweep
 -o
-/work/full/experiments/results/columns/tuned_seed1__paper_sim/study3_seeded/sweep_seeded.csv
+/work/regen/wt/experiments/results/columns/tuned_seed1__paper_sim/study3_seeded/sweep_seeded.csv
 --processes
 2
 --set
@@ -23,4 +23,4 @@ pmpc_off:motion.controller=pmpc,subsystems.esc=false,subsystems.cs=false
 --config
 pmpc_sc:motion.controller=pmpc,subsystems.esc=true,subsystems.cs=true
 --stability
-/work/full/experiments/reference-results/tuned_seed1.yaml
+/work/regen/wt/experiments/reference-results/tuned_seed1.yaml

@@ -1,7 +1,7 @@
 sweep
 --stop-at-first-abort
 -o
-/work/full/experiments/results/columns/tuned_seed1__paper_sim__ocd/study1_longitudinal/sweep_refine1.csv
+/work/regen/wt/experiments/results/columns/tuned_seed1__paper_sim__ocd/study1_longitudinal/sweep_refine1.csv
 --processes
 2
 --set
@@ -28,4 +28,4 @@ r4:subsystems.abs=false,subsystems.tc=false,gg_scale=1.225,seed=2
 --config
 r5:subsystems.abs=false,subsystems.tc=false,gg_scale=1.225,seed=3
 --stability
-/work/full/experiments/reference-results/tuned_seed1.yaml
+/work/regen/wt/experiments/reference-results/tuned_seed1.yaml
