@@ -15,15 +15,19 @@ report's unchanged criteria (scwexp.claims), next to the same column on scw's pl
 Study 1 likewise (study1_longitudinal.py with the same options). --ocd: column folders holding
 study1_longitudinal/ and study2_lateral/ summaries on OCD (default: every folder under
 experiments/results/ocd_columns/); --scw: the same columns on scw's plant, run with the same
-binary (default: experiments/results/scw_columns/<same name>). Writes
-experiments/results/ocd_columns/claims.md and prints it.
+binary (default: experiments/results/scw_columns/<same name>, or for run_all.sh's columns
+<name>__ocd the folder <name> beside it). Writes claims.md into --out (default
+experiments/results/ocd_columns/) and prints it. After `PLANTS="scw ocd" experiments/run_all.sh`:
+
+    python3 experiments/ocd_claims.py --ocd experiments/results/columns/*__ocd \
+        --out experiments/results/ocd         (the page the report links)
 """
 
 import argparse
 import json
 import os
 
-import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
+import scwexp  # the standard library only here: no numpy or matplotlib needed
 
 from scwexp import claims as C  # noqa: E402  (the claims' criteria, unchanged)
 
@@ -74,16 +78,36 @@ def activations(summary):
     return ", ".join(out)
 
 
+OCD_SUFFIX = "__ocd"
+
+
+def column_name(ocd_dir):
+    """The column's name: its folder's, without run_all.sh's "__ocd" suffix."""
+    name = os.path.basename(os.path.normpath(ocd_dir))
+    return name[:-len(OCD_SUFFIX)] if name.endswith(OCD_SUFFIX) else name
+
+
+def scw_column(ocd_dir):
+    """The same column on scw's plant: run_all.sh's <name> beside <name>__ocd, else
+    experiments/results/scw_columns/<name>."""
+    ocd_dir = os.path.normpath(ocd_dir)
+    if os.path.basename(ocd_dir).endswith(OCD_SUFFIX):
+        return ocd_dir[:-len(OCD_SUFFIX)]
+    return os.path.join(scwexp.RESULTS, "scw_columns", os.path.basename(ocd_dir))
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     base = os.path.join(scwexp.RESULTS, "ocd_columns")
     ap.add_argument("--ocd", nargs="*")
     ap.add_argument("--scw", nargs="*")
+    ap.add_argument("--out", default=base, help="folder for claims.md (default: %(default)s)")
     args = ap.parse_args(argv)
     ocd = args.ocd or sorted(os.path.join(base, d) for d in os.listdir(base)
                              if os.path.isdir(os.path.join(base, d)))
-    ref = os.path.join(scwexp.RESULTS, "scw_columns")
-    scw = args.scw or [os.path.join(ref, os.path.basename(d)) for d in ocd]
+    scw = args.scw or [scw_column(d) for d in ocd]
+    if len(scw) != len(ocd):
+        ap.error(f"--scw names {len(scw)} columns for the {len(ocd)} of --ocd")
     lines = ["| column | plant | (a) | (b) | (c) | (d) | first aborts (main perturbation) | "
              "ESC/CS/ABS/TC in the completed runs |",
              "| --- | --- | --- | --- | --- | --- | --- | --- |"]
@@ -102,11 +126,11 @@ def main(argv=None):
                     aborts.append(f"study {study[5]}, {summ['perturbation']['label']} {main_p}: "
                                   + ", ".join(f"{c} {C.g(v)}" for c, v in fa.items()))
                     acts.append(f"study {study[5]}: " + activations(summ))
-            lines.append(f"| {os.path.basename(o)} | {plant} | " + " | ".join(cells) + " | "
+            lines.append(f"| {column_name(o)} | {plant} | " + " | ".join(cells) + " | "
                          + "; ".join(aborts) + " | " + "; ".join(acts) + " |")
     text = "\n".join(lines) + "\n"
-    os.makedirs(base, exist_ok=True)
-    with open(os.path.join(base, "claims.md"), "w") as f:
+    os.makedirs(args.out, exist_ok=True)
+    with open(os.path.join(args.out, "claims.md"), "w") as f:
         f.write(text)
     print(text)
 

@@ -20,7 +20,8 @@ import os
 import subprocess
 import sys
 
-import scwexp  # first: picks Debian's numpy/matplotlib, Agg backend
+import debpython  # noqa: F401  (first: Debian's numpy/matplotlib, else a re-run with them)
+import scwexp  # noqa: E402
 
 PLANTS = ("scw", "ocd")
 

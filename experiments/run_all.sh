@@ -39,9 +39,10 @@
 # Each finished piece's wall and CPU time go to results/.pieces, and run_all.json sums them: a
 # resumed run reports every piece's time once.
 # Time on the 2-vCPU machine (nearly idle): the full reference (both tuned sets of
-# reference-results, CLAIMS_MAP=1 SEEDED=1 SENSITIVITY=1, scw's plant) 81.1 min wall, 145.9
-# CPU-min: six columns 3.3-6.0 min each, claims maps 20.7 / 13.2 / 16.1 min, esc_margin 3.3 min
-# (2026-12-06, scripts 1cb030a, binary 1ee906d); --quick 4.9 min wall, 7.7 CPU-min.
+# reference-results, CLAIMS_MAP=1 SEEDED=1 SENSITIVITY=1, scw's plant) 77.4 min wall, 145.5
+# CPU-min: six columns 3.2-6.2 min each, claims maps 19.4 / 13.3 / 15.0 min, esc_margin 3.1 min;
+# then RESUME=1 PLANTS=ocd ACTUATORS=paper_sim adds the three OCD columns in 11.4 min (2026-12-07,
+# scripts and binary 46dc788, release build); --quick 4.9 min wall, 7.7 CPU-min (scripts 1cb030a).
 # To refresh the committed reference copy afterwards:
 #   python3 experiments/report.py --publish experiments/reference-results
 set -euo pipefail
